@@ -1,0 +1,123 @@
+//! The statistics report: a table for people (`--stats`), JSON for scripts (`--stats-json`).
+
+use anyhow::{Context, Result};
+use prism::render::RenderResult;
+use prism::scene::PreparedScene;
+use prism::{RenderOptions, Stats};
+use serde_json::json;
+use std::path::Path;
+use std::time::Duration;
+
+pub struct Report {
+    json: serde_json::Value,
+    stats: Stats,
+    accel: String,
+    times: [(&'static str, Duration); 3],
+    pixels: u64,
+}
+
+impl Report {
+    pub fn new(
+        scene: &str,
+        prepared: &PreparedScene,
+        options: &RenderOptions,
+        result: &RenderResult,
+        load: Duration,
+        output: &Path,
+    ) -> Self {
+        let s = result.stats;
+        let render_s = result.render_time.as_secs_f64();
+        let accel = prepared.intersector.accel.describe();
+        let json = json!({
+            "scene": scene,
+            "output": output.display().to_string(),
+            "complete": result.complete,
+            "options": options,
+            "accelerator": accel,
+            "primitives": prepared.scene.geometry.primitives.len(),
+            "lights": prepared.scene.lights.len(),
+            "times_ms": {
+                "load": load.as_secs_f64() * 1e3,
+                "build": prepared.build_time.as_secs_f64() * 1e3,
+                "render": render_s * 1e3,
+            },
+            "rays": {
+                "primary": s.primary_rays,
+                "shadow": s.shadow_rays,
+                "shadow_continuations": s.shadow_continuations,
+                "reflected": s.reflected_rays,
+                "refracted": s.refracted_rays,
+                "total": s.total_rays(),
+                "per_second": s.total_rays() as f64 / render_s.max(1e-9),
+            },
+            "total_internal_reflections": s.total_internal_reflections,
+            "primitive_tests": s.primitive_tests,
+            "node_visits": s.node_visits,
+        });
+        Report {
+            json,
+            stats: s,
+            accel,
+            times: [
+                ("load", load),
+                ("build", prepared.build_time),
+                ("render", result.render_time),
+            ],
+            pixels: options.width as u64 * options.height as u64,
+        }
+    }
+
+    pub fn print_table(&self) {
+        let s = &self.stats;
+        let total = s.total_rays().max(1) as f64;
+        println!("accelerator        {}", self.accel);
+        println!("{:<18} {:>14} {:>8}", "rays", "count", "share");
+        for (name, n) in [
+            ("primary", s.primary_rays),
+            ("shadow", s.shadow_rays),
+            ("shadow (through)", s.shadow_continuations),
+            ("reflected", s.reflected_rays),
+            ("refracted", s.refracted_rays),
+        ] {
+            println!("{name:<18} {n:>14} {:>7.1}%", 100.0 * n as f64 / total);
+        }
+        println!("{:<18} {:>14}", "total", s.total_rays());
+        println!("{:<18} {:>14}", "TIR events", s.total_internal_reflections);
+        println!(
+            "{:<18} {:>14} {:>8.2} per ray",
+            "primitive tests",
+            s.primitive_tests,
+            s.primitive_tests as f64 / total
+        );
+        println!(
+            "{:<18} {:>14} {:>8.2} per ray",
+            "node visits",
+            s.node_visits,
+            s.node_visits as f64 / total
+        );
+        for (name, t) in self.times {
+            println!(
+                "{:<18} {:>11.1} ms",
+                format!("time: {name}"),
+                t.as_secs_f64() * 1e3
+            );
+        }
+        let secs = self.times[2].1.as_secs_f64().max(1e-9);
+        println!(
+            "{:<18} {:>14.3} Mrays/s ({:.3} Mpixels/s)",
+            "throughput",
+            s.total_rays() as f64 / secs / 1e6,
+            self.pixels as f64 / secs / 1e6
+        );
+    }
+
+    pub fn write_json(&self, path: &Path) -> Result<()> {
+        let text = serde_json::to_string_pretty(&self.json).expect("the report serialises");
+        if path == Path::new("-") {
+            println!("{text}");
+            return Ok(());
+        }
+        std::fs::write(path, text + "\n")
+            .with_context(|| format!("cannot write statistics to {}", path.display()))
+    }
+}

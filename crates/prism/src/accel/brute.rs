@@ -1,0 +1,55 @@
+//! Brute force: test every primitive. Slow and obviously right, the oracle for the others.
+
+use super::{Accel, Hit};
+use crate::geometry::Geometry;
+use crate::math::TraceRay;
+use crate::stats::Stats;
+
+pub struct BruteForce {
+    prims: Vec<u32>,
+}
+
+impl BruteForce {
+    pub fn new(prims: Vec<u32>) -> Self {
+        BruteForce { prims }
+    }
+}
+
+impl Accel for BruteForce {
+    fn intersect(
+        &self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        mut t_max: f32,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
+        let mut best = None;
+        stats.primitive_tests += self.prims.len() as u64;
+        for &prim in &self.prims {
+            if let Some(h) = geometry.intersect(prim, ray, t_max) {
+                t_max = h.t;
+                best = Some(Hit {
+                    t: h.t,
+                    prim,
+                    u: h.u,
+                    v: h.v,
+                });
+            }
+        }
+        best
+    }
+
+    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
+        for &prim in &self.prims {
+            stats.primitive_tests += 1;
+            if geometry.intersect(prim, ray, t_max).is_some() {
+                return true;
+            }
+        }
+        false
+    }
+
+    fn describe(&self) -> String {
+        format!("brute force over {} primitives", self.prims.len())
+    }
+}

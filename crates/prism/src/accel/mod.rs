@@ -1,0 +1,148 @@
+//! Acceleration structures. Every one answers the same two questions, nearest hit and any
+//! hit, over the bounded primitives of a `Geometry`; the brute-force list is the oracle the
+//! tests hold the others to.
+
+mod brute;
+pub mod bvh;
+
+pub use brute::BruteForce;
+pub use bvh::{Bvh, BvhOptions};
+
+use crate::geometry::Geometry;
+use crate::math::{Ray, TraceRay};
+use crate::stats::Stats;
+use serde::{Deserialize, Serialize};
+
+/// The nearest intersection found along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub t: f32,
+    pub prim: u32,
+    /// Shape-specific hit parameters (see `ShapeHit`).
+    pub u: f32,
+    pub v: f32,
+}
+
+impl Hit {
+    pub fn shape_hit(&self) -> crate::geometry::ShapeHit {
+        crate::geometry::ShapeHit {
+            t: self.t,
+            u: self.u,
+            v: self.v,
+        }
+    }
+}
+
+pub trait Accel: Send + Sync {
+    /// Nearest hit with `0 < t < t_max`.
+    fn intersect(
+        &self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        t_max: f32,
+        stats: &mut Stats,
+    ) -> Option<Hit>;
+
+    /// Whether anything is hit with `0 < t < t_max`; may stop at the first hit found.
+    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool;
+
+    /// A one-line description for `--stats` and `prism info`.
+    fn describe(&self) -> String;
+}
+
+/// Which accelerator to build.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AccelKind {
+    /// Test every primitive: the reference.
+    BruteForce,
+    /// Bounding volume hierarchy, binned SAH build.
+    #[default]
+    Bvh,
+}
+
+impl AccelKind {
+    pub const ALL: [AccelKind; 2] = [AccelKind::BruteForce, AccelKind::Bvh];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            AccelKind::BruteForce => "brute-force",
+            AccelKind::Bvh => "bvh",
+        }
+    }
+
+    /// Builds over the given (bounded) primitive indices.
+    pub fn build(self, geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
+        match self {
+            AccelKind::BruteForce => Box::new(BruteForce::new(prims)),
+            AccelKind::Bvh => Box::new(Bvh::build(geometry, prims, &BvhOptions::default())),
+        }
+    }
+}
+
+impl std::str::FromStr for AccelKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        AccelKind::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<_> = AccelKind::ALL.iter().map(|k| k.name()).collect();
+                format!(
+                    "unknown accelerator '{s}', expected one of: {}",
+                    names.join(", ")
+                )
+            })
+    }
+}
+
+/// The whole scene's ray queries: an accelerator over bounded primitives plus a plain list
+/// of unbounded ones (planes), which no bounding structure can hold.
+pub struct SceneIntersector {
+    pub accel: Box<dyn Accel>,
+    unbounded: Vec<u32>,
+}
+
+impl SceneIntersector {
+    pub fn build(geometry: &Geometry, kind: AccelKind) -> Self {
+        let (bounded, unbounded): (Vec<u32>, Vec<u32>) =
+            (0..geometry.primitives.len() as u32).partition(|&i| geometry.bounds(i).is_some());
+        SceneIntersector {
+            accel: kind.build(geometry, bounded),
+            unbounded,
+        }
+    }
+
+    pub fn intersect(
+        &self,
+        geometry: &Geometry,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
+        let tr = TraceRay::new(*ray);
+        let mut best = self.accel.intersect(geometry, &tr, t_max, stats);
+        let mut t_max = best.map_or(t_max, |h| h.t);
+        for &prim in &self.unbounded {
+            stats.primitive_tests += 1;
+            if let Some(h) = geometry.intersect(prim, &tr, t_max) {
+                t_max = h.t;
+                best = Some(Hit {
+                    t: h.t,
+                    prim,
+                    u: h.u,
+                    v: h.v,
+                });
+            }
+        }
+        best
+    }
+
+    pub fn occluded(&self, geometry: &Geometry, ray: &Ray, t_max: f32, stats: &mut Stats) -> bool {
+        let tr = TraceRay::new(*ray);
+        self.unbounded.iter().any(|&prim| {
+            stats.primitive_tests += 1;
+            geometry.intersect(prim, &tr, t_max).is_some()
+        }) || self.accel.occluded(geometry, &tr, t_max, stats)
+    }
+}

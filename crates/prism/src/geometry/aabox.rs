@@ -1,0 +1,96 @@
+//! Axis-aligned boxes as solid shapes (not to be confused with `Aabb`, the bounding volume).
+
+use super::{ShapeHit, SurfacePoint};
+use crate::math::robust::gamma;
+use crate::math::{Aabb, Ray, TraceRay, Vec2, Vec3};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AaBox {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl AaBox {
+    pub fn new(a: Vec3, b: Vec3) -> Self {
+        AaBox {
+            min: a.min(b),
+            max: a.max(b),
+        }
+    }
+
+    /// Nearest face hit; `u` carries the face as `axis + 3·(max side)`.
+    #[inline]
+    pub fn intersect(&self, ray: &TraceRay, t_max: f32) -> Option<ShapeHit> {
+        let o = ray.ray.origin;
+        let t0 = (self.min - o) * ray.inv_dir;
+        let t1 = (self.max - o) * ray.inv_dir;
+        let near = t0.min(t1);
+        let far = t0.max(t1);
+        let (mut enter, mut enter_axis) = (f32::NEG_INFINITY, 0);
+        let (mut exit, mut exit_axis) = (f32::INFINITY, 0);
+        for a in 0..3 {
+            // NaN (ray in a slab plane, parallel to it) never wins these comparisons.
+            if near[a] > enter {
+                enter = near[a];
+                enter_axis = a;
+            }
+            if far[a] < exit {
+                exit = far[a];
+                exit_axis = a;
+            }
+        }
+        if enter > exit {
+            return None;
+        }
+        let (t, axis) = if enter > 0.0 {
+            (enter, enter_axis)
+        } else {
+            (exit, exit_axis)
+        };
+        if !(t > 0.0 && t < t_max) {
+            return None;
+        }
+        // Which side of the slab: the one the ray moves away from on entry, towards on exit.
+        let d = ray.ray.dir[axis];
+        let max_side = if t == enter { d < 0.0 } else { d > 0.0 };
+        Some(ShapeHit {
+            t,
+            u: (axis + 3 * max_side as usize) as f32,
+            v: 0.0,
+        })
+    }
+
+    pub fn surface(&self, ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
+        let face = hit.u as usize;
+        let (axis, max_side) = (face % 3, face >= 3);
+        let mut p = ray.at(hit.t);
+        let mut p_error = gamma(3) * (ray.origin.abs() + (hit.t * ray.dir).abs());
+        // Snap onto the face: exact along the normal, which is all the offset needs.
+        p[axis] = if max_side {
+            self.max[axis]
+        } else {
+            self.min[axis]
+        };
+        p_error[axis] = 0.0;
+        let p = p.clamp(self.min, self.max);
+        let mut n = Vec3::ZERO;
+        n[axis] = if max_side { 1.0 } else { -1.0 };
+        let (a1, a2) = ((axis + 1) % 3, (axis + 2) % 3);
+        let e = self.max - self.min;
+        let uv = Vec2::new(
+            (p[a1] - self.min[a1]) / e[a1].max(f32::MIN_POSITIVE),
+            (p[a2] - self.min[a2]) / e[a2].max(f32::MIN_POSITIVE),
+        );
+        SurfacePoint {
+            p,
+            p_error,
+            ng: n,
+            ns: n,
+            uv,
+        }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        Aabb::new(self.min, self.max)
+    }
+}

@@ -1,0 +1,163 @@
+//! Indexed triangle meshes with optional per-vertex normals (smooth shading) and uvs.
+
+use super::{ShapeHit, SurfacePoint};
+use crate::math::robust::gamma;
+use crate::math::{Vec2, Vec3};
+
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct TriangleMesh {
+    positions: Vec<Vec3>,
+    indices: Vec<[u32; 3]>,
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<Vec2>>,
+}
+
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum MeshError {
+    #[error("triangle {triangle} refers to vertex {index}, but the mesh has {count} vertices")]
+    IndexOutOfRange {
+        triangle: usize,
+        index: u32,
+        count: usize,
+    },
+    #[error("the mesh has {positions} positions but {count} {what}")]
+    AttributeCount {
+        what: &'static str,
+        positions: usize,
+        count: usize,
+    },
+    #[error("vertex {index} has a non-finite coordinate")]
+    NonFinite { index: usize },
+}
+
+impl TriangleMesh {
+    /// Checks indices and attribute counts so that later lookups cannot go out of range.
+    pub fn new(
+        positions: Vec<Vec3>,
+        indices: Vec<[u32; 3]>,
+        normals: Option<Vec<Vec3>>,
+        uvs: Option<Vec<Vec2>>,
+    ) -> Result<Self, MeshError> {
+        if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFinite { index });
+        }
+        let count = positions.len();
+        for (triangle, tri) in indices.iter().enumerate() {
+            if let Some(&index) = tri.iter().find(|&&i| i as usize >= count) {
+                return Err(MeshError::IndexOutOfRange {
+                    triangle,
+                    index,
+                    count,
+                });
+            }
+        }
+        if let Some(n) = &normals {
+            if n.len() != count {
+                return Err(MeshError::AttributeCount {
+                    what: "normals",
+                    positions: count,
+                    count: n.len(),
+                });
+            }
+        }
+        if let Some(uv) = &uvs {
+            if uv.len() != count {
+                return Err(MeshError::AttributeCount {
+                    what: "uvs",
+                    positions: count,
+                    count: uv.len(),
+                });
+            }
+        }
+        // Zero-length normals would shade as NaN; normalise and fall back to flat shading.
+        let normals = normals.map(|n| {
+            n.into_iter()
+                .map(|v| v.try_normalize().unwrap_or(Vec3::ZERO))
+                .collect()
+        });
+        Ok(TriangleMesh {
+            positions,
+            indices,
+            normals,
+            uvs,
+        })
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len()
+    }
+
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
+    pub fn indices(&self) -> &[[u32; 3]] {
+        &self.indices
+    }
+
+    pub fn has_normals(&self) -> bool {
+        self.normals.is_some()
+    }
+
+    #[inline(always)]
+    pub fn vertices(&self, tri: u32) -> [Vec3; 3] {
+        let [a, b, c] = self.indices[tri as usize];
+        [
+            self.positions[a as usize],
+            self.positions[b as usize],
+            self.positions[c as usize],
+        ]
+    }
+
+    /// Applies `f` to every position and `g` to every normal (a transform and its
+    /// inverse transpose).
+    pub fn transform(&mut self, f: impl Fn(Vec3) -> Vec3, g: impl Fn(Vec3) -> Vec3) {
+        for p in &mut self.positions {
+            *p = f(*p);
+        }
+        if let Some(ns) = &mut self.normals {
+            for n in ns {
+                *n = g(*n).try_normalize().unwrap_or(Vec3::ZERO);
+            }
+        }
+    }
+
+    pub fn surface(&self, tri: u32, hit: &ShapeHit) -> SurfacePoint {
+        let idx = self.indices[tri as usize].map(|i| i as usize);
+        let [p0, p1, p2] = idx.map(|i| self.positions[i]);
+        let (b1, b2) = (hit.u, hit.v);
+        let b0 = 1.0 - b1 - b2;
+        // Barycentric interpolation rather than o + t·d: its error is bounded by the vertex
+        // magnitudes (pbrt's γ₇ bound), independent of how far the ray travelled.
+        let p = b0 * p0 + b1 * p1 + b2 * p2;
+        let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
+        let cross = (p1 - p0).cross(p2 - p0);
+        let mut ng = cross.try_normalize().unwrap_or(Vec3::Z);
+        let mut ns = ng;
+        if let Some(normals) = &self.normals {
+            let n = b0 * normals[idx[0]] + b1 * normals[idx[1]] + b2 * normals[idx[2]];
+            if let Some(n) = n.try_normalize() {
+                ns = n;
+                // Vertex normals express the intended outside; keep ng on their side.
+                if ng.dot(ns) < 0.0 {
+                    ng = -ng;
+                }
+            }
+        }
+        let uv = match &self.uvs {
+            Some(uvs) => b0 * uvs[idx[0]] + b1 * uvs[idx[1]] + b2 * uvs[idx[2]],
+            None => Vec2::new(b1, b2),
+        };
+        SurfacePoint {
+            p,
+            p_error,
+            ng,
+            ns,
+            uv,
+        }
+    }
+}

@@ -1,0 +1,174 @@
+//! Shapes: the things rays hit. Each shape answers three questions: where does a ray hit it
+//! (`intersect`, the hot path, returning only a distance and two parameters), what does the
+//! surface look like there (`surface`, called once for the nearest hit), and what box bounds
+//! it (`bounds`, for the accelerators; `None` for unbounded shapes such as planes).
+
+mod aabox;
+mod cone;
+pub mod generate;
+mod mesh;
+mod plane;
+mod sphere;
+mod triangle;
+
+pub use aabox::AaBox;
+pub use cone::Cone;
+pub use mesh::{MeshError, TriangleMesh};
+pub use plane::Plane;
+pub use sphere::Sphere;
+pub use triangle::{intersect_triangle, TriangleHit};
+
+use crate::math::{Aabb, Ray, TraceRay, Vec2, Vec3};
+
+/// What an intersection routine reports: the distance and two shape-specific parameters
+/// (barycentrics for triangles, the hit face for boxes, the part hit for cones).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeHit {
+    pub t: f32,
+    pub u: f32,
+    pub v: f32,
+}
+
+/// Local surface description at a hit, computed once for the nearest hit only.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfacePoint {
+    /// The hit point, and a conservative bound on its per-axis floating-point error.
+    pub p: Vec3,
+    pub p_error: Vec3,
+    /// Geometric normal, unit length, facing the shape's outside (the side a ray enters
+    /// from). For meshes the winding decides (counter-clockwise = front).
+    pub ng: Vec3,
+    /// Shading normal (interpolated vertex normals where present), in ng's hemisphere.
+    pub ns: Vec3,
+    pub uv: Vec2,
+}
+
+/// The shape kinds prism renders. Triangles live in meshes and are referenced by index so a
+/// million-triangle mesh costs 12 bytes of vertex indices per triangle, not a copy.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    Sphere(Sphere),
+    Triangle { mesh: u32, index: u32 },
+    Plane(Plane),
+    Cone(Cone),
+    Box(AaBox),
+}
+
+impl Shape {
+    /// Nearest hit with `0 < t < t_max`.
+    #[inline]
+    pub fn intersect(
+        &self,
+        meshes: &[TriangleMesh],
+        ray: &TraceRay,
+        t_max: f32,
+    ) -> Option<ShapeHit> {
+        match self {
+            Shape::Sphere(s) => s.intersect(&ray.ray, t_max),
+            Shape::Triangle { mesh, index } => {
+                let [a, b, c] = meshes[*mesh as usize].vertices(*index);
+                intersect_triangle(ray, a, b, c, t_max).map(|h| ShapeHit {
+                    t: h.t,
+                    u: h.b1,
+                    v: h.b2,
+                })
+            }
+            Shape::Plane(p) => p.intersect(&ray.ray, t_max),
+            Shape::Cone(c) => c.intersect(&ray.ray, t_max),
+            Shape::Box(b) => b.intersect(ray, t_max),
+        }
+    }
+
+    pub fn surface(&self, meshes: &[TriangleMesh], ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
+        match self {
+            Shape::Sphere(s) => s.surface(ray, hit),
+            Shape::Triangle { mesh, index } => meshes[*mesh as usize].surface(*index, hit),
+            Shape::Plane(p) => p.surface(ray, hit),
+            Shape::Cone(c) => c.surface(ray, hit),
+            Shape::Box(b) => b.surface(ray, hit),
+        }
+    }
+
+    /// World-space bounds; `None` for unbounded shapes, which accelerators keep aside.
+    pub fn bounds(&self, meshes: &[TriangleMesh]) -> Option<Aabb> {
+        match self {
+            Shape::Sphere(s) => Some(s.bounds()),
+            Shape::Triangle { mesh, index } => {
+                Some(Aabb::from_points(meshes[*mesh as usize].vertices(*index)))
+            }
+            Shape::Plane(_) => None,
+            Shape::Cone(c) => Some(c.bounds()),
+            Shape::Box(b) => Some(b.bounds()),
+        }
+    }
+
+    /// A short name for statistics and `prism info`.
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Shape::Sphere(_) => "sphere",
+            Shape::Triangle { .. } => "triangle",
+            Shape::Plane(_) => "plane",
+            Shape::Cone(_) => "cone",
+            Shape::Box(_) => "box",
+        }
+    }
+}
+
+/// A shape with its material: the unit every accelerator indexes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Primitive {
+    pub shape: Shape,
+    pub material: u32,
+}
+
+/// All shapes of a scene. Accelerators refer to primitives by their index in `primitives`.
+#[derive(Clone, Debug, Default)]
+pub struct Geometry {
+    pub meshes: Vec<TriangleMesh>,
+    pub primitives: Vec<Primitive>,
+}
+
+impl Geometry {
+    /// Adds a mesh and one primitive per triangle, all with `material`.
+    pub fn add_mesh(&mut self, mesh: TriangleMesh, material: u32) {
+        let mesh_id = self.meshes.len() as u32;
+        for index in 0..mesh.triangle_count() as u32 {
+            self.primitives.push(Primitive {
+                shape: Shape::Triangle {
+                    mesh: mesh_id,
+                    index,
+                },
+                material,
+            });
+        }
+        self.meshes.push(mesh);
+    }
+
+    pub fn add(&mut self, shape: Shape, material: u32) {
+        self.primitives.push(Primitive { shape, material });
+    }
+
+    #[inline]
+    pub fn intersect(&self, prim: u32, ray: &TraceRay, t_max: f32) -> Option<ShapeHit> {
+        self.primitives[prim as usize]
+            .shape
+            .intersect(&self.meshes, ray, t_max)
+    }
+
+    pub fn bounds(&self, prim: u32) -> Option<Aabb> {
+        self.primitives[prim as usize].shape.bounds(&self.meshes)
+    }
+
+    pub fn surface(&self, prim: u32, ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
+        self.primitives[prim as usize]
+            .shape
+            .surface(&self.meshes, ray, hit)
+    }
+
+    /// Bounds of every bounded primitive.
+    pub fn world_bounds(&self) -> Aabb {
+        (0..self.primitives.len() as u32)
+            .filter_map(|i| self.bounds(i))
+            .fold(Aabb::EMPTY, |a, b| a.union(&b))
+    }
+}

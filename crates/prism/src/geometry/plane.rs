@@ -1,0 +1,54 @@
+//! Infinite planes: floors that run to the horizon. Unbounded, so accelerators keep them in
+//! a separate list that every ray tests.
+
+use super::{ShapeHit, SurfacePoint};
+use crate::math::robust::gamma;
+use crate::math::{Frame, Ray, Vec2, Vec3};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane {
+    pub point: Vec3,
+    frame: Frame,
+}
+
+impl Plane {
+    /// A plane through `point` facing `normal` (any length but zero).
+    pub fn new(point: Vec3, normal: Vec3) -> Option<Self> {
+        let n = normal.try_normalize()?;
+        Some(Plane {
+            point,
+            frame: Frame::from_z(n),
+        })
+    }
+
+    pub fn normal(&self) -> Vec3 {
+        self.frame.z
+    }
+
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
+        let n = self.frame.z;
+        let denom = n.dot(ray.dir);
+        if denom == 0.0 {
+            return None;
+        }
+        let t = n.dot(self.point - ray.origin) / denom;
+        (t > 0.0 && t < t_max).then_some(ShapeHit { t, u: 0.0, v: 0.0 })
+    }
+
+    pub fn surface(&self, ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
+        let n = self.frame.z;
+        let q = ray.at(hit.t);
+        // Project back onto the plane so the error is relative to the coordinates only.
+        let p = q - n * n.dot(q - self.point);
+        let p_error = gamma(8) * (p.abs() + self.point.abs());
+        let local = p - self.point;
+        SurfacePoint {
+            p,
+            p_error,
+            ng: n,
+            ns: n,
+            uv: Vec2::new(local.dot(self.frame.x), local.dot(self.frame.y)),
+        }
+    }
+}

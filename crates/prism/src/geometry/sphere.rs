@@ -1,0 +1,68 @@
+//! Spheres, with a numerically careful quadratic (Haines et al., Ray Tracing Gems ch. 7).
+
+use super::{ShapeHit, SurfacePoint};
+use crate::math::robust::gamma;
+use crate::math::{Aabb, Ray, Vec2, Vec3};
+use std::f32::consts::PI;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    pub center: Vec3,
+    pub radius: f32,
+    /// Normals point inwards: the inner wall of a hollow glass shell, or NFF's negative radius.
+    pub inside_out: bool,
+}
+
+impl Sphere {
+    pub fn new(center: Vec3, radius: f32) -> Self {
+        Sphere {
+            center,
+            radius,
+            inside_out: false,
+        }
+    }
+
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
+        let f = ray.origin - self.center;
+        let b = f.dot(ray.dir);
+        let r2 = self.radius * self.radius;
+        // r² − |f − (f·d)d|² instead of b² − c: no catastrophic cancellation when the
+        // sphere is small and far away.
+        let l = f - b * ray.dir;
+        let disc = r2 - l.length_squared();
+        if disc < 0.0 {
+            return None;
+        }
+        let c = f.length_squared() - r2;
+        let q = -b - disc.sqrt().copysign(b);
+        let (mut t0, mut t1) = (c / q, q);
+        if t0 > t1 {
+            std::mem::swap(&mut t0, &mut t1);
+        }
+        let t = if t0 > 0.0 { t0 } else { t1 };
+        (t > 0.0 && t < t_max).then_some(ShapeHit { t, u: 0.0, v: 0.0 })
+    }
+
+    pub fn surface(&self, ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
+        // Re-project onto the sphere: the error is then a few ulps of |p|, not of t.
+        let dir = (ray.at(hit.t) - self.center).normalize();
+        let p = self.center + self.radius * dir;
+        let p_error = gamma(5) * (self.center.abs() + (self.radius * dir).abs());
+        let n = if self.inside_out { -dir } else { dir };
+        let u = 0.5 + dir.z.atan2(dir.x) / (2.0 * PI);
+        let v = dir.y.clamp(-1.0, 1.0).acos() / PI;
+        SurfacePoint {
+            p,
+            p_error,
+            ng: n,
+            ns: n,
+            uv: Vec2::new(u, v),
+        }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        let r = Vec3::splat(self.radius.abs());
+        Aabb::new(self.center - r, self.center + r)
+    }
+}

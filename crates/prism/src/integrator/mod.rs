@@ -1,0 +1,6 @@
+//! Integrators turn a camera ray into radiance. Whitted's recursive ray tracer is the one
+//! prism is built around.
+
+mod whitted;
+
+pub use whitted::Whitted;

@@ -1,0 +1,174 @@
+//! Whitted ray tracing (Whitted 1980), step by step:
+//!
+//! TraceRay(R, depth): find the nearest hit; on a miss return the background. For every
+//! light, cast a shadow ray and keep only lights it reaches; add the local illumination
+//! from those. If depth < max depth, trace the reflected and the refracted ray. Result:
+//! I = Ia·ka·C + Σ (Id + Is) + wr·I_R + wt·I_T, with (wr, wt) from the material
+//! (constant, or split by Fresnel reflectance).
+//!
+//! Shadow rays that meet a transparent surface continue through it, attenuated by its kt,
+//! as POV-Ray does; refraction of the shadow ray itself is ignored (no caustics).
+
+use crate::accel::Hit;
+use crate::math::robust::offset_ray_origin;
+use crate::math::{Color, Ray, Vec3};
+use crate::scene::PreparedScene;
+use crate::shading::optics::{reflect, refract};
+use crate::stats::Stats;
+
+/// Upper bound on transparent surfaces one shadow ray passes through.
+const MAX_SHADOW_SEGMENTS: u32 = 64;
+
+pub struct Whitted<'a> {
+    scene: &'a PreparedScene<'a>,
+    max_depth: u32,
+    min_weight: f32,
+}
+
+impl<'a> Whitted<'a> {
+    /// `max_depth` is the static depth limit (eye ray = 1); branches whose weight in the
+    /// pixel falls below `min_weight` are not traced (0 traces every branch).
+    pub fn new(scene: &'a PreparedScene<'a>, max_depth: u32, min_weight: f32) -> Self {
+        Whitted {
+            scene,
+            max_depth,
+            min_weight,
+        }
+    }
+
+    /// Radiance along a camera ray (depth 1).
+    pub fn trace_camera_ray(&self, ray: &Ray, stats: &mut Stats) -> Color {
+        stats.primary_rays += 1;
+        self.trace(ray, 1, 1.0, stats)
+    }
+
+    fn nearest(&self, ray: &Ray, t_max: f32, stats: &mut Stats) -> Option<Hit> {
+        let s = self.scene;
+        s.intersector
+            .intersect(&s.scene.geometry, ray, t_max, stats)
+    }
+
+    /// `weight` is the product of reflection and transmission weights from the eye to this
+    /// ray: what its radiance is worth in the pixel (for adaptive depth control).
+    pub fn trace(&self, ray: &Ray, depth: u32, weight: f32, stats: &mut Stats) -> Color {
+        let scene = self.scene.scene;
+        let Some(hit) = self.nearest(ray, f32::INFINITY, stats) else {
+            return scene.background;
+        };
+        let prim = &scene.geometry.primitives[hit.prim as usize];
+        let material = &scene.materials[prim.material as usize];
+        let sp = scene.geometry.surface(hit.prim, ray, &hit.shape_hit());
+
+        // Face the normals towards the incoming ray; `entering` says which side it came from.
+        let entering = ray.dir.dot(sp.ng) < 0.0;
+        let (ng, ns) = if entering {
+            (sp.ng, sp.ns)
+        } else {
+            (-sp.ng, -sp.ns)
+        };
+        let to_eye = -ray.dir;
+        let color = material.color_at(sp.uv, sp.p);
+
+        // Local illumination.
+        let mut radiance = material.ambient * color * scene.ambient;
+        for light in &scene.lights {
+            let Some(ls) = light.sample(sp.p) else {
+                continue;
+            };
+            // A light behind the surface contributes nothing: no shadow ray (SPD rule 10).
+            if ng.dot(ls.to_light) <= 0.0 {
+                continue;
+            }
+            stats.shadow_rays += 1;
+            let origin = offset_ray_origin(sp.p, sp.p_error, ng, ls.to_light);
+            let visibility = self.transmittance(origin, ls.to_light, ls.distance, stats);
+            if visibility <= 0.0 {
+                continue;
+            }
+            let diffuse = material.diffuse * ns.dot(ls.to_light).max(0.0) * color;
+            let highlight = material.highlight_term(ns, ls.to_light, to_eye);
+            radiance += visibility * ls.color * (diffuse + Color::splat(highlight));
+        }
+
+        if depth >= self.max_depth {
+            return radiance;
+        }
+
+        // Recursive terms. η_io = η_incident / η_transmitted; the outside is vacuum.
+        let eta = if entering {
+            1.0 / material.ior
+        } else {
+            material.ior
+        };
+        let cos_i = to_eye.dot(ns).clamp(0.0, 1.0);
+        let w = material.specular_weights(cos_i, eta);
+        if w.total_internal_reflection {
+            stats.total_internal_reflections += 1;
+        }
+        if w.reflect > 0.0 && weight * w.reflect >= self.min_weight {
+            let mut dir = reflect(ray.dir, ns);
+            // An interpolated normal can mirror the ray below the true surface; use the
+            // geometric normal there instead.
+            if dir.dot(ng) <= 0.0 {
+                dir = reflect(ray.dir, ng);
+            }
+            let origin = offset_ray_origin(sp.p, sp.p_error, ng, dir);
+            stats.reflected_rays += 1;
+            let r = self.trace(&Ray::new(origin, dir), depth + 1, weight * w.reflect, stats);
+            radiance += w.reflect * r;
+        }
+        if w.transmit > 0.0 && weight * w.transmit >= self.min_weight {
+            if let Some(dir) = refract(ray.dir, ns, eta) {
+                let origin = offset_ray_origin(sp.p, sp.p_error, ng, dir);
+                stats.refracted_rays += 1;
+                let t = self.trace(
+                    &Ray::new(origin, dir),
+                    depth + 1,
+                    weight * w.transmit,
+                    stats,
+                );
+                radiance += w.transmit * t;
+            }
+        }
+        radiance
+    }
+
+    /// Fraction of a light's radiance that reaches `origin` along `dir` within `distance`:
+    /// 0 behind an opaque surface, the product of kt over the transparent ones otherwise.
+    fn transmittance(&self, origin: Vec3, dir: Vec3, distance: f32, stats: &mut Stats) -> f32 {
+        let s = self.scene;
+        let geometry = &s.scene.geometry;
+        if !s.has_transmissive {
+            let blocked = s
+                .intersector
+                .occluded(geometry, &Ray::new(origin, dir), distance, stats);
+            return if blocked { 0.0 } else { 1.0 };
+        }
+        let mut atten = 1.0;
+        let mut origin = origin;
+        let mut remaining = distance;
+        for segment in 0..MAX_SHADOW_SEGMENTS {
+            if segment > 0 {
+                stats.shadow_continuations += 1;
+            }
+            let ray = Ray::new(origin, dir);
+            let Some(hit) = self.nearest(&ray, remaining, stats) else {
+                return atten;
+            };
+            let prim = &geometry.primitives[hit.prim as usize];
+            let kt = s.scene.materials[prim.material as usize].transmit;
+            atten *= kt;
+            if atten <= 0.0 {
+                return 0.0;
+            }
+            let sp = geometry.surface(hit.prim, &ray, &hit.shape_hit());
+            let next = offset_ray_origin(sp.p, sp.p_error, sp.ng, dir);
+            remaining -= (next - origin).dot(dir);
+            origin = next;
+            if remaining <= 0.0 {
+                return atten;
+            }
+        }
+        0.0
+    }
+}

@@ -1,0 +1,24 @@
+//! prism: a CPU ray tracer built around Whitted's recursive algorithm, with acceleration
+//! methods that can be switched and measured.
+//!
+//! Data flows one way: a loader or built-in makes a [`scene::Scene`] (plain data);
+//! [`scene::Scene::prepare`] builds the accelerator; [`render::render`] traces tiles in
+//! parallel through the [`integrator::Whitted`] integrator into a [`render::Film`]; and
+//! [`output::write_image`] encodes it. ARCHITECTURE.md maps the modules.
+
+pub mod accel;
+pub mod camera;
+pub mod geometry;
+pub mod integrator;
+pub mod light;
+pub mod math;
+pub mod options;
+pub mod output;
+pub mod render;
+pub mod scene;
+pub mod shading;
+pub mod stats;
+
+pub use options::RenderOptions;
+pub use scene::Scene;
+pub use stats::Stats;

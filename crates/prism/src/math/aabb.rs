@@ -1,0 +1,108 @@
+//! Axis-aligned bounding boxes: the bounding volume of the BVH and the grid.
+
+use super::robust::gamma;
+use glam::Vec3;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Default for Aabb {
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+impl Aabb {
+    /// The identity of `union`: contains nothing.
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
+
+    pub fn new(a: Vec3, b: Vec3) -> Self {
+        Aabb {
+            min: a.min(b),
+            max: a.max(b),
+        }
+    }
+
+    pub fn from_point(p: Vec3) -> Self {
+        Aabb { min: p, max: p }
+    }
+
+    pub fn from_points(points: impl IntoIterator<Item = Vec3>) -> Self {
+        points
+            .into_iter()
+            .fold(Aabb::EMPTY, |b, p| b.union_point(p))
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.min.x > self.max.x || self.min.y > self.max.y || self.min.z > self.max.z
+    }
+
+    pub fn union(&self, o: &Aabb) -> Aabb {
+        Aabb {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
+
+    pub fn union_point(&self, p: Vec3) -> Aabb {
+        Aabb {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+
+    pub fn extent(&self) -> Vec3 {
+        self.max - self.min
+    }
+
+    pub fn center(&self) -> Vec3 {
+        0.5 * (self.min + self.max)
+    }
+
+    /// The axis (0, 1, 2) along which the box is longest.
+    pub fn longest_axis(&self) -> usize {
+        let e = self.extent();
+        if e.x >= e.y && e.x >= e.z {
+            0
+        } else if e.y >= e.z {
+            1
+        } else {
+            2
+        }
+    }
+
+    pub fn surface_area(&self) -> f32 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        let e = self.extent();
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+
+    pub fn contains(&self, p: Vec3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+
+    /// Slab test against `[0, t_max]`. Returns the entry distance on a hit.
+    ///
+    /// The far distance is widened by 2γ₃ (pbrt's bound on the rounding of the slab
+    /// arithmetic) so a ray that touches a box edge is never lost to rounding, at any scale.
+    /// `f32::max`/`min` drop the NaN of `0 * inf`, so axis-parallel rays through a slab
+    /// boundary behave.
+    #[inline(always)]
+    pub fn hit(&self, origin: Vec3, inv_dir: Vec3, t_max: f32) -> Option<f32> {
+        let t0 = (self.min - origin) * inv_dir;
+        let t1 = (self.max - origin) * inv_dir;
+        let near = t0.min(t1);
+        let far = t0.max(t1);
+        let t_enter = near.x.max(near.y).max(near.z).max(0.0);
+        let t_exit = far.x.min(far.y).min(far.z).min(t_max) * (1.0 + 2.0 * gamma(3));
+        (t_enter <= t_exit).then_some(t_enter)
+    }
+}

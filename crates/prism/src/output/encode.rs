@@ -1,0 +1,59 @@
+//! Encoders from film to file bytes, one function per format.
+
+use super::to_srgb8;
+use crate::render::Film;
+use std::io::Cursor;
+
+pub fn png(film: &Film) -> Result<Vec<u8>, String> {
+    use image::ImageEncoder;
+    let mut out = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut out)
+        .write_image(
+            &to_srgb8(film),
+            film.width,
+            film.height,
+            image::ExtendedColorType::Rgb8,
+        )
+        .map_err(|e| e.to_string())?;
+    Ok(out)
+}
+
+pub fn exr(film: &Film, half: bool) -> Result<Vec<u8>, String> {
+    use exr::prelude::*;
+    let (w, h) = (film.width as usize, film.height as usize);
+    let mut out = Cursor::new(Vec::new());
+    let pixel = |x: usize, y: usize| film.pixels[y * w + x];
+    let result = if half {
+        let channels = SpecificChannels::rgb(|Vec2(x, y)| {
+            let c = pixel(x, y);
+            (f16::from_f32(c.x), f16::from_f32(c.y), f16::from_f32(c.z))
+        });
+        Image::from_channels((w, h), channels)
+            .write()
+            .to_buffered(&mut out)
+    } else {
+        let channels = SpecificChannels::rgb(|Vec2(x, y)| {
+            let c = pixel(x, y);
+            (c.x, c.y, c.z)
+        });
+        Image::from_channels((w, h), channels)
+            .write()
+            .to_buffered(&mut out)
+    };
+    result.map_err(|e| e.to_string())?;
+    Ok(out.into_inner())
+}
+
+/// Portable float map: a text header, then little-endian f32 RGB rows from the bottom up.
+pub fn pfm(film: &Film) -> Vec<u8> {
+    let mut out = format!("PF\n{} {}\n-1.0\n", film.width, film.height).into_bytes();
+    let w = film.width as usize;
+    for row in film.pixels.chunks(w.max(1)).rev() {
+        for c in row {
+            for v in [c.x, c.y, c.z] {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,96 @@
+//! Writing a film to disk. The format follows the file extension: PNG (8-bit sRGB),
+//! EXR (linear, 32-bit float or half) or PFM (linear 32-bit float). Every file is written
+//! to a temporary name beside the target and renamed into place, so an interrupted write
+//! never leaves a broken image under the requested name.
+
+mod encode;
+
+use crate::render::Film;
+use std::path::{Path, PathBuf};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    Png,
+    Exr { half: bool },
+    Pfm,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("{path}: unknown image format '.{ext}'; use .png, .exr or .pfm")]
+    UnknownFormat { path: PathBuf, ext: String },
+    #[error("{path}: no file extension; use .png, .exr or .pfm")]
+    NoExtension { path: PathBuf },
+    #[error("cannot write {path}: {message}")]
+    Write { path: PathBuf, message: String },
+}
+
+impl ImageFormat {
+    pub fn from_path(path: &Path) -> Result<Self, OutputError> {
+        let ext =
+            path.extension()
+                .and_then(|e| e.to_str())
+                .ok_or_else(|| OutputError::NoExtension {
+                    path: path.to_path_buf(),
+                })?;
+        match ext.to_ascii_lowercase().as_str() {
+            "png" => Ok(ImageFormat::Png),
+            "exr" => Ok(ImageFormat::Exr { half: false }),
+            "pfm" => Ok(ImageFormat::Pfm),
+            _ => Err(OutputError::UnknownFormat {
+                path: path.to_path_buf(),
+                ext: ext.to_string(),
+            }),
+        }
+    }
+}
+
+/// Encodes `film` in the format the extension of `path` names and writes it atomically.
+pub fn write_image(path: &Path, film: &Film) -> Result<(), OutputError> {
+    let format = ImageFormat::from_path(path)?;
+    write_image_as(path, film, format)
+}
+
+pub fn write_image_as(path: &Path, film: &Film, format: ImageFormat) -> Result<(), OutputError> {
+    let err = |message: String| OutputError::Write {
+        path: path.to_path_buf(),
+        message,
+    };
+    let bytes = match format {
+        ImageFormat::Png => encode::png(film),
+        ImageFormat::Exr { half } => encode::exr(film, half),
+        ImageFormat::Pfm => Ok(encode::pfm(film)),
+    }
+    .map_err(err)?;
+    let file_name = path
+        .file_name()
+        .ok_or_else(|| err("not a file name".into()))?;
+    let mut tmp_name = std::ffi::OsString::from(".");
+    tmp_name.push(file_name);
+    tmp_name.push(format!(".{}.tmp", std::process::id()));
+    let tmp = path.with_file_name(tmp_name);
+    std::fs::write(&tmp, &bytes).map_err(|e| err(e.to_string()))?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        err(e.to_string())
+    })
+}
+
+/// Linear to sRGB-encoded 8-bit, clamping out-of-range values.
+pub fn linear_to_srgb8(c: f32) -> u8 {
+    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
+    let s = if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0 + 0.5) as u8
+}
+
+/// The film as 8-bit sRGB, row-major RGB from the top-left: what PNG output contains.
+pub fn to_srgb8(film: &Film) -> Vec<u8> {
+    film.pixels
+        .iter()
+        .flat_map(|c| [c.x, c.y, c.z].map(linear_to_srgb8))
+        .collect()
+}

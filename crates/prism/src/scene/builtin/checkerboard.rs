@@ -1,0 +1,40 @@
+//! An endless black-and-white checkered plane running to the horizon, lit by ambient light
+//! alone so every pixel is exactly the area average of the pattern it covers: the classic
+//! aliasing test, with an exact reference that sampling can be measured against.
+
+use crate::camera::Camera;
+use crate::geometry::{Plane, Shape};
+use crate::math::{Color, Vec3};
+use crate::scene::Scene;
+use crate::shading::{Checker, CheckerSpace, Material, Texture};
+
+pub fn checkerboard() -> Scene {
+    let mut scene = Scene {
+        camera: Camera {
+            eye: Vec3::new(0.0, 1.0, 0.0),
+            look_at: Vec3::new(0.0, 0.75, 4.0),
+            up: Vec3::Y,
+            fov_degrees: 50.0,
+        },
+        background: Color::new(0.55, 0.7, 0.9),
+        ambient: Color::ONE,
+        ..Scene::default()
+    };
+    scene.options.width = 640;
+    scene.options.height = 360;
+    let board = scene.add_material(Material {
+        name: "checker".into(),
+        color: Texture::Checker(Checker {
+            a: Color::ONE,
+            b: Color::ZERO,
+            size: 1.0,
+            space: CheckerSpace::Uv,
+        }),
+        ambient: 1.0,
+        diffuse: 0.0,
+        ..Material::default()
+    });
+    let plane = Plane::new(Vec3::ZERO, Vec3::Y).expect("the normal is not zero");
+    scene.geometry.add(Shape::Plane(plane), board);
+    scene
+}

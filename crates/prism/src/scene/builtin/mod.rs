@@ -1,0 +1,59 @@
+//! Built-in scenes, reachable as `prism render --builtin NAME` and listed by `prism list`.
+
+mod checkerboard;
+mod cornell;
+mod sphereflake;
+mod whitted;
+
+use super::Scene;
+
+pub use sphereflake::sphereflake;
+
+/// A built-in scene: its name, a one-line description and its constructor.
+pub struct Builtin {
+    pub name: &'static str,
+    pub description: &'static str,
+    build: fn() -> Scene,
+}
+
+impl Builtin {
+    pub fn build(&self) -> Scene {
+        (self.build)()
+    }
+}
+
+pub const BUILTINS: &[Builtin] = &[
+    Builtin {
+        name: "whitted",
+        description: "homage to Whitted 1980: checkerboard, mirror sphere, hollow glass sphere",
+        build: whitted::whitted,
+    },
+    Builtin {
+        name: "cornell",
+        description: "Cornell box with a point light, a mirror sphere and a glass sphere",
+        build: cornell::cornell,
+    },
+    Builtin {
+        name: "sphereflake",
+        description: "Haines' sphereflake of mirrored spheres, level 4 (7381 spheres)",
+        build: || sphereflake(4),
+    },
+    Builtin {
+        name: "checkerboard",
+        description: "an endless checkered plane to the horizon: the antialiasing test",
+        build: checkerboard::checkerboard,
+    },
+];
+
+/// Looks a built-in up by name. `sphereflake:N` selects the sphereflake level N (0–6).
+pub fn find(name: &str) -> Option<Scene> {
+    if let Some(level) = name.strip_prefix("sphereflake:") {
+        let level: u32 = level.parse().ok()?;
+        return (level <= 6).then(|| sphereflake(level));
+    }
+    BUILTINS.iter().find(|b| b.name == name).map(Builtin::build)
+}
+
+pub fn names() -> Vec<&'static str> {
+    BUILTINS.iter().map(|b| b.name).collect()
+}

@@ -1,0 +1,39 @@
+//! Reading scene files. The extension picks the loader.
+
+use super::Scene;
+use std::path::Path;
+
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    #[error("cannot read {path}: {message}")]
+    Io { path: String, message: String },
+    #[error("{path}: unknown scene format '{ext}'; prism reads .toml scene files")]
+    UnknownFormat { path: String, ext: String },
+    /// A parse or validation error that names the file, line and column.
+    #[error("{path}:{line}:{column}: {message}")]
+    Syntax {
+        path: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    /// A problem with the scene as a whole (no single place in the file).
+    #[error("{path}: {message}")]
+    Invalid { path: String, message: String },
+}
+
+/// Loads a scene file, choosing the format by extension.
+pub fn load(path: &Path) -> Result<Scene, LoadError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    match ext.as_str() {
+        "toml" => super::toml::load(path),
+        _ => Err(LoadError::UnknownFormat {
+            path: path.display().to_string(),
+            ext,
+        }),
+    }
+}

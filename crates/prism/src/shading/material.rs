@@ -1,0 +1,126 @@
+//! The Whitted material: ambient, Lambert diffuse and a Phong or Blinn–Phong highlight for
+//! the local term; mirror reflection `kr` and refraction `kt` for the recursive terms.
+
+use super::fresnel::FresnelMode;
+use super::texture::Texture;
+use crate::math::{Color, Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// The specular highlight lobe of the local illumination.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Highlight {
+    /// (R·V)^n, with R the light direction mirrored about the normal (Phong 1975).
+    #[default]
+    Phong,
+    /// (N·H)^n, with H halfway between light and viewer (Blinn 1977).
+    BlinnPhong,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    /// Diffuse (and ambient) colour.
+    pub color: Texture,
+    /// ka: fraction of the scene's ambient light reflected.
+    pub ambient: f32,
+    /// kd: Lambert diffuse weight.
+    pub diffuse: f32,
+    /// ks: highlight weight (white highlights, as in Whitted's model).
+    pub specular: f32,
+    /// Highlight exponent.
+    pub shininess: f32,
+    pub highlight: Highlight,
+    /// kr: weight of the mirror-reflected ray (Whitted's ks in I_R).
+    pub reflect: f32,
+    /// kt: weight of the refracted ray; also what a shadow ray keeps when crossing.
+    pub transmit: f32,
+    /// Index of refraction of the material's inside; the outside is taken to be vacuum.
+    pub ior: f32,
+    pub fresnel: FresnelMode,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            name: "default".into(),
+            color: Texture::Solid(Color::splat(0.8)),
+            ambient: 0.1,
+            diffuse: 0.9,
+            specular: 0.0,
+            shininess: 32.0,
+            highlight: Highlight::Phong,
+            reflect: 0.0,
+            transmit: 0.0,
+            ior: 1.5,
+            fresnel: FresnelMode::Off,
+        }
+    }
+}
+
+/// Weights of the reflected and refracted rays at one hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpecularWeights {
+    pub reflect: f32,
+    pub transmit: f32,
+    /// Refraction was impossible (sin²θt > 1); its weight went to reflection.
+    pub total_internal_reflection: bool,
+}
+
+impl Material {
+    pub fn is_transmissive(&self) -> bool {
+        self.transmit > 0.0
+    }
+
+    /// Splits light between the mirror and refraction directions. `cos_i` is the cosine of
+    /// the incident angle, `eta` = η_incident / η_transmitted.
+    ///
+    /// Fresnel off: `kr` and `kt` as given. Fresnel on: reflectance R(θ) scales the mirror
+    /// term of both a coating (`kr`) and the dielectric (`kt`), and the dielectric transmits
+    /// `kt`·(1 − R). Under total internal reflection nothing is transmitted and the
+    /// transmitted share goes to reflection (R = 1 does this for the Fresnel modes).
+    pub fn specular_weights(&self, cos_i: f32, eta: f32) -> SpecularWeights {
+        let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
+        let tir = self.transmit > 0.0 && sin2_t > 1.0;
+        let (reflect, transmit) = match self.fresnel.reflectance(cos_i, eta) {
+            None if tir => (self.reflect + self.transmit, 0.0),
+            None => (self.reflect, self.transmit),
+            Some(r) => {
+                let r = if tir { 1.0 } else { r };
+                (
+                    (self.reflect + self.transmit) * r,
+                    self.transmit * (1.0 - r),
+                )
+            }
+        };
+        SpecularWeights {
+            reflect,
+            transmit,
+            total_internal_reflection: tir,
+        }
+    }
+
+    /// The local highlight term for unit vectors: normal `n`, towards the light `l`,
+    /// towards the viewer `v`.
+    pub fn highlight_term(&self, n: Vec3, l: Vec3, v: Vec3) -> f32 {
+        if self.specular <= 0.0 {
+            return 0.0;
+        }
+        let c = match self.highlight {
+            Highlight::Phong => super::optics::reflect(-l, n).dot(v),
+            Highlight::BlinnPhong => match (l + v).try_normalize() {
+                Some(h) => n.dot(h),
+                None => 0.0,
+            },
+        };
+        if c <= 0.0 {
+            0.0
+        } else {
+            self.specular * c.powf(self.shininess)
+        }
+    }
+
+    pub fn color_at(&self, uv: Vec2, p: Vec3) -> Color {
+        self.color.eval(uv, p)
+    }
+}

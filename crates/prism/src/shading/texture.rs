@@ -1,0 +1,136 @@
+//! Textures for the diffuse colour: constant, procedural checkerboards (in uv or solid in
+//! space) and images.
+
+use crate::math::{Color, Vec2, Vec3};
+use std::path::Path;
+use std::sync::Arc;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Texture {
+    Solid(Color),
+    Checker(Checker),
+    Image(ImageTexture),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CheckerSpace {
+    /// Squares in the surface's (u, v) parameters.
+    Uv,
+    /// Cubes in world space: a solid texture, continuous across shapes.
+    Solid,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Checker {
+    pub a: Color,
+    pub b: Color,
+    /// Edge length of one square (or cube), in uv or world units.
+    pub size: f32,
+    pub space: CheckerSpace,
+}
+
+impl Checker {
+    pub fn eval(&self, uv: Vec2, p: Vec3) -> Color {
+        let parity = match self.space {
+            CheckerSpace::Uv => {
+                let c = (uv / self.size).floor();
+                c.x as i64 + c.y as i64
+            }
+            CheckerSpace::Solid => {
+                let c = (p / self.size).floor();
+                c.x as i64 + c.y as i64 + c.z as i64
+            }
+        };
+        if parity.rem_euclid(2) == 0 {
+            self.a
+        } else {
+            self.b
+        }
+    }
+}
+
+/// An image in linear RGB, sampled bilinearly with wrap-around; (0,0) is the bottom left
+/// of the image so that uv = (u, v) reads like a graph.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageTexture {
+    width: usize,
+    height: usize,
+    texels: Arc<Vec<Color>>,
+    /// Repetitions of the image per unit of uv.
+    pub scale: Vec2,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum TextureError {
+    #[error("cannot read image texture {path}: {message}")]
+    Read { path: String, message: String },
+}
+
+fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+impl ImageTexture {
+    /// Loads a PNG or JPEG; 8-bit values are taken as sRGB-encoded.
+    pub fn load(path: &Path) -> Result<Self, TextureError> {
+        let img = image::open(path).map_err(|e| TextureError::Read {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        let rgb = img.to_rgb8();
+        let lut: Vec<f32> = (0..256).map(|i| srgb_to_linear(i as f32 / 255.0)).collect();
+        let texels = rgb
+            .pixels()
+            .map(|p| Color::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize]))
+            .collect();
+        Ok(Self::from_texels(
+            rgb.width() as usize,
+            rgb.height() as usize,
+            texels,
+        ))
+    }
+
+    /// Texels in rows from the top, linear RGB.
+    pub fn from_texels(width: usize, height: usize, texels: Vec<Color>) -> Self {
+        assert_eq!(texels.len(), width * height, "texel count must match size");
+        ImageTexture {
+            width,
+            height,
+            texels: Arc::new(texels),
+            scale: Vec2::ONE,
+        }
+    }
+
+    pub fn eval(&self, uv: Vec2) -> Color {
+        if self.width == 0 || self.height == 0 {
+            return Color::ZERO;
+        }
+        let uv = uv * self.scale;
+        let x = uv.x.rem_euclid(1.0) * self.width as f32 - 0.5;
+        let y = (1.0 - uv.y.rem_euclid(1.0)) * self.height as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let texel = |xi: f32, yi: f32| {
+            let xi = (xi as i64).rem_euclid(self.width as i64) as usize;
+            let yi = (yi as i64).rem_euclid(self.height as i64) as usize;
+            self.texels[yi * self.width + xi]
+        };
+        let top = texel(x0, y0).lerp(texel(x0 + 1.0, y0), fx);
+        let bottom = texel(x0, y0 + 1.0).lerp(texel(x0 + 1.0, y0 + 1.0), fx);
+        top.lerp(bottom, fy)
+    }
+}
+
+impl Texture {
+    pub fn eval(&self, uv: Vec2, p: Vec3) -> Color {
+        match self {
+            Texture::Solid(c) => *c,
+            Texture::Checker(c) => c.eval(uv, p),
+            Texture::Image(img) => img.eval(uv),
+        }
+    }
+}

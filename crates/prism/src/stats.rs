@@ -1,0 +1,48 @@
+//! Counters for the work a render does: rays by kind, intersection tests, node visits.
+//!
+//! Each worker owns a `Stats` and adds to it without atomics; the renderer sums them at the
+//! end, so counting costs an increment and the totals do not depend on thread count.
+
+use serde::Serialize;
+use std::ops::AddAssign;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Stats {
+    /// Camera rays.
+    pub primary_rays: u64,
+    /// One per (shading point, light) pair whose light is in front of the surface.
+    pub shadow_rays: u64,
+    /// Extra segments traced by shadow rays that pass through transparent surfaces.
+    pub shadow_continuations: u64,
+    pub reflected_rays: u64,
+    pub refracted_rays: u64,
+    /// Refractions that turned into reflection because sin²θt > 1.
+    pub total_internal_reflections: u64,
+    /// Ray–primitive intersection tests.
+    pub primitive_tests: u64,
+    /// Acceleration-structure nodes whose bounds were tested.
+    pub node_visits: u64,
+}
+
+impl Stats {
+    pub fn total_rays(&self) -> u64 {
+        self.primary_rays
+            + self.shadow_rays
+            + self.shadow_continuations
+            + self.reflected_rays
+            + self.refracted_rays
+    }
+}
+
+impl AddAssign for Stats {
+    fn add_assign(&mut self, o: Stats) {
+        self.primary_rays += o.primary_rays;
+        self.shadow_rays += o.shadow_rays;
+        self.shadow_continuations += o.shadow_continuations;
+        self.reflected_rays += o.reflected_rays;
+        self.refracted_rays += o.refracted_rays;
+        self.total_internal_reflections += o.total_internal_reflections;
+        self.primitive_tests += o.primitive_tests;
+        self.node_visits += o.node_visits;
+    }
+}
