@@ -42,6 +42,10 @@ pub struct RenderArgs {
     #[arg(short, long, value_name = "FILE", default_value = "prism.png")]
     pub output: PathBuf,
 
+    /// Write EXR output as 16-bit half floats instead of 32-bit floats.
+    #[arg(long)]
+    pub half: bool,
+
     /// Image width in pixels [default: the scene's].
     #[arg(short = 'W', long, value_name = "PIXELS")]
     pub width: Option<u32>,

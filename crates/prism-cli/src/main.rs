@@ -55,7 +55,12 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
         .validate()
         .map_err(|e| anyhow::anyhow!("invalid option: {e}"))?;
     // Fail on an unwritable format before spending time on the render.
-    prism::output::ImageFormat::from_path(&args.output)?;
+    let format = match prism::output::ImageFormat::from_path(&args.output)? {
+        prism::output::ImageFormat::Exr { .. } => {
+            prism::output::ImageFormat::Exr { half: args.half }
+        }
+        other => other,
+    };
 
     let prepared = scene.prepare(options.accel);
 
@@ -74,7 +79,7 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     let result = prism::render::render(&prepared, &options, &|t| bar.tile_done(t), &cancel)?;
     bar.finish(result.complete);
 
-    prism::output::write_image(&args.output, &result.film)?;
+    prism::output::write_image_as(&args.output, &result.film, format)?;
     let report = report::Report::new(
         &scene_name,
         &prepared,

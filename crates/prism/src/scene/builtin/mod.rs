@@ -3,11 +3,13 @@
 mod checkerboard;
 mod cornell;
 mod sphereflake;
+mod torusknot;
 mod whitted;
 
 use super::Scene;
 
 pub use sphereflake::sphereflake;
+pub use torusknot::torusknot;
 
 /// A built-in scene: its name, a one-line description and its constructor.
 pub struct Builtin {
@@ -42,6 +44,11 @@ pub const BUILTINS: &[Builtin] = &[
         name: "checkerboard",
         description: "an endless checkered plane to the horizon: the antialiasing test",
         build: checkerboard::checkerboard,
+    },
+    Builtin {
+        name: "torusknot",
+        description: "a bumpy torus knot of one million triangles: the large-mesh benchmark",
+        build: || torusknot(1_000_000),
     },
 ];
 
