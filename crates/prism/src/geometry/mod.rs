@@ -8,6 +8,7 @@ mod cone;
 pub mod generate;
 mod mesh;
 mod plane;
+pub mod polygon;
 mod sphere;
 mod triangle;
 

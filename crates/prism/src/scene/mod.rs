@@ -3,6 +3,7 @@
 
 pub mod builtin;
 mod load;
+pub mod nff;
 mod toml;
 
 pub use load::{load, LoadError};
