@@ -29,6 +29,12 @@ pub enum Command {
     List,
 }
 
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preset {
+    /// Eric Haines' Standard Procedural Databases testing procedure.
+    Spd,
+}
+
 #[derive(Args, Debug, Default)]
 pub struct RenderArgs {
     /// Scene file to render (.toml). Without it, a built-in scene is rendered.
@@ -73,6 +79,11 @@ pub struct RenderArgs {
     /// Acceleration structure: bvh or brute-force.
     #[arg(long, value_name = "NAME")]
     pub accel: Option<AccelKind>,
+
+    /// Apply a published testing procedure: `spd` = Haines' SPD rules (corner rays, depth
+    /// 5, a reflection ray at every reflective or transmitting surface).
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<Preset>,
 
     /// Print a table of ray counts, tests and times after rendering.
     #[arg(long)]

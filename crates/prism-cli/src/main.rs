@@ -47,10 +47,13 @@ fn list() {
 
 fn render(args: &RenderArgs) -> Result<ExitCode> {
     let load_start = Instant::now();
-    let (scene, scene_name) = args.load_scene()?;
+    let (mut scene, scene_name) = args.load_scene()?;
     let load_time = load_start.elapsed();
     scene.validate().context("the scene is not valid")?;
-    let options = args.options(&scene.options);
+    let mut options = args.options(&scene.options);
+    if args.preset == Some(args::Preset::Spd) {
+        prism::preset::apply_spd(&mut scene, &mut options);
+    }
     options
         .validate()
         .map_err(|e| anyhow::anyhow!("invalid option: {e}"))?;

@@ -1,6 +1,7 @@
 //! The statistics report: a table for people (`--stats`), JSON for scripts (`--stats-json`).
 
 use anyhow::{Context, Result};
+use prism::geometry::ShapeKind;
 use prism::render::RenderResult;
 use prism::scene::PreparedScene;
 use prism::{RenderOptions, Stats};
@@ -43,6 +44,7 @@ impl Report {
             },
             "rays": {
                 "primary": s.primary_rays,
+                "primary_hits": s.primary_hits,
                 "shadow": s.shadow_rays,
                 "shadow_continuations": s.shadow_continuations,
                 "reflected": s.reflected_rays,
@@ -52,6 +54,12 @@ impl Report {
             },
             "total_internal_reflections": s.total_internal_reflections,
             "primitive_tests": s.primitive_tests,
+            "primitive_tests_by_kind": ShapeKind::ALL
+                .iter()
+                .map(|k| (k.name(), s.tests_by_kind[*k as usize]))
+                .filter(|(_, n)| *n > 0)
+                .map(|(k, n)| (k.to_string(), json!(n)))
+                .collect::<serde_json::Map<_, _>>(),
             "node_visits": s.node_visits,
         });
         Report {
@@ -74,6 +82,7 @@ impl Report {
         println!("{:<18} {:>14} {:>8}", "rays", "count", "share");
         for (name, n) in [
             ("primary", s.primary_rays),
+            ("  that hit", s.primary_hits),
             ("shadow", s.shadow_rays),
             ("shadow (through)", s.shadow_continuations),
             ("reflected", s.reflected_rays),
@@ -89,6 +98,12 @@ impl Report {
             s.primitive_tests,
             s.primitive_tests as f64 / total
         );
+        for kind in ShapeKind::ALL {
+            let n = s.tests_by_kind[kind as usize];
+            if n > 0 {
+                println!("{:<18} {n:>14}", format!("  {}", kind.name()));
+            }
+        }
         println!(
             "{:<18} {:>14} {:>8.2} per ray",
             "node visits",

@@ -14,6 +14,7 @@ pub mod light;
 pub mod math;
 pub mod options;
 pub mod output;
+pub mod preset;
 pub mod render;
 pub mod scene;
 pub mod shading;

@@ -20,6 +20,10 @@ pub struct RenderOptions {
     /// product of reflection and transmission weights from the eye) is below this is not
     /// traced. 0 traces every ray up to `max_depth`.
     pub min_weight: f32,
+    /// Follow the SPD testing procedure's ray-tree rules (Haines, SPD rules 8 and 9): every
+    /// hit on a surface with Ks > 0 or T > 0 spawns a reflection ray, and every hit on a
+    /// transmitter a refraction ray, whatever their weight; `min_weight` is ignored.
+    pub spd_rules: bool,
     /// Worker threads; 0 uses every core.
     pub threads: usize,
     /// Seed for every random decision (none yet with regular sampling; kept so a render is
@@ -39,6 +43,7 @@ impl Default for RenderOptions {
             samples: 1,
             max_depth: 5,
             min_weight: 0.0,
+            spd_rules: false,
             threads: 0,
             seed: 0,
             accel: AccelKind::Bvh,

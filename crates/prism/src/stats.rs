@@ -3,6 +3,7 @@
 //! Each worker owns a `Stats` and adds to it without atomics; the renderer sums them at the
 //! end, so counting costs an increment and the totals do not depend on thread count.
 
+use crate::geometry::ShapeKind;
 use serde::Serialize;
 use std::ops::AddAssign;
 
@@ -10,6 +11,8 @@ use std::ops::AddAssign;
 pub struct Stats {
     /// Camera rays.
     pub primary_rays: u64,
+    /// Camera rays that hit something (SPD's "eye-hit rays").
+    pub primary_hits: u64,
     /// One per (shading point, light) pair whose light is in front of the surface.
     pub shadow_rays: u64,
     /// Extra segments traced by shadow rays that pass through transparent surfaces.
@@ -20,11 +23,20 @@ pub struct Stats {
     pub total_internal_reflections: u64,
     /// Ray–primitive intersection tests.
     pub primitive_tests: u64,
+    /// The same tests by shape kind, indexed by `ShapeKind as usize`.
+    pub tests_by_kind: [u64; ShapeKind::COUNT],
     /// Acceleration-structure nodes whose bounds were tested.
     pub node_visits: u64,
 }
 
 impl Stats {
+    /// Records one intersection test against a shape of `kind`.
+    #[inline(always)]
+    pub fn count_test(&mut self, kind: ShapeKind) {
+        self.primitive_tests += 1;
+        self.tests_by_kind[kind as usize] += 1;
+    }
+
     pub fn total_rays(&self) -> u64 {
         self.primary_rays
             + self.shadow_rays
@@ -37,6 +49,10 @@ impl Stats {
 impl AddAssign for Stats {
     fn add_assign(&mut self, o: Stats) {
         self.primary_rays += o.primary_rays;
+        self.primary_hits += o.primary_hits;
+        for (a, b) in self.tests_by_kind.iter_mut().zip(o.tests_by_kind) {
+            *a += b;
+        }
         self.shadow_rays += o.shadow_rays;
         self.shadow_continuations += o.shadow_continuations;
         self.reflected_rays += o.reflected_rays;

@@ -24,9 +24,8 @@ impl Accel for BruteForce {
         stats: &mut Stats,
     ) -> Option<Hit> {
         let mut best = None;
-        stats.primitive_tests += self.prims.len() as u64;
         for &prim in &self.prims {
-            if let Some(h) = geometry.intersect(prim, ray, t_max) {
+            if let Some(h) = geometry.intersect_counted(prim, ray, t_max, stats) {
                 t_max = h.t;
                 best = Some(Hit {
                     t: h.t,
@@ -41,8 +40,10 @@ impl Accel for BruteForce {
 
     fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
         for &prim in &self.prims {
-            stats.primitive_tests += 1;
-            if geometry.intersect(prim, ray, t_max).is_some() {
+            if geometry
+                .intersect_counted(prim, ray, t_max, stats)
+                .is_some()
+            {
                 return true;
             }
         }

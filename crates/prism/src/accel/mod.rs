@@ -124,8 +124,7 @@ impl SceneIntersector {
         let mut best = self.accel.intersect(geometry, &tr, t_max, stats);
         let mut t_max = best.map_or(t_max, |h| h.t);
         for &prim in &self.unbounded {
-            stats.primitive_tests += 1;
-            if let Some(h) = geometry.intersect(prim, &tr, t_max) {
+            if let Some(h) = geometry.intersect_counted(prim, &tr, t_max, stats) {
                 t_max = h.t;
                 best = Some(Hit {
                     t: h.t,
@@ -141,8 +140,9 @@ impl SceneIntersector {
     pub fn occluded(&self, geometry: &Geometry, ray: &Ray, t_max: f32, stats: &mut Stats) -> bool {
         let tr = TraceRay::new(*ray);
         self.unbounded.iter().any(|&prim| {
-            stats.primitive_tests += 1;
-            geometry.intersect(prim, &tr, t_max).is_some()
+            geometry
+                .intersect_counted(prim, &tr, t_max, stats)
+                .is_some()
         }) || self.accel.occluded(geometry, &tr, t_max, stats)
     }
 }

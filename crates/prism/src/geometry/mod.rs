@@ -20,6 +20,7 @@ pub use sphere::Sphere;
 pub use triangle::{intersect_triangle, TriangleHit};
 
 use crate::math::{Aabb, Ray, TraceRay, Vec2, Vec3};
+use crate::stats::Stats;
 
 /// What an intersection routine reports: the distance and two shape-specific parameters
 /// (barycentrics for triangles, the hit face for boxes, the part hit for cones).
@@ -103,14 +104,44 @@ impl Shape {
         }
     }
 
-    /// A short name for statistics and `prism info`.
-    pub fn kind_name(&self) -> &'static str {
+    pub fn kind(&self) -> ShapeKind {
         match self {
-            Shape::Sphere(_) => "sphere",
-            Shape::Triangle { .. } => "triangle",
-            Shape::Plane(_) => "plane",
-            Shape::Cone(_) => "cone",
-            Shape::Box(_) => "box",
+            Shape::Sphere(_) => ShapeKind::Sphere,
+            Shape::Triangle { .. } => ShapeKind::Triangle,
+            Shape::Plane(_) => ShapeKind::Plane,
+            Shape::Cone(_) => ShapeKind::Cone,
+            Shape::Box(_) => ShapeKind::Box,
+        }
+    }
+}
+
+/// Shape kinds, for statistics by primitive type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShapeKind {
+    Sphere,
+    Triangle,
+    Plane,
+    Cone,
+    Box,
+}
+
+impl ShapeKind {
+    pub const COUNT: usize = 5;
+    pub const ALL: [ShapeKind; Self::COUNT] = [
+        ShapeKind::Sphere,
+        ShapeKind::Triangle,
+        ShapeKind::Plane,
+        ShapeKind::Cone,
+        ShapeKind::Box,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ShapeKind::Sphere => "sphere",
+            ShapeKind::Triangle => "triangle",
+            ShapeKind::Plane => "plane",
+            ShapeKind::Cone => "cone",
+            ShapeKind::Box => "box",
         }
     }
 }
@@ -154,6 +185,20 @@ impl Geometry {
         self.primitives[prim as usize]
             .shape
             .intersect(&self.meshes, ray, t_max)
+    }
+
+    /// `intersect`, recorded in `stats` by shape kind.
+    #[inline]
+    pub fn intersect_counted(
+        &self,
+        prim: u32,
+        ray: &TraceRay,
+        t_max: f32,
+        stats: &mut Stats,
+    ) -> Option<ShapeHit> {
+        let shape = &self.primitives[prim as usize].shape;
+        stats.count_test(shape.kind());
+        shape.intersect(&self.meshes, ray, t_max)
     }
 
     pub fn bounds(&self, prim: u32) -> Option<Aabb> {

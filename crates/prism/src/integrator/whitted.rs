@@ -12,6 +12,7 @@
 use crate::accel::Hit;
 use crate::math::robust::offset_ray_origin;
 use crate::math::{Color, Ray, Vec3};
+use crate::options::RenderOptions;
 use crate::scene::PreparedScene;
 use crate::shading::optics::{reflect, refract};
 use crate::stats::Stats;
@@ -23,16 +24,26 @@ pub struct Whitted<'a> {
     scene: &'a PreparedScene<'a>,
     max_depth: u32,
     min_weight: f32,
+    spd_rules: bool,
 }
 
 impl<'a> Whitted<'a> {
-    /// `max_depth` is the static depth limit (eye ray = 1); branches whose weight in the
-    /// pixel falls below `min_weight` are not traced (0 traces every branch).
-    pub fn new(scene: &'a PreparedScene<'a>, max_depth: u32, min_weight: f32) -> Self {
+    pub fn new(scene: &'a PreparedScene<'a>, options: &RenderOptions) -> Self {
         Whitted {
             scene,
-            max_depth,
-            min_weight,
+            max_depth: options.max_depth,
+            min_weight: options.min_weight,
+            spd_rules: options.spd_rules,
+        }
+    }
+
+    /// Whether a secondary ray of weight `w` (in its parent) is traced. `present` says the
+    /// material has the term at all (kr or kt > 0), which is all SPD's rules ask.
+    fn spawns(&self, present: bool, w: f32, weight: f32) -> bool {
+        if self.spd_rules {
+            present
+        } else {
+            w > 0.0 && weight * w >= self.min_weight
         }
     }
 
@@ -55,6 +66,9 @@ impl<'a> Whitted<'a> {
         let Some(hit) = self.nearest(ray, f32::INFINITY, stats) else {
             return scene.background;
         };
+        if depth == 1 {
+            stats.primary_hits += 1;
+        }
         let prim = &scene.geometry.primitives[hit.prim as usize];
         let material = &scene.materials[prim.material as usize];
         let sp = scene.geometry.surface(hit.prim, ray, &hit.shape_hit());
@@ -105,7 +119,8 @@ impl<'a> Whitted<'a> {
         if w.total_internal_reflection {
             stats.total_internal_reflections += 1;
         }
-        if w.reflect > 0.0 && weight * w.reflect >= self.min_weight {
+        let has_specular = material.reflect > 0.0 || material.transmit > 0.0;
+        if self.spawns(has_specular, w.reflect, weight) {
             let mut dir = reflect(ray.dir, ns);
             // An interpolated normal can mirror the ray below the true surface; use the
             // geometric normal there instead.
@@ -117,7 +132,8 @@ impl<'a> Whitted<'a> {
             let r = self.trace(&Ray::new(origin, dir), depth + 1, weight * w.reflect, stats);
             radiance += w.reflect * r;
         }
-        if w.transmit > 0.0 && weight * w.transmit >= self.min_weight {
+        if !w.total_internal_reflection && self.spawns(material.transmit > 0.0, w.transmit, weight)
+        {
             if let Some(dir) = refract(ray.dir, ns, eta) {
                 let origin = offset_ray_origin(sp.p, sp.p_error, ng, dir);
                 stats.refracted_rays += 1;

@@ -81,7 +81,7 @@ pub fn render(
 ) -> Result<RenderResult, RenderError> {
     options.validate().map_err(RenderError::Options)?;
     let camera = scene.scene.camera.setup(options.width, options.height)?;
-    let integrator = Whitted::new(scene, options.max_depth, options.min_weight);
+    let integrator = Whitted::new(scene, options);
     let n = options.samples;
     let inv_n = 1.0 / n as f32;
     let sample_weight = 1.0 / (n * n) as f32;

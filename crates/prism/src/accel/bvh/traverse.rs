@@ -41,9 +41,8 @@ impl Bvh {
             let node = &self.nodes[current];
             if node.is_leaf() {
                 let range = node.first as usize..(node.first + node.count) as usize;
-                stats.primitive_tests += node.count as u64;
                 for &prim in &self.prims[range] {
-                    if let Some(h) = geometry.intersect(prim, ray, t_max) {
+                    if let Some(h) = geometry.intersect_counted(prim, ray, t_max, stats) {
                         t_max = h.t;
                         best = Some(Hit {
                             t: h.t,
