@@ -27,6 +27,19 @@ pub enum Command {
     Render(RenderArgs),
     /// List the built-in scenes.
     List,
+    /// Describe a scene without rendering it: shapes, materials, lights, bounds, memory
+    /// and the acceleration structure built for it.
+    Info(InfoArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    /// Scene file (.toml or .nff), or builtin:NAME for a built-in scene.
+    pub scene: String,
+
+    /// Acceleration structure to build and describe.
+    #[arg(long, value_name = "NAME", default_value = "bvh")]
+    pub accel: AccelKind,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]

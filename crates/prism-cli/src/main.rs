@@ -4,6 +4,7 @@
 //! written with the finished tiles).
 
 mod args;
+mod info;
 mod progress;
 mod report;
 
@@ -23,6 +24,7 @@ fn main() -> ExitCode {
         .unwrap_or(Command::Render(RenderArgs::default()))
     {
         Command::Render(args) => render(&args),
+        Command::Info(args) => info(&args),
         Command::List => {
             list();
             Ok(ExitCode::SUCCESS)
@@ -35,6 +37,20 @@ fn main() -> ExitCode {
             ExitCode::from(1)
         }
     }
+}
+
+fn info(args: &args::InfoArgs) -> Result<ExitCode> {
+    let scene = match args.scene.strip_prefix("builtin:") {
+        Some(name) => builtin::find(name).ok_or_else(|| {
+            anyhow::anyhow!(
+                "no built-in scene named '{name}'; available: {}",
+                builtin::names().join(", ")
+            )
+        })?,
+        None => prism::scene::load(std::path::Path::new(&args.scene))?,
+    };
+    info::print(&scene, &args.scene, args.accel)?;
+    Ok(ExitCode::SUCCESS)
 }
 
 fn list() {

@@ -1,0 +1,95 @@
+//! `prism info SCENE`: what a scene contains and what prism builds for it, without
+//! rendering: counts by shape type, materials, lights, bounds, camera, memory.
+
+use anyhow::Result;
+use prism::accel::AccelKind;
+use prism::geometry::ShapeKind;
+use prism::Scene;
+use std::time::Instant;
+
+pub fn print(scene: &Scene, name: &str, accel: AccelKind) -> Result<()> {
+    let g = &scene.geometry;
+    println!("scene              {name}");
+    println!("primitives         {}", g.primitives.len());
+    for kind in ShapeKind::ALL {
+        let n = g
+            .primitives
+            .iter()
+            .filter(|p| p.shape.kind() == kind)
+            .count();
+        if n > 0 {
+            println!("  {:<16} {n}", kind.name());
+        }
+    }
+    let vertices: usize = g.meshes.iter().map(|m| m.vertex_count()).sum();
+    println!(
+        "meshes             {} ({vertices} vertices)",
+        g.meshes.len()
+    );
+    println!("materials          {}", scene.materials.len());
+    for (i, m) in scene.materials.iter().enumerate() {
+        let users = g
+            .primitives
+            .iter()
+            .filter(|p| p.material as usize == i)
+            .count();
+        println!(
+            "  {:<16} kd {:.2} ks {:.2} kr {:.2} kt {:.2} ior {:.2} fresnel {:?}  ({users} primitives)",
+            m.name, m.diffuse, m.specular, m.reflect, m.transmit, m.ior, m.fresnel
+        );
+    }
+    println!("lights             {}", scene.lights.len());
+    let b = g.world_bounds();
+    if b.is_empty() {
+        println!("bounds             (none: only unbounded shapes)");
+    } else {
+        println!(
+            "bounds             [{:.4}, {:.4}, {:.4}] .. [{:.4}, {:.4}, {:.4}] (diagonal {:.4})",
+            b.min.x,
+            b.min.y,
+            b.min.z,
+            b.max.x,
+            b.max.y,
+            b.max.z,
+            b.extent().length()
+        );
+    }
+    let c = &scene.camera;
+    println!(
+        "camera             eye {:?} look-at {:?} up {:?} fov {}°",
+        c.eye.to_array(),
+        c.look_at.to_array(),
+        c.up.to_array(),
+        c.fov_degrees
+    );
+    println!(
+        "image              {}×{}, {}×{} samples, depth {}",
+        scene.options.width,
+        scene.options.height,
+        scene.options.samples,
+        scene.options.samples,
+        scene.options.max_depth
+    );
+    let mesh_bytes: usize = g
+        .meshes
+        .iter()
+        .map(|m| {
+            m.vertex_count() * (12 + if m.has_normals() { 12 } else { 0 }) + m.triangle_count() * 12
+        })
+        .sum();
+    let prim_bytes = g.primitives.len() * std::mem::size_of::<prism::geometry::Primitive>();
+    println!(
+        "memory             {:.1} MiB geometry ({:.1} MiB meshes, {:.1} MiB primitives)",
+        (mesh_bytes + prim_bytes) as f64 / 1048576.0,
+        mesh_bytes as f64 / 1048576.0,
+        prim_bytes as f64 / 1048576.0
+    );
+    let start = Instant::now();
+    let prepared = scene.prepare(accel);
+    println!(
+        "accelerator        {} (built in {:.1} ms)",
+        prepared.intersector.accel.describe(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    Ok(())
+}
