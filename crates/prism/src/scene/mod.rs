@@ -5,6 +5,8 @@ pub mod builtin;
 mod load;
 mod toml;
 
+/// Parses TOML scene text; the path names it in errors and anchors relative file names.
+pub use self::toml::parse as parse_toml;
 pub use load::{load, LoadError};
 
 use crate::accel::{AccelKind, SceneIntersector};
