@@ -6,6 +6,8 @@ mod load;
 pub mod nff;
 mod toml;
 
+/// Parses TOML scene text; the path names it in errors and anchors relative file names.
+pub use self::toml::parse as parse_toml;
 pub use load::{load, LoadError};
 
 use crate::accel::{AccelKind, SceneIntersector};
