@@ -77,7 +77,7 @@ pub struct RenderArgs {
     #[arg(short, long, value_name = "N")]
     pub samples: Option<u32>,
 
-    /// Maximum ray-tree depth, counting the eye ray as 1 [default: 5].
+    /// Maximum ray-tree depth, counting the eye ray as 1 (1 to 256) [default: 5].
     #[arg(short, long, value_name = "N")]
     pub depth: Option<u32>,
 

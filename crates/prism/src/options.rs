@@ -4,6 +4,9 @@
 use crate::accel::AccelKind;
 use serde::{Deserialize, Serialize};
 
+/// Largest accepted `max_depth`.
+pub const MAX_DEPTH_LIMIT: u32 = 256;
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RenderOptions {
@@ -73,8 +76,13 @@ impl RenderOptions {
                 self.samples
             ));
         }
-        if self.max_depth == 0 {
-            return Err("max_depth must be at least 1 (the eye ray)".into());
+        // The integrator recurses once per bounce; beyond this, contributions are far below
+        // 8-bit precision anyway and deep recursion would exhaust worker stacks.
+        if self.max_depth == 0 || self.max_depth > MAX_DEPTH_LIMIT {
+            return Err(format!(
+                "max_depth must be between 1 (the eye ray alone) and {MAX_DEPTH_LIMIT}, got {}",
+                self.max_depth
+            ));
         }
         if !(0.0..=1.0).contains(&self.min_weight) {
             return Err(format!(
