@@ -46,14 +46,15 @@ pub struct SurfacePoint {
 }
 
 /// The shape kinds prism renders. Triangles live in meshes and are referenced by index so a
-/// million-triangle mesh costs 12 bytes of vertex indices per triangle, not a copy.
+/// million-triangle mesh costs 12 bytes of vertex indices per triangle, not a copy. The
+/// large, rare shapes are boxed so that a `Primitive` stays at 32 bytes.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
     Sphere(Sphere),
     Triangle { mesh: u32, index: u32 },
-    Plane(Plane),
-    Cone(Cone),
-    Box(AaBox),
+    Plane(Box<Plane>),
+    Cone(Box<Cone>),
+    Box(Box<AaBox>),
 }
 
 impl Shape {
@@ -216,5 +217,14 @@ impl Geometry {
         (0..self.primitives.len() as u32)
             .filter_map(|i| self.bounds(i))
             .fold(Aabb::EMPTY, |a, b| a.union(&b))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Millions of primitives are stored; keep each one to half a cache line.
+    #[test]
+    fn primitive_is_compact() {
+        assert!(std::mem::size_of::<super::Primitive>() <= 32);
     }
 }

@@ -309,7 +309,7 @@ impl<'a> Parser<'a> {
                         )
                     })?;
                 let m = self.material();
-                self.scene.geometry.add(Shape::Cone(cone), m);
+                self.scene.geometry.add(Shape::Cone(Box::new(cone)), m);
                 Ok(())
             }
             "p" => self.polygon(false),

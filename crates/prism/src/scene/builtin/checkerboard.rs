@@ -35,6 +35,6 @@ pub fn checkerboard() -> Scene {
         ..Material::default()
     });
     let plane = Plane::new(Vec3::ZERO, Vec3::Y).expect("the normal is not zero");
-    scene.geometry.add(Shape::Plane(plane), board);
+    scene.geometry.add(Shape::Plane(Box::new(plane)), board);
     scene
 }

@@ -43,7 +43,7 @@ pub fn torusknot(triangles: u32) -> Scene {
         .geometry
         .add_mesh(generate::torus_knot(triangles), knot);
     let plane = Plane::new(Vec3::new(0.0, 0.0, -0.75), Vec3::Z).expect("non-zero normal");
-    scene.geometry.add(Shape::Plane(plane), floor);
+    scene.geometry.add(Shape::Plane(Box::new(plane)), floor);
     scene.lights = vec![
         Light::Point {
             position: Vec3::new(-3.0, -3.0, 5.0),

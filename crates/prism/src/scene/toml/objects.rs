@@ -19,10 +19,10 @@ pub fn add_object(
             radius: s.radius.0,
             inside_out: s.inside_out,
         }),
-        ObjectDef::Plane(p) => Shape::Plane(
+        ObjectDef::Plane(p) => Shape::Plane(Box::new(
             Plane::new(p.point.0, p.normal.0)
                 .ok_or_else(|| Problem::at(span, "expected a plane normal of non-zero length"))?,
-        ),
+        )),
         ObjectDef::Cylinder(c) => {
             if c.base.0 == c.top.0 {
                 return Err(Problem::at(
@@ -30,13 +30,13 @@ pub fn add_object(
                     "the cylinder's base and top coincide; expected two distinct points",
                 ));
             }
-            Shape::Cone(
+            Shape::Cone(Box::new(
                 Cone::cylinder(c.base.0, c.top.0, c.radius.0, c.capped).ok_or_else(|| {
                     Problem::at(span, "expected a cylinder axis of finite length")
                 })?,
-            )
+            ))
         }
-        ObjectDef::Cone(c) => Shape::Cone(cone(&c, span)?),
+        ObjectDef::Cone(c) => Shape::Cone(Box::new(cone(&c, span)?)),
         ObjectDef::Box(b) => {
             if b.min.0.cmpgt(b.max.0).any() {
                 return Err(Problem::at(
@@ -47,7 +47,7 @@ pub fn add_object(
                     ),
                 ));
             }
-            Shape::Box(AaBox::new(b.min.0, b.max.0))
+            Shape::Box(Box::new(AaBox::new(b.min.0, b.max.0)))
         }
         ObjectDef::Mesh(m) => {
             geometry.add_mesh(mesh(m, span)?, material);
