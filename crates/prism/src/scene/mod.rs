@@ -4,6 +4,7 @@
 pub mod builtin;
 mod load;
 pub mod nff;
+mod scale;
 mod toml;
 
 pub use load::{load, LoadError};
