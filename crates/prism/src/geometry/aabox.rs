@@ -22,14 +22,17 @@ impl AaBox {
     #[inline]
     pub fn intersect(&self, ray: &TraceRay, t_max: f32) -> Option<ShapeHit> {
         let o = ray.ray.origin;
-        let t0 = (self.min - o) * ray.inv_dir;
-        let t1 = (self.max - o) * ray.inv_dir;
-        let near = t0.min(t1);
-        let far = t0.max(t1);
+        // Near and far planes by the sign of the direction, not by sorting the distances:
+        // a ray lying in a face's plane gives NaN (0·∞) there, and sorting with min/max
+        // would replace it by its ±∞ partner on both ends (see `Aabb::hit`).
+        let negative = ray.inv_dir.cmplt(Vec3::ZERO);
+        let near = (Vec3::select(negative, self.max, self.min) - o) * ray.inv_dir;
+        let far = (Vec3::select(negative, self.min, self.max) - o) * ray.inv_dir;
         let (mut enter, mut enter_axis) = (f32::NEG_INFINITY, 0);
         let (mut exit, mut exit_axis) = (f32::INFINITY, 0);
         for a in 0..3 {
-            // NaN (ray in a slab plane, parallel to it) never wins these comparisons.
+            // NaN (a ray lying in this slab's plane) never wins these comparisons, so the
+            // slab does not constrain t: the box is closed.
             if near[a] > enter {
                 enter = near[a];
                 enter_axis = a;
@@ -51,8 +54,11 @@ impl AaBox {
             return None;
         }
         // Which side of the slab: the one the ray moves away from on entry, towards on exit.
-        let d = ray.ray.dir[axis];
-        let max_side = if t == enter { d < 0.0 } else { d > 0.0 };
+        let max_side = if t == enter {
+            negative.test(axis)
+        } else {
+            !negative.test(axis)
+        };
         Some(ShapeHit {
             t,
             u: (axis + 3 * max_side as usize) as f32,

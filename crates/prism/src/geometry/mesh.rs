@@ -133,7 +133,11 @@ impl TriangleMesh {
         let b0 = 1.0 - b1 - b2;
         // Barycentric interpolation rather than o + t·d: its error is bounded by the vertex
         // magnitudes (pbrt's γ₇ bound), independent of how far the ray travelled.
-        let p = b0 * p0 + b1 * p1 + b2 * p2;
+        // Rounding can carry p past the triangle's bounds, e.g. one ulp beyond a wall that
+        // shares the edge, which a shadow ray then crosses at t ≈ 0 (acne along the edges of
+        // an axis-aligned room). The true point lies within the bounds, so clamping only
+        // shrinks the error.
+        let p = (b0 * p0 + b1 * p1 + b2 * p2).clamp(p0.min(p1).min(p2), p0.max(p1).max(p2));
         let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
         let cross = (p1 - p0).cross(p2 - p0);
         let mut ng = cross.try_normalize().unwrap_or(Vec3::Z);

@@ -93,14 +93,20 @@ impl Aabb {
     ///
     /// The far distance is widened by 2γ₃ (pbrt's bound on the rounding of the slab
     /// arithmetic) so a ray that touches a box edge is never lost to rounding, at any scale.
-    /// `f32::max`/`min` drop the NaN of `0 * inf`, so axis-parallel rays through a slab
-    /// boundary behave.
+    ///
+    /// Each slab's near and far planes are picked by the sign of the direction rather than by
+    /// comparing the two distances. A ray lying in a slab's plane then makes 0·∞ = NaN on
+    /// exactly one side, which the NaN-ignoring `f32::max`/`min` reductions drop, so that
+    /// slab does not constrain t: the box is closed and the ray touches it. (Sorting the pair
+    /// with `min`/`max` would drop the NaN too early and keep the ±∞ partner as both ends,
+    /// missing the box.) An empty box has near > far on every axis and is never hit.
     #[inline(always)]
     pub fn hit(&self, origin: Vec3, inv_dir: Vec3, t_max: f32) -> Option<f32> {
-        let t0 = (self.min - origin) * inv_dir;
-        let t1 = (self.max - origin) * inv_dir;
-        let near = t0.min(t1);
-        let far = t0.max(t1);
+        let negative = inv_dir.cmplt(Vec3::ZERO);
+        let near_plane = Vec3::select(negative, self.max, self.min);
+        let far_plane = Vec3::select(negative, self.min, self.max);
+        let near = (near_plane - origin) * inv_dir;
+        let far = (far_plane - origin) * inv_dir;
         let t_enter = near.x.max(near.y).max(near.z).max(0.0);
         let t_exit = far.x.min(far.y).min(far.z).min(t_max) * (1.0 + 2.0 * gamma(3));
         (t_enter <= t_exit).then_some(t_enter)

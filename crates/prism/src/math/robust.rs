@@ -51,3 +51,47 @@ pub fn offset_ray_origin(p: Vec3, p_error: Vec3, n: Vec3, towards: Vec3) -> Vec3
     }
     po
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn next_up_and_down_step_one_ulp() {
+        assert_eq!(next_up(1.0), 1.0 + f32::EPSILON);
+        assert_eq!(next_down(1.0), 1.0 - f32::EPSILON / 2.0);
+        assert_eq!(next_up(-1.0), -1.0 + f32::EPSILON / 2.0);
+        assert_eq!(next_up(0.0), f32::from_bits(1));
+        assert_eq!(next_up(-0.0), f32::from_bits(1));
+        assert_eq!(next_down(0.0), -f32::from_bits(1));
+        assert_eq!(next_up(f32::INFINITY), f32::INFINITY);
+        assert_eq!(next_up(f32::MAX), f32::INFINITY);
+        assert_eq!(next_down(f32::NEG_INFINITY), f32::NEG_INFINITY);
+    }
+
+    #[test]
+    fn gamma_matches_its_definition() {
+        let e = f64::from(f32::EPSILON) / 2.0;
+        for n in [1u32, 3, 7] {
+            let expected = n as f64 * e / (1.0 - n as f64 * e);
+            assert!((gamma(n) as f64 - expected).abs() <= 1e-6 * expected);
+        }
+        assert!(gamma(3) < gamma(5));
+    }
+
+    #[test]
+    fn offset_lands_strictly_on_the_requested_side() {
+        // A point on the plane z = c with no error still moves by at least one ulp, and a
+        // point with error moves past its error box, towards either side.
+        for c in [1e-3f32, 1.0, 7.5, 1e3] {
+            let p = Vec3::new(0.25 * c, -0.5 * c, c);
+            for err in [0.0, gamma(7) * c] {
+                let p_error = Vec3::splat(err);
+                let up = offset_ray_origin(p, p_error, Vec3::Z, Vec3::new(0.3, 0.1, 0.9));
+                let down = offset_ray_origin(p, p_error, Vec3::Z, Vec3::new(0.3, 0.1, -0.9));
+                assert!(up.z > c + err, "scale {c}, error {err}: {} above", up.z);
+                assert!(down.z < c - err, "scale {c}, error {err}: {} below", down.z);
+            }
+        }
+    }
+}

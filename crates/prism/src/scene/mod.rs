@@ -4,6 +4,7 @@
 pub mod builtin;
 mod load;
 pub mod nff;
+mod scale;
 mod toml;
 
 /// Parses TOML scene text; the path names it in errors and anchors relative file names.

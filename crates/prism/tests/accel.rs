@@ -1,0 +1,494 @@
+//! The BVH against the brute-force oracle: 10⁵ random rays over several random scenes must
+//! find the same nearest hit and give the same any-hit answer, for several build settings.
+//!
+//! The scenes are hostile on purpose: long thin and degenerate triangles, duplicated and
+//! nested primitives, boxes that share faces, far-from-origin and tiny coordinates. The rays
+//! too: from inside boxes, along axes (with zero direction components of both signs), lying
+//! in the planes of box faces, grazing spheres and aimed at vertices and edges.
+
+mod common;
+
+use common::{icosphere, lattice_cube, rotate, trace_ray, Rng};
+use prism::accel::{Accel, AccelKind, BruteForce, Bvh, BvhOptions, Hit, SceneIntersector};
+use prism::geometry::{generate, AaBox, Cone, Geometry, Plane, Shape, Sphere, TriangleMesh};
+use prism::math::{Aabb, Ray, TraceRay, Vec3};
+use prism::Stats;
+
+/// Rays per scene; five scenes make the 10⁵ of the suite.
+const RAYS: usize = 20_000;
+
+struct TestScene {
+    geometry: Geometry,
+    /// Solid boxes, to start rays inside.
+    boxes: Vec<AaBox>,
+    /// Points on surfaces (vertices, edge midpoints, box corners) to aim at or start from.
+    features: Vec<Vec3>,
+}
+
+impl TestScene {
+    fn new() -> Self {
+        TestScene {
+            geometry: Geometry::default(),
+            boxes: Vec::new(),
+            features: Vec::new(),
+        }
+    }
+
+    fn add_box(&mut self, b: AaBox) {
+        self.geometry.add(Shape::Box(b), 0);
+        self.boxes.push(b);
+        self.features.extend([b.min, b.max, 0.5 * (b.min + b.max)]);
+    }
+
+    fn add_triangles(&mut self, tris: &[[Vec3; 3]]) {
+        let positions: Vec<Vec3> = tris.iter().flatten().copied().collect();
+        for t in tris {
+            self.features
+                .extend([t[0], 0.5 * (t[0] + t[1]), 0.5 * (t[1] + t[2])]);
+        }
+        let indices = (0..tris.len() as u32)
+            .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+            .collect();
+        let mesh = TriangleMesh::new(positions, indices, None, None).unwrap();
+        self.geometry.add_mesh(mesh, 0);
+    }
+
+    fn add_mesh(&mut self, mesh: TriangleMesh) {
+        self.features.extend(mesh.positions().iter().step_by(3));
+        self.geometry.add_mesh(mesh, 0);
+    }
+}
+
+/// Triangles of every shape, spheres (some nested, some overlapping), boxes, cones and
+/// cylinders, and exact duplicates, inside `[-2, 2]³·scale + offset`.
+fn mixed_scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
+    let mut rng = Rng::new(seed);
+    let mut s = TestScene::new();
+    let p = |rng: &mut Rng| offset + scale * rng.point_in(Vec3::splat(-2.0), Vec3::splat(2.0));
+    let mut tris = Vec::new();
+    for _ in 0..250 {
+        let a = p(&mut rng);
+        let size = scale * rng.range(0.01, 0.8);
+        tris.push([
+            a,
+            a + size * rng.unit_vector(),
+            a + size * rng.unit_vector(),
+        ]);
+    }
+    for _ in 0..60 {
+        // Long and thin: a long edge and a third vertex very close to it.
+        let a = p(&mut rng);
+        let b = a + scale * 3.0 * rng.unit_vector();
+        let c = a.lerp(b, rng.f32()) + scale * 1e-3 * rng.unit_vector();
+        tris.push([a, b, c]);
+    }
+    for _ in 0..30 {
+        // Degenerate: collinear, or with a repeated vertex.
+        let a = p(&mut rng);
+        let b = p(&mut rng);
+        if rng.chance(0.5) {
+            tris.push([a, b, a.lerp(b, 0.25)]);
+        } else {
+            tris.push([a, b, b]);
+        }
+    }
+    let duplicates: Vec<[Vec3; 3]> = tris.iter().step_by(17).copied().collect();
+    tris.extend(duplicates);
+    s.add_triangles(&tris);
+
+    for _ in 0..120 {
+        let c = p(&mut rng);
+        let r = scale * rng.range(0.02, 0.6);
+        let sphere = Sphere::new(c, r);
+        s.geometry.add(Shape::Sphere(sphere), 0);
+        s.features.push(c + r * rng.unit_vector());
+        if rng.chance(0.15) {
+            // A nested, inside-out or overlapping companion.
+            let inner = Sphere {
+                center: c + 0.1 * r * rng.unit_vector(),
+                radius: r * rng.range(0.3, 1.2),
+                inside_out: rng.chance(0.5),
+            };
+            s.geometry.add(Shape::Sphere(inner), 0);
+        }
+        if rng.chance(0.05) {
+            s.geometry.add(Shape::Sphere(sphere), 0);
+        }
+    }
+    for _ in 0..60 {
+        let a = p(&mut rng);
+        let b = a + scale
+            * Vec3::new(
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+            );
+        s.add_box(AaBox::new(a, b));
+    }
+    // Two boxes sharing a face exactly, and a flat box.
+    let a = p(&mut rng);
+    let (mid, far) = (
+        a + scale * Vec3::splat(0.5),
+        a + scale * Vec3::new(1.0, 0.5, 0.5),
+    );
+    s.add_box(AaBox::new(a, mid));
+    s.add_box(AaBox::new(Vec3::new(mid.x, a.y, a.z), far));
+    s.add_box(AaBox::new(a, Vec3::new(mid.x, a.y, mid.z)));
+    for _ in 0..60 {
+        let base = p(&mut rng);
+        let axis = if rng.chance(0.3) {
+            rng.axis_direction()
+        } else {
+            rng.unit_vector()
+        };
+        let h = scale * rng.range(0.1, 1.0);
+        let rb = scale * rng.range(0.0, 0.4);
+        let ra = if rng.chance(0.5) {
+            rb
+        } else {
+            scale * rng.range(0.0, 0.4)
+        };
+        if let Some(c) = Cone::new(base, rb, base + h * axis, ra, rng.chance(0.5)) {
+            s.geometry.add(Shape::Cone(c), 0);
+            s.features.push(base + rb * axis.any_orthonormal_vector());
+        }
+    }
+    s
+}
+
+/// Boxes stacked on an integer lattice (sharing faces) and axis-aligned quads at integer
+/// coordinates: the home of rays lying exactly in slab planes.
+fn lattice_scene() -> TestScene {
+    let mut rng = Rng::new(77);
+    let mut s = TestScene::new();
+    for x in 0..6 {
+        for y in 0..3 {
+            for z in 0..6 {
+                if rng.chance(0.35) {
+                    let a = Vec3::new(x as f32, y as f32, z as f32);
+                    s.add_box(AaBox::new(a, a + Vec3::ONE));
+                }
+            }
+        }
+    }
+    for _ in 0..80 {
+        let a = Vec3::new(
+            rng.below(7) as f32,
+            rng.below(4) as f32,
+            rng.below(7) as f32,
+        );
+        let (u, v) = match rng.below(3) {
+            0 => (Vec3::X, Vec3::Y),
+            1 => (Vec3::Y, Vec3::Z),
+            _ => (Vec3::Z, Vec3::X),
+        };
+        let q = generate::quad(a, a + u, a + u + v, a + v, 1.0, 1.0);
+        s.features.extend([a, a + u, a + 0.5 * (u + v)]);
+        s.geometry.add_mesh(q, 0);
+    }
+    for _ in 0..40 {
+        let c = Vec3::new(
+            rng.below(7) as f32,
+            rng.below(4) as f32,
+            rng.below(7) as f32,
+        );
+        s.geometry.add(Shape::Sphere(Sphere::new(c, 0.5)), 0);
+        s.features.push(c + Vec3::new(0.5, 0.0, 0.0));
+    }
+    s
+}
+
+/// Closed meshes, overlapping each other, and a dense knot.
+fn mesh_scene() -> TestScene {
+    let mut s = TestScene::new();
+    s.add_mesh(icosphere(Vec3::ZERO, 1.0, 3));
+    s.add_mesh(icosphere(Vec3::new(0.7, 0.2, -0.1), 0.6, 2));
+    let axis = Vec3::new(1.0, -2.0, 0.5);
+    s.add_mesh(lattice_cube(4, |p| {
+        rotate(p * 0.8, axis, 0.4) + Vec3::new(-1.0, 0.5, 0.3)
+    }));
+    s.add_mesh(lattice_cube(3, |p| p * Vec3::new(2.0, 0.1, 2.0) - Vec3::Y));
+    s.add_mesh(generate::torus_knot(3000));
+    s
+}
+
+/// A ray of one of several kinds, chosen at random.
+fn random_ray(rng: &mut Rng, s: &TestScene, bounds: &Aabb) -> Ray {
+    let lo = bounds.min - 0.2 * bounds.extent();
+    let hi = bounds.max + 0.2 * bounds.extent();
+    let feature = |rng: &mut Rng| s.features[rng.below(s.features.len())];
+    loop {
+        let (o, d) = match rng.below(10) {
+            // Random origin and direction.
+            0..=2 => (rng.point_in(lo, hi), rng.unit_vector()),
+            // Aimed at a vertex, edge midpoint or surface point.
+            3 | 4 => {
+                let o = rng.point_in(lo, hi);
+                (o, feature(rng) - o)
+            }
+            // Axis-parallel, half of them lying in a slab plane of some feature.
+            5 => {
+                let mut o = rng.point_in(lo, hi);
+                let d = rng.axis_direction();
+                if rng.chance(0.5) {
+                    let f = feature(rng);
+                    for k in 0..3 {
+                        if d[k] == 0.0 && rng.chance(0.7) {
+                            o[k] = f[k];
+                        }
+                    }
+                }
+                (o, d)
+            }
+            // From inside a box.
+            6 if !s.boxes.is_empty() => {
+                let b = s.boxes[rng.below(s.boxes.len())];
+                let o = rng.point_in(b.min, b.max);
+                let d = if rng.chance(0.3) {
+                    rng.axis_direction()
+                } else {
+                    rng.unit_vector()
+                };
+                (o, d)
+            }
+            // In the plane of a box face, along it (diagonally or along an axis).
+            7 if !s.boxes.is_empty() => {
+                let b = s.boxes[rng.below(s.boxes.len())];
+                let axis = rng.below(3);
+                let mut o = rng.point_in(lo, hi);
+                o[axis] = if rng.chance(0.5) {
+                    b.min[axis]
+                } else {
+                    b.max[axis]
+                };
+                let mut d = rng.unit_vector();
+                d[axis] = 0.0;
+                (o, d)
+            }
+            // Starting exactly on a surface feature (an un-offset secondary ray).
+            8 => (feature(rng), rng.unit_vector()),
+            // Grazing: through a point displaced sideways from a feature by a hair.
+            _ => {
+                let o = rng.point_in(lo, hi);
+                let f = feature(rng);
+                let side = (f - o).any_orthonormal_vector();
+                let hair = (bounds.extent().max_element() * 1e-6) * rng.range(-1.0, 1.0);
+                (o, f + hair * side - o)
+            }
+        };
+        if let Some(d) = d.try_normalize() {
+            return Ray::new(o, d);
+        }
+    }
+}
+
+/// Nearest hits agree if the distances are bit-equal, or if the two primitives tie: each,
+/// tested alone, reports the same distance to within a few ulps.
+fn same_nearest(geometry: &Geometry, ray: &TraceRay, a: Option<Hit>, b: Option<Hit>) -> bool {
+    match (a, b) {
+        (None, None) => true,
+        (Some(a), Some(b)) if a.t.to_bits() == b.t.to_bits() => true,
+        (Some(a), Some(b)) => {
+            let ta = geometry.intersect(a.prim, ray, f32::INFINITY).map(|h| h.t);
+            let tb = geometry.intersect(b.prim, ray, f32::INFINITY).map(|h| h.t);
+            matches!((ta, tb), (Some(x), Some(y)) if (x - y).abs() <= 4e-7 * x.max(y))
+        }
+        _ => false,
+    }
+}
+
+fn bvh_settings() -> Vec<(&'static str, BvhOptions)> {
+    vec![
+        ("default", BvhOptions::default()),
+        (
+            "one primitive per leaf",
+            BvhOptions {
+                max_leaf_size: 1,
+                ..BvhOptions::default()
+            },
+        ),
+        (
+            "two bins, big leaves",
+            BvhOptions {
+                bins: 2,
+                max_leaf_size: 32,
+                traversal_cost: 4.0,
+            },
+        ),
+    ]
+}
+
+fn check_against_brute_force(name: &str, s: &TestScene, seed: u64) {
+    let g = &s.geometry;
+    let prims: Vec<u32> = (0..g.primitives.len() as u32).collect();
+    let brute = BruteForce::new(prims.clone());
+    let bvhs: Vec<(&str, Bvh)> = bvh_settings()
+        .into_iter()
+        .map(|(n, o)| (n, Bvh::build(g, prims.clone(), &o)))
+        .collect();
+    for (n, b) in &bvhs {
+        assert_eq!(b.primitive_count(), prims.len(), "{name}/{n}: prims lost");
+    }
+    let bounds = g.world_bounds();
+    let diag = bounds.extent().length();
+    let mut rng = Rng::new(seed);
+    let mut stats = Stats::default();
+    let (mut hits, mut ties, mut occluded) = (0, 0, 0);
+    for i in 0..RAYS {
+        let ray = random_ray(&mut rng, s, &bounds);
+        let tr = TraceRay::new(ray);
+        let t_max = if rng.chance(0.7) {
+            f32::INFINITY
+        } else {
+            rng.range(0.0, diag)
+        };
+        let expected = brute.intersect(g, &tr, t_max, &mut stats);
+        hits += expected.is_some() as usize;
+        // Any-hit bounds that straddle the nearest hit: exactly at it, or a hair either
+        // side. The hair must exceed the rounding of a primitive's own t, which is relative
+        // to the primitive's extent and coordinates (pbrt's δt), not to t: a ray starting
+        // next to a triangle can report t with a large relative error. Bounds inside that
+        // band are ties, and the BVH may legitimately cull there.
+        let hair = 1e-5 * diag;
+        let t_occ = match (expected, rng.below(4)) {
+            (Some(h), 0) => h.t,
+            (Some(h), 1) => h.t + hair,
+            (Some(h), 2) => h.t - hair,
+            _ => t_max,
+        };
+        let blocked = brute.occluded(g, &tr, t_occ, &mut stats);
+        occluded += blocked as usize;
+        for (setting, bvh) in &bvhs {
+            let got = bvh.intersect(g, &tr, t_max, &mut stats);
+            let ctx = || format!("{name}/{setting}, ray {i}: {ray:?}, t_max {t_max}");
+            assert!(
+                same_nearest(g, &tr, expected, got),
+                "{}: brute force {expected:?}, BVH {got:?}",
+                ctx()
+            );
+            if let (Some(e), Some(b)) = (expected, got) {
+                ties += (e.prim != b.prim) as usize;
+            }
+            assert_eq!(
+                bvh.occluded(g, &tr, t_occ, &mut stats),
+                blocked,
+                "{}: occluded within {t_occ} (brute-force nearest {expected:?})",
+                ctx()
+            );
+        }
+    }
+    eprintln!(
+        "{name}: {RAYS} rays, {} prims, {hits} hits, {occluded} occluded, {ties} ties",
+        g.primitives.len()
+    );
+    // The ray mix must actually exercise both answers.
+    assert!(hits > RAYS / 4 && hits < RAYS, "{name}: {hits} hits");
+    assert!(
+        occluded > RAYS / 10 && occluded < RAYS,
+        "{name}: {occluded} occluded"
+    );
+}
+
+#[test]
+fn bvh_matches_brute_force_on_a_mixed_scene() {
+    check_against_brute_force("mixed", &mixed_scene(11, 1.0, Vec3::ZERO), 101);
+}
+
+#[test]
+fn bvh_matches_brute_force_on_a_tiny_scene() {
+    check_against_brute_force("tiny", &mixed_scene(12, 1e-3, Vec3::splat(1e-3)), 102);
+}
+
+#[test]
+fn bvh_matches_brute_force_on_a_huge_offset_scene() {
+    let offset = Vec3::new(4e3, -2e3, 1e3);
+    check_against_brute_force("huge", &mixed_scene(13, 1e3, offset), 103);
+}
+
+#[test]
+fn bvh_matches_brute_force_on_a_lattice_scene() {
+    check_against_brute_force("lattice", &lattice_scene(), 104);
+}
+
+#[test]
+fn bvh_matches_brute_force_on_closed_meshes() {
+    check_against_brute_force("meshes", &mesh_scene(), 105);
+}
+
+#[test]
+fn scene_intersector_agrees_across_accelerators_with_planes() {
+    // Planes live outside the accelerator; the combined answer must not depend on it.
+    let mut s = mixed_scene(14, 1.0, Vec3::ZERO);
+    s.geometry.add(
+        Shape::Plane(Plane::new(Vec3::new(0.0, -1.5, 0.0), Vec3::Y).unwrap()),
+        0,
+    );
+    s.geometry.add(
+        Shape::Plane(Plane::new(Vec3::new(0.3, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.2)).unwrap()),
+        0,
+    );
+    let brute = SceneIntersector::build(&s.geometry, AccelKind::BruteForce);
+    let bvh = SceneIntersector::build(&s.geometry, AccelKind::Bvh);
+    let bounds = s.geometry.world_bounds();
+    let mut rng = Rng::new(106);
+    let mut stats = Stats::default();
+    let mut plane_hits = 0;
+    for _ in 0..5000 {
+        let ray = random_ray(&mut rng, &s, &bounds);
+        let a = brute.intersect(&s.geometry, &ray, f32::INFINITY, &mut stats);
+        let b = bvh.intersect(&s.geometry, &ray, f32::INFINITY, &mut stats);
+        assert!(
+            same_nearest(&s.geometry, &TraceRay::new(ray), a, b),
+            "{ray:?}: {a:?} vs {b:?}"
+        );
+        if let Some(h) = a {
+            plane_hits += matches!(
+                s.geometry.primitives[h.prim as usize].shape,
+                Shape::Plane(_)
+            ) as usize;
+            let t = h.t * rng.range(0.5, 1.5);
+            assert_eq!(
+                brute.occluded(&s.geometry, &ray, t, &mut stats),
+                bvh.occluded(&s.geometry, &ray, t, &mut stats)
+            );
+        }
+    }
+    assert!(plane_hits > 100, "planes hit only {plane_hits} times");
+}
+
+#[test]
+fn empty_and_single_primitive_accelerators() {
+    let mut g = Geometry::default();
+    let ray = trace_ray(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+    let mut stats = Stats::default();
+    let empty = Bvh::build(&g, Vec::new(), &BvhOptions::default());
+    assert!(empty
+        .intersect(&g, &ray, f32::INFINITY, &mut stats)
+        .is_none());
+    assert!(!empty.occluded(&g, &ray, f32::INFINITY, &mut stats));
+    g.add(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)), 0);
+    let one = Bvh::build(&g, vec![0], &BvhOptions::default());
+    let h = one.intersect(&g, &ray, f32::INFINITY, &mut stats).unwrap();
+    assert_eq!((h.prim, h.t), (0, 4.0));
+    assert!(one.occluded(&g, &ray, 4.5, &mut stats));
+    assert!(!one.occluded(&g, &ray, 4.0, &mut stats));
+}
+
+#[test]
+fn bvh_handles_many_coincident_primitives() {
+    // 500 copies of one sphere: no split can separate their centroids, leaves must still
+    // stay bounded and every query still answer.
+    let mut g = Geometry::default();
+    for _ in 0..500 {
+        g.add(Shape::Sphere(Sphere::new(Vec3::splat(1.0), 0.5)), 0);
+    }
+    let bvh = Bvh::build(&g, (0..500).collect(), &BvhOptions::default());
+    assert_eq!(bvh.primitive_count(), 500);
+    let mut stats = Stats::default();
+    let ray = trace_ray(Vec3::new(1.0, 1.0, -3.0), Vec3::Z);
+    assert_eq!(
+        bvh.intersect(&g, &ray, f32::INFINITY, &mut stats)
+            .map(|h| h.t),
+        Some(3.5)
+    );
+}
