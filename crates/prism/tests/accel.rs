@@ -35,7 +35,7 @@ impl TestScene {
     }
 
     fn add_box(&mut self, b: AaBox) {
-        self.geometry.add(Shape::Box(b), 0);
+        self.geometry.add(Shape::from(b), 0);
         self.boxes.push(b);
         self.features.extend([b.min, b.max, 0.5 * (b.min + b.max)]);
     }
@@ -149,7 +149,7 @@ fn mixed_scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
             scale * rng.range(0.0, 0.4)
         };
         if let Some(c) = Cone::new(base, rb, base + h * axis, ra, rng.chance(0.5)) {
-            s.geometry.add(Shape::Cone(c), 0);
+            s.geometry.add(Shape::from(c), 0);
             s.features.push(base + rb * axis.any_orthonormal_vector());
         }
     }
@@ -420,11 +420,11 @@ fn scene_intersector_agrees_across_accelerators_with_planes() {
     // Planes live outside the accelerator; the combined answer must not depend on it.
     let mut s = mixed_scene(14, 1.0, Vec3::ZERO);
     s.geometry.add(
-        Shape::Plane(Plane::new(Vec3::new(0.0, -1.5, 0.0), Vec3::Y).unwrap()),
+        Shape::from(Plane::new(Vec3::new(0.0, -1.5, 0.0), Vec3::Y).unwrap()),
         0,
     );
     s.geometry.add(
-        Shape::Plane(Plane::new(Vec3::new(0.3, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.2)).unwrap()),
+        Shape::from(Plane::new(Vec3::new(0.3, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.2)).unwrap()),
         0,
     );
     let brute = SceneIntersector::build(&s.geometry, AccelKind::BruteForce);

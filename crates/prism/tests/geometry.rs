@@ -267,7 +267,7 @@ fn offset_origins_never_rehit_the_surface_they_leave() {
             let mut g = Geometry::default();
             g.add(Shape::Sphere(Sphere::new(c, r)), 0);
             g.add(
-                Shape::Box(AaBox::new(
+                Shape::from(AaBox::new(
                     c - Vec3::splat(r),
                     c + r * Vec3::new(1.0, 0.5, 2.0),
                 )),
@@ -275,7 +275,7 @@ fn offset_origins_never_rehit_the_surface_they_leave() {
             );
             let axis = rng.unit_vector();
             g.add(
-                Shape::Cone(Cone::new(c, r, c + r * axis, 0.3 * r, true).unwrap()),
+                Shape::from(Cone::new(c, r, c + r * axis, 0.3 * r, true).unwrap()),
                 0,
             );
             g.add_mesh(icosphere(c, r, 1), 0);
@@ -881,9 +881,9 @@ fn aabb_is_conservative_for_the_shapes_it_bounds() {
         geometry.add(Shape::Sphere(Sphere::new(c, r)), 0);
         let d = rng.unit_vector();
         if let Some(cone) = Cone::new(c, r, c + d, rng.range(0.0, 1.0), rng.chance(0.5)) {
-            geometry.add(Shape::Cone(cone), 0);
+            geometry.add(Shape::from(cone), 0);
         }
-        geometry.add(Shape::Box(AaBox::new(c, c + rng.unit_vector())), 0);
+        geometry.add(Shape::from(AaBox::new(c, c + rng.unit_vector())), 0);
     }
     geometry.add_mesh(icosphere(Vec3::ZERO, 2.0, 1), 0);
     let mut checked = 0;

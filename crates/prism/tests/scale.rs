@@ -280,7 +280,11 @@ fn concave_edges_cast_no_shadow_acne() {
                 color: Color::ONE,
             }];
             let prepared = scene.prepare(prism::accel::AccelKind::Bvh);
-            let whitted = Whitted::new(&prepared, 1, 0.0);
+            let options = prism::RenderOptions {
+                max_depth: 1,
+                ..Default::default()
+            };
+            let whitted = Whitted::new(&prepared, &options);
             let eye = v(0.5 * x, 0.5, -1.35);
             let mut stats = Stats::default();
             // Not k = 0: that ray passes through the corner where both quads end, and may

@@ -116,6 +116,30 @@ impl Shape {
     }
 }
 
+impl From<Sphere> for Shape {
+    fn from(s: Sphere) -> Shape {
+        Shape::Sphere(s)
+    }
+}
+
+impl From<Plane> for Shape {
+    fn from(p: Plane) -> Shape {
+        Shape::Plane(Box::new(p))
+    }
+}
+
+impl From<Cone> for Shape {
+    fn from(c: Cone) -> Shape {
+        Shape::Cone(Box::new(c))
+    }
+}
+
+impl From<AaBox> for Shape {
+    fn from(b: AaBox) -> Shape {
+        Shape::Box(Box::new(b))
+    }
+}
+
 /// Shape kinds, for statistics by primitive type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShapeKind {

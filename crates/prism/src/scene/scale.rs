@@ -47,15 +47,17 @@ impl Scene {
                 }),
                 // Moved with their mesh above.
                 Shape::Triangle { .. } => continue,
-                Shape::Plane(p) => Shape::Plane(Plane::new(p.point * factor, p.normal())?),
-                Shape::Cone(c) => Shape::Cone(Cone::new(
+                Shape::Plane(p) => {
+                    Shape::Plane(Box::new(Plane::new(p.point * factor, p.normal())?))
+                }
+                Shape::Cone(c) => Shape::Cone(Box::new(Cone::new(
                     c.base * factor,
                     c.base_radius * factor,
                     c.apex * factor,
                     c.apex_radius * factor,
                     c.capped,
-                )?),
-                Shape::Box(b) => Shape::Box(AaBox::new(b.min * factor, b.max * factor)),
+                )?)),
+                Shape::Box(b) => Shape::Box(Box::new(AaBox::new(b.min * factor, b.max * factor))),
             };
             prim.shape = scaled;
         }
