@@ -1,6 +1,6 @@
 //! Brute force: test every primitive. Slow and obviously right, the oracle for the others.
 
-use super::{Accel, Hit};
+use super::{Accel, AccelInfo, Hit};
 use crate::geometry::Geometry;
 use crate::math::TraceRay;
 use crate::stats::Stats;
@@ -50,7 +50,18 @@ impl Accel for BruteForce {
         false
     }
 
-    fn describe(&self) -> String {
-        format!("brute force over {} primitives", self.prims.len())
+    fn info(&self) -> AccelInfo {
+        let n = self.prims.len();
+        AccelInfo {
+            method: "brute force".into(),
+            primitives: n,
+            nodes: 1,
+            leaves: 1,
+            depth: 1,
+            max_leaf_size: n,
+            mean_leaf_size: n as f64,
+            sah_cost: Some(n as f64),
+            memory_bytes: n * 4,
+        }
     }
 }

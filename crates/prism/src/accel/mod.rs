@@ -4,9 +4,11 @@
 
 mod brute;
 pub mod bvh;
+mod info;
 
 pub use brute::BruteForce;
 pub use bvh::{Bvh, BvhOptions};
+pub use info::AccelInfo;
 
 use crate::geometry::Geometry;
 use crate::math::{Ray, TraceRay};
@@ -46,8 +48,13 @@ pub trait Accel: Send + Sync {
     /// Whether anything is hit with `0 < t < t_max`; may stop at the first hit found.
     fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool;
 
+    /// What was built: node counts, depth, leaf sizes, SAH cost, memory.
+    fn info(&self) -> AccelInfo;
+
     /// A one-line description for `--stats` and `prism info`.
-    fn describe(&self) -> String;
+    fn describe(&self) -> String {
+        self.info().to_string()
+    }
 }
 
 /// Which accelerator to build.

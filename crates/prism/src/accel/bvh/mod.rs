@@ -5,7 +5,8 @@
 mod build;
 mod traverse;
 
-use crate::math::Vec3;
+use crate::accel::AccelInfo;
+use crate::math::{Aabb, Vec3};
 
 pub use build::BvhOptions;
 
@@ -46,19 +47,44 @@ impl Bvh {
 
     /// Depth of the deepest leaf (the root alone has depth 1).
     pub fn depth(&self) -> usize {
-        fn walk(nodes: &[Node], i: usize) -> usize {
-            let n = &nodes[i];
-            if n.is_leaf() || nodes.is_empty() {
-                1
+        self.info().depth
+    }
+
+    /// Shape statistics and the SAH cost of the built tree.
+    pub fn info(&self) -> AccelInfo {
+        let mut info = AccelInfo {
+            method: "bvh (binned SAH)".into(),
+            primitives: self.prims.len(),
+            nodes: self.nodes.len(),
+            memory_bytes: self.memory_bytes(),
+            ..AccelInfo::default()
+        };
+        if self.nodes.is_empty() {
+            return info;
+        }
+        let area = |n: &Node| Aabb::new(n.min, n.max).surface_area() as f64;
+        let root_area = area(&self.nodes[0]).max(f64::MIN_POSITIVE);
+        let (mut cost, mut leaf_prims) = (0.0, 0);
+        // Iterative walk with depths; recursion could be as deep as MAX_DEPTH anyway.
+        let mut stack = vec![(0usize, 1usize)];
+        while let Some((i, depth)) = stack.pop() {
+            let n = &self.nodes[i];
+            let share = area(n) / root_area;
+            info.depth = info.depth.max(depth);
+            if n.is_leaf() {
+                info.leaves += 1;
+                info.max_leaf_size = info.max_leaf_size.max(n.count as usize);
+                leaf_prims += n.count as usize;
+                cost += share * n.count as f64;
             } else {
-                1 + walk(nodes, n.first as usize).max(walk(nodes, n.first as usize + 1))
+                cost += share;
+                stack.push((n.first as usize, depth + 1));
+                stack.push((n.first as usize + 1, depth + 1));
             }
         }
-        if self.nodes.is_empty() {
-            0
-        } else {
-            walk(&self.nodes, 0)
-        }
+        info.mean_leaf_size = leaf_prims as f64 / info.leaves.max(1) as f64;
+        info.sah_cost = Some(cost);
+        info
     }
 
     pub fn memory_bytes(&self) -> usize {

@@ -2,7 +2,7 @@
 //! Nearest-hit queries shrink `t_max` as hits are found, so far subtrees get culled.
 
 use super::{Bvh, Node, MAX_DEPTH};
-use crate::accel::{Accel, Hit};
+use crate::accel::{Accel, AccelInfo, Hit};
 use crate::geometry::Geometry;
 use crate::math::robust::gamma;
 use crate::math::{Aabb, TraceRay};
@@ -111,13 +111,7 @@ impl Accel for Bvh {
         self.traverse(geometry, ray, t_max, stats, true).is_some()
     }
 
-    fn describe(&self) -> String {
-        format!(
-            "BVH (binned SAH): {} nodes, depth {}, {} primitives, {:.1} MiB",
-            self.nodes.len(),
-            self.depth(),
-            self.prims.len(),
-            self.memory_bytes() as f64 / (1024.0 * 1024.0)
-        )
+    fn info(&self) -> AccelInfo {
+        self.info()
     }
 }
