@@ -7,7 +7,9 @@ use std::path::Path;
 pub enum LoadError {
     #[error("cannot read {path}: {message}")]
     Io { path: String, message: String },
-    #[error("{path}: unknown scene format '{ext}'; prism reads .toml and .nff scene files")]
+    #[error(
+        "{path}: unknown scene format '{ext}'; prism reads .toml, .nff, .gltf and .glb scene files"
+    )]
     UnknownFormat { path: String, ext: String },
     /// A parse or validation error that names the file, line and column.
     #[error("{path}:{line}:{column}: {message}")]
@@ -32,6 +34,7 @@ pub fn load(path: &Path) -> Result<Scene, LoadError> {
     match ext.as_str() {
         "toml" => super::toml::load(path),
         "nff" => super::nff::load(path),
+        "gltf" | "glb" => super::gltf::load(path),
         _ => Err(LoadError::UnknownFormat {
             path: path.display().to_string(),
             ext,

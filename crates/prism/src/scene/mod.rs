@@ -2,6 +2,7 @@
 //! scene suggests. Loaders and built-ins produce it; `prepare` builds what rendering needs.
 
 pub mod builtin;
+mod gltf;
 mod load;
 pub mod nff;
 mod scale;

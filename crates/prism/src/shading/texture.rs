@@ -81,17 +81,28 @@ impl ImageTexture {
             path: path.display().to_string(),
             message: e.to_string(),
         })?;
+        Ok(Self::from_srgb(&img))
+    }
+
+    /// Converts a decoded image whose 8-bit values are sRGB-encoded (as PNG and JPEG
+    /// colour images are) to linear texels.
+    pub fn from_srgb(img: &image::DynamicImage) -> Self {
         let rgb = img.to_rgb8();
         let lut: Vec<f32> = (0..256).map(|i| srgb_to_linear(i as f32 / 255.0)).collect();
         let texels = rgb
             .pixels()
             .map(|p| Color::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize]))
             .collect();
-        Ok(Self::from_texels(
-            rgb.width() as usize,
-            rgb.height() as usize,
-            texels,
-        ))
+        Self::from_texels(rgb.width() as usize, rgb.height() as usize, texels)
+    }
+
+    /// The same image with every texel multiplied by `factor` (a tint, such as glTF's
+    /// baseColorFactor).
+    pub fn tinted(&self, factor: Color) -> Self {
+        ImageTexture {
+            texels: Arc::new(self.texels.iter().map(|&t| t * factor).collect()),
+            ..self.clone()
+        }
     }
 
     /// Texels in rows from the top, linear RGB.
