@@ -3,14 +3,20 @@
 
 pub mod builtin;
 mod gltf;
+mod faces;
+mod framing;
 mod load;
+pub mod mesh_file;
 pub mod nff;
 mod scale;
+pub mod obj;
+pub mod ply;
 mod toml;
 
 /// Parses TOML scene text; the path names it in errors and anchors relative file names.
 pub use self::toml::parse as parse_toml;
 pub use load::{load, LoadError};
+pub use mesh_file::{load_mesh_file, MeshFile, MeshPart};
 
 use crate::accel::{AccelKind, SceneIntersector};
 use crate::camera::Camera;
