@@ -2,15 +2,15 @@
 //! scene suggests. Loaders and built-ins produce it; `prepare` builds what rendering needs.
 
 pub mod builtin;
-mod gltf;
 mod faces;
 mod framing;
+mod gltf;
 mod load;
 pub mod mesh_file;
 pub mod nff;
-mod scale;
 pub mod obj;
 pub mod ply;
+mod scale;
 mod toml;
 
 /// Parses TOML scene text; the path names it in errors and anchors relative file names.

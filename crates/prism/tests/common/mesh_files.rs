@@ -2,7 +2,6 @@
 //! prism reads (OBJ, ASCII and binary PLY, inline TOML), temporary folders, rendering, and
 //! the byte mutations of the fuzzing properties.
 
-
 use prism::render::{render, Film};
 use prism::Scene;
 use std::fmt::Write;
