@@ -34,7 +34,8 @@ pub enum Command {
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Scene file (.toml, .nff, .gltf or .glb), or builtin:NAME for a built-in scene.
+    /// Scene file (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply), or builtin:NAME for
+    /// a built-in scene.
     pub scene: String,
 
     /// Acceleration structure to build and describe.
@@ -50,8 +51,8 @@ pub enum Preset {
 
 #[derive(Args, Debug, Default)]
 pub struct RenderArgs {
-    /// Scene file to render (.toml, .nff, .gltf or .glb). Without it, a built-in scene is
-    /// rendered.
+    /// Scene file to render (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply: framed by a
+    /// default camera and light). Without it, a built-in scene is rendered.
     pub scene: Option<PathBuf>,
 
     /// Built-in scene to render instead of a file (see `prism list`).

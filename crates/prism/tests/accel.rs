@@ -1,5 +1,6 @@
-//! The BVH against the brute-force oracle: 10⁵ random rays over several random scenes must
-//! find the same nearest hit and give the same any-hit answer, for several build settings.
+//! Every accelerator against the brute-force oracle: 10⁵ random rays over several random
+//! scenes must find the same nearest hit and give the same any-hit answer, for every
+//! `AccelKind` and several build settings; built-in scenes render identically with each.
 //!
 //! The scenes are hostile on purpose: long thin and degenerate triangles, duplicated and
 //! nested primitives, boxes that share faces, far-from-origin and tiny coordinates. The rays
@@ -9,7 +10,10 @@
 mod common;
 
 use common::{icosphere, lattice_cube, rotate, trace_ray, Rng};
-use prism::accel::{Accel, AccelKind, BruteForce, Bvh, BvhOptions, Hit, SceneIntersector};
+use prism::accel::{
+    Accel, AccelKind, BruteForce, Bvh, BvhOptions, Grid, GridOptions, Hit, KdTree, KdTreeOptions,
+    Octree, OctreeOptions, SceneIntersector,
+};
 use prism::geometry::{generate, AaBox, Cone, Geometry, Plane, Shape, Sphere, TriangleMesh};
 use prism::math::{Aabb, Ray, TraceRay, Vec3};
 use prism::Stats;
@@ -322,12 +326,49 @@ fn check_against_brute_force(name: &str, s: &TestScene, seed: u64) {
     let g = &s.geometry;
     let prims: Vec<u32> = (0..g.primitives.len() as u32).collect();
     let brute = BruteForce::new(prims.clone());
-    let bvhs: Vec<(&str, Bvh)> = bvh_settings()
-        .into_iter()
-        .map(|(n, o)| (n, Bvh::build(g, prims.clone(), &o)))
-        .collect();
-    for (n, b) in &bvhs {
-        assert_eq!(b.primitive_count(), prims.len(), "{name}/{n}: prims lost");
+    let mut accels: Vec<(String, Box<dyn Accel>)> = Vec::new();
+    for (n, o) in bvh_settings() {
+        let bvh = Bvh::build(g, prims.clone(), &o);
+        assert_eq!(bvh.primitive_count(), prims.len(), "{name}/{n}: prims lost");
+        accels.push((format!("bvh {n}"), Box::new(bvh)));
+    }
+    // Every other method with its default settings, and the spatial subdivisions also with
+    // extreme ones: cells far bigger and far smaller than the primitives.
+    for kind in AccelKind::ALL {
+        if !matches!(kind, AccelKind::BruteForce | AccelKind::Bvh) {
+            accels.push((kind.name().to_string(), kind.build(g, prims.clone())));
+        }
+    }
+    for lambda in [0.3, 12.0] {
+        let options = GridOptions {
+            lambda,
+            ..GridOptions::default()
+        };
+        let grid = Grid::build(g, prims.clone(), &options);
+        accels.push((format!("grid λ = {lambda}"), Box::new(grid)));
+    }
+    let shallow_kd = KdTreeOptions {
+        max_depth: 4,
+        empty_bonus: 0.0,
+        ..KdTreeOptions::default()
+    };
+    let deep_kd = KdTreeOptions {
+        intersection_cost: 20.0,
+        empty_bonus: 0.9,
+        ..KdTreeOptions::default()
+    };
+    for (n, o) in [("shallow", shallow_kd), ("deep", deep_kd)] {
+        let kd = KdTree::build(g, prims.clone(), &o);
+        accels.push((format!("kdtree {n}"), Box::new(kd)));
+    }
+    let fine_octree = OctreeOptions {
+        max_leaf_size: 1,
+        max_depth: 9,
+    };
+    let octree = Octree::build(g, prims.clone(), &fine_octree);
+    accels.push(("octree, one per leaf".into(), Box::new(octree)));
+    for (n, a) in &accels {
+        assert_eq!(a.info().primitives, prims.len(), "{name}/{n}: prims lost");
     }
     let bounds = g.world_bounds();
     let diag = bounds.extent().length();
@@ -358,19 +399,19 @@ fn check_against_brute_force(name: &str, s: &TestScene, seed: u64) {
         };
         let blocked = brute.occluded(g, &tr, t_occ, &mut stats);
         occluded += blocked as usize;
-        for (setting, bvh) in &bvhs {
-            let got = bvh.intersect(g, &tr, t_max, &mut stats);
+        for (setting, accel) in &accels {
+            let got = accel.intersect(g, &tr, t_max, &mut stats);
             let ctx = || format!("{name}/{setting}, ray {i}: {ray:?}, t_max {t_max}");
             assert!(
                 same_nearest(g, &tr, expected, got),
-                "{}: brute force {expected:?}, BVH {got:?}",
+                "{}: brute force {expected:?}, accelerator {got:?}",
                 ctx()
             );
             if let (Some(e), Some(b)) = (expected, got) {
                 ties += (e.prim != b.prim) as usize;
             }
             assert_eq!(
-                bvh.occluded(g, &tr, t_occ, &mut stats),
+                accel.occluded(g, &tr, t_occ, &mut stats),
                 blocked,
                 "{}: occluded within {t_occ} (brute-force nearest {expected:?})",
                 ctx()
@@ -428,7 +469,10 @@ fn scene_intersector_agrees_across_accelerators_with_planes() {
         0,
     );
     let brute = SceneIntersector::build(&s.geometry, AccelKind::BruteForce);
-    let bvh = SceneIntersector::build(&s.geometry, AccelKind::Bvh);
+    let others: Vec<_> = AccelKind::ALL[1..]
+        .iter()
+        .map(|&k| (k, SceneIntersector::build(&s.geometry, k)))
+        .collect();
     let bounds = s.geometry.world_bounds();
     let mut rng = Rng::new(106);
     let mut stats = Stats::default();
@@ -436,21 +480,29 @@ fn scene_intersector_agrees_across_accelerators_with_planes() {
     for _ in 0..5000 {
         let ray = random_ray(&mut rng, &s, &bounds);
         let a = brute.intersect(&s.geometry, &ray, f32::INFINITY, &mut stats);
-        let b = bvh.intersect(&s.geometry, &ray, f32::INFINITY, &mut stats);
-        assert!(
-            same_nearest(&s.geometry, &TraceRay::new(ray), a, b),
-            "{ray:?}: {a:?} vs {b:?}"
-        );
+        for (kind, other) in &others {
+            let b = other.intersect(&s.geometry, &ray, f32::INFINITY, &mut stats);
+            assert!(
+                same_nearest(&s.geometry, &TraceRay::new(ray), a, b),
+                "{}: {ray:?}: {a:?} vs {b:?}",
+                kind.name()
+            );
+        }
         if let Some(h) = a {
             plane_hits += matches!(
                 s.geometry.primitives[h.prim as usize].shape,
                 Shape::Plane(_)
             ) as usize;
             let t = h.t * rng.range(0.5, 1.5);
-            assert_eq!(
-                brute.occluded(&s.geometry, &ray, t, &mut stats),
-                bvh.occluded(&s.geometry, &ray, t, &mut stats)
-            );
+            let expected = brute.occluded(&s.geometry, &ray, t, &mut stats);
+            for (kind, other) in &others {
+                assert_eq!(
+                    other.occluded(&s.geometry, &ray, t, &mut stats),
+                    expected,
+                    "{}: {ray:?} occluded within {t}",
+                    kind.name()
+                );
+            }
         }
     }
     assert!(plane_hits > 100, "planes hit only {plane_hits} times");
@@ -458,20 +510,22 @@ fn scene_intersector_agrees_across_accelerators_with_planes() {
 
 #[test]
 fn empty_and_single_primitive_accelerators() {
-    let mut g = Geometry::default();
-    let ray = trace_ray(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
-    let mut stats = Stats::default();
-    let empty = Bvh::build(&g, Vec::new(), &BvhOptions::default());
-    assert!(empty
-        .intersect(&g, &ray, f32::INFINITY, &mut stats)
-        .is_none());
-    assert!(!empty.occluded(&g, &ray, f32::INFINITY, &mut stats));
-    g.add(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)), 0);
-    let one = Bvh::build(&g, vec![0], &BvhOptions::default());
-    let h = one.intersect(&g, &ray, f32::INFINITY, &mut stats).unwrap();
-    assert_eq!((h.prim, h.t), (0, 4.0));
-    assert!(one.occluded(&g, &ray, 4.5, &mut stats));
-    assert!(!one.occluded(&g, &ray, 4.0, &mut stats));
+    for kind in AccelKind::ALL {
+        let mut g = Geometry::default();
+        let ray = trace_ray(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+        let mut stats = Stats::default();
+        let empty = kind.build(&g, Vec::new());
+        assert!(empty
+            .intersect(&g, &ray, f32::INFINITY, &mut stats)
+            .is_none());
+        assert!(!empty.occluded(&g, &ray, f32::INFINITY, &mut stats));
+        g.add(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)), 0);
+        let one = kind.build(&g, vec![0]);
+        let h = one.intersect(&g, &ray, f32::INFINITY, &mut stats).unwrap();
+        assert_eq!((h.prim, h.t), (0, 4.0), "{}", kind.name());
+        assert!(one.occluded(&g, &ray, 4.5, &mut stats));
+        assert!(!one.occluded(&g, &ray, 4.0, &mut stats));
+    }
 }
 
 #[test]
@@ -491,4 +545,55 @@ fn bvh_handles_many_coincident_primitives() {
             .map(|h| h.t),
         Some(3.5)
     );
+}
+
+#[test]
+fn every_accelerator_handles_many_coincident_primitives() {
+    // No subdivision can separate 500 copies of one sphere; builds must stop anyway.
+    let mut g = Geometry::default();
+    for _ in 0..500 {
+        g.add(Shape::Sphere(Sphere::new(Vec3::splat(1.0), 0.5)), 0);
+    }
+    let ray = trace_ray(Vec3::new(1.0, 1.0, -3.0), Vec3::Z);
+    for kind in AccelKind::ALL {
+        let accel = kind.build(&g, (0..500).collect());
+        let mut stats = Stats::default();
+        let t = accel.intersect(&g, &ray, f32::INFINITY, &mut stats);
+        assert_eq!(t.map(|h| h.t), Some(3.5), "{}", kind.name());
+        // Mailboxing: each copy is tested at most once.
+        assert!(stats.primitive_tests <= 500, "{}", kind.name());
+    }
+}
+
+#[test]
+fn built_in_scenes_render_identically_with_every_accelerator() {
+    use prism::render::render;
+    use prism::scene::builtin;
+    use std::sync::atomic::AtomicBool;
+    for name in ["whitted", "cornell", "sphereflake:2"] {
+        let scene = builtin::find(name).unwrap();
+        let options = prism::RenderOptions {
+            width: 64,
+            height: 48,
+            samples: 1,
+            ..scene.options.clone()
+        };
+        let image = |kind: AccelKind| {
+            let prepared = scene.prepare(kind);
+            let r = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
+            r.film
+                .pixels
+                .iter()
+                .flat_map(|c| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()])
+                .collect::<Vec<u32>>()
+        };
+        let reference = image(AccelKind::BruteForce);
+        for kind in &AccelKind::ALL[1..] {
+            assert!(
+                image(*kind) == reference,
+                "{name}: image with {} differs from brute force",
+                kind.name()
+            );
+        }
+    }
 }

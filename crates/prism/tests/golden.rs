@@ -26,6 +26,17 @@ fn golden_path(name: &str) -> PathBuf {
 
 fn check(name: &str, width: u32, height: u32, samples: u32) {
     let scene = builtin::find(name).expect("built-in exists");
+    check_scene(name, scene, width, height, samples);
+}
+
+/// A scene file from the repository, rendered with its own settings but the given size.
+fn check_file(relative: &str, golden: &str, width: u32, height: u32, samples: u32) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative);
+    let scene = prism::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    check_scene(golden, scene, width, height, samples);
+}
+
+fn check_scene(name: &str, scene: prism::Scene, width: u32, height: u32, samples: u32) {
     let mut options = scene.options.clone();
     options.width = width;
     options.height = height;
@@ -84,4 +95,48 @@ fn sphereflake() {
 #[test]
 fn checkerboard() {
     check("checkerboard", 160, 90, 3);
+}
+
+// One per scene-file format: each loader's output, as pictures.
+
+#[test]
+fn toml_shapes() {
+    check_file(
+        "../../scenes/shapes.toml",
+        "format-toml-shapes",
+        160,
+        120,
+        2,
+    );
+}
+
+#[test]
+fn nff_small() {
+    check_file("tests/data/small.nff", "format-nff", 160, 120, 2);
+}
+
+#[test]
+fn obj_gems() {
+    check_file("../../scenes/meshes/gems.obj", "format-obj", 160, 120, 2);
+}
+
+#[test]
+fn ply_torus() {
+    check_file("../../scenes/meshes/torus.ply", "format-ply", 160, 120, 2);
+}
+
+#[test]
+fn gltf_spheres() {
+    check_file("../../scenes/spheres.gltf", "format-gltf", 160, 107, 2);
+}
+
+#[test]
+fn toml_with_mesh_includes() {
+    check_file(
+        "../../scenes/mesh-room.toml",
+        "format-toml-includes",
+        160,
+        120,
+        2,
+    );
 }

@@ -157,7 +157,7 @@ const MALFORMED: &[(&str, &str, usize, &str)] = &[
         "unknown accelerator",
         "[render]\naccel = \"kd-tree\"\n",
         2,
-        "expected `brute-force` or `bvh`",
+        "expected one of `brute-force`, `bvh`, `grid`, `kdtree`, `octree`",
     ),
     (
         "vector of the wrong length",

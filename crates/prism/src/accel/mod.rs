@@ -4,11 +4,19 @@
 
 mod brute;
 pub mod bvh;
+mod cells;
+pub mod grid;
 mod info;
+pub mod kdtree;
+mod mailbox;
+pub mod octree;
 
 pub use brute::BruteForce;
 pub use bvh::{Bvh, BvhOptions};
+pub use grid::{Grid, GridOptions};
 pub use info::AccelInfo;
+pub use kdtree::{KdTree, KdTreeOptions};
+pub use octree::{Octree, OctreeOptions};
 
 use crate::geometry::Geometry;
 use crate::math::{Ray, TraceRay};
@@ -66,15 +74,31 @@ pub enum AccelKind {
     /// Bounding volume hierarchy, binned SAH build.
     #[default]
     Bvh,
+    /// Uniform grid walked by 3D-DDA, with mailboxing.
+    Grid,
+    /// kd-tree, SAH event-sweep build.
+    #[serde(rename = "kdtree")]
+    KdTree,
+    /// Adaptive octree.
+    Octree,
 }
 
 impl AccelKind {
-    pub const ALL: [AccelKind; 2] = [AccelKind::BruteForce, AccelKind::Bvh];
+    pub const ALL: [AccelKind; 5] = [
+        AccelKind::BruteForce,
+        AccelKind::Bvh,
+        AccelKind::Grid,
+        AccelKind::KdTree,
+        AccelKind::Octree,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             AccelKind::BruteForce => "brute-force",
             AccelKind::Bvh => "bvh",
+            AccelKind::Grid => "grid",
+            AccelKind::KdTree => "kdtree",
+            AccelKind::Octree => "octree",
         }
     }
 
@@ -83,6 +107,13 @@ impl AccelKind {
         match self {
             AccelKind::BruteForce => Box::new(BruteForce::new(prims)),
             AccelKind::Bvh => Box::new(Bvh::build(geometry, prims, &BvhOptions::default())),
+            AccelKind::Grid => Box::new(Grid::build(geometry, prims, &GridOptions::default())),
+            AccelKind::KdTree => {
+                Box::new(KdTree::build(geometry, prims, &KdTreeOptions::default()))
+            }
+            AccelKind::Octree => {
+                Box::new(Octree::build(geometry, prims, &OctreeOptions::default()))
+            }
         }
     }
 }

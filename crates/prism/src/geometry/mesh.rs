@@ -126,6 +126,14 @@ impl TriangleMesh {
         }
     }
 
+    /// Turns every triangle's winding around (its front becomes its back), as a mirroring
+    /// transform must to keep the outside outside.
+    pub fn reverse_winding(&mut self) {
+        for t in &mut self.indices {
+            t.swap(1, 2);
+        }
+    }
+
     pub fn surface(&self, tri: u32, hit: &ShapeHit) -> SurfacePoint {
         let idx = self.indices[tri as usize].map(|i| i as usize);
         let [p0, p1, p2] = idx.map(|i| self.positions[i]);

@@ -1,4 +1,5 @@
-//! Reading scene files. The extension picks the loader.
+//! Reading scene files. The extension picks the loader; a mesh file (.obj, .ply) on its
+//! own becomes a scene with a camera and a light that frame it.
 
 use super::Scene;
 use std::path::Path;
@@ -8,7 +9,8 @@ pub enum LoadError {
     #[error("cannot read {path}: {message}")]
     Io { path: String, message: String },
     #[error(
-        "{path}: unknown scene format '{ext}'; prism reads .toml, .nff, .gltf and .glb scene files"
+        "{path}: unknown scene format '{ext}'; prism reads .toml, .nff, .gltf and .glb scenes \
+         and .obj and .ply meshes"
     )]
     UnknownFormat { path: String, ext: String },
     /// A parse or validation error that names the file, line and column.
@@ -35,6 +37,7 @@ pub fn load(path: &Path) -> Result<Scene, LoadError> {
         "toml" => super::toml::load(path),
         "nff" => super::nff::load(path),
         "gltf" | "glb" => super::gltf::load(path),
+        "obj" | "ply" => super::mesh_file::load_scene(path),
         _ => Err(LoadError::UnknownFormat {
             path: path.display().to_string(),
             ext,

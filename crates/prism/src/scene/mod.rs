@@ -2,9 +2,14 @@
 //! scene suggests. Loaders and built-ins produce it; `prepare` builds what rendering needs.
 
 pub mod builtin;
+mod faces;
+mod framing;
 mod gltf;
 mod load;
+pub mod mesh_file;
 pub mod nff;
+pub mod obj;
+pub mod ply;
 mod scale;
 mod toml;
 
@@ -14,6 +19,7 @@ pub use self::gltf::parse as parse_gltf;
 /// Parses TOML scene text; the path names it in errors and anchors relative file names.
 pub use self::toml::parse as parse_toml;
 pub use load::{load, LoadError};
+pub use mesh_file::{load_mesh_file, MeshFile, MeshPart};
 
 use crate::accel::{AccelKind, SceneIntersector};
 use crate::camera::Camera;

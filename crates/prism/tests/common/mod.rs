@@ -4,6 +4,8 @@
 //! Each test file is its own crate and uses a different subset, hence the `dead_code` allow.
 #![allow(dead_code)]
 
+pub mod mesh_files;
+
 use prism::geometry::TriangleMesh;
 use prism::math::{Ray, TraceRay, Vec3};
 use std::collections::HashMap;

@@ -31,12 +31,28 @@ struct Builder<'a> {
     bounds: Vec<Aabb>,
     centroids: Vec<Vec3>,
     nodes: Vec<Node>,
+    /// Per-node sweep buffers, reused so a node costs no heap allocations.
+    sweep: Sweep,
+}
+
+/// Scratch space of the SAH sweep, `options.bins` entries each.
+struct Sweep {
+    bins: Vec<Bin>,
+    right_area: Vec<f32>,
+    right_count: Vec<u32>,
 }
 
 #[derive(Clone, Copy)]
 struct Bin {
     bounds: Aabb,
     count: u32,
+}
+
+impl Bin {
+    const EMPTY: Bin = Bin {
+        bounds: Aabb::EMPTY,
+        count: 0,
+    };
 }
 
 impl Bvh {
@@ -52,6 +68,11 @@ impl Bvh {
             bounds,
             centroids,
             nodes: Vec::with_capacity(2 * prims.len().max(1)),
+            sweep: Sweep {
+                bins: vec![Bin::EMPTY; options.bins],
+                right_area: vec![0.0; options.bins],
+                right_count: vec![0; options.bins],
+            },
         };
         // Work on positions 0..n into the local arrays; map back to primitive ids at the end.
         let mut order: Vec<u32> = (0..prims.len() as u32).collect();
@@ -132,7 +153,7 @@ impl Builder<'_> {
     /// The cheapest binned split as (axis, centroid position, SAH cost in units of one
     /// primitive test), or `None` when all centroids coincide.
     fn best_split(
-        &self,
+        &mut self,
         order: &[u32],
         bounds: &Aabb,
         centroid_bounds: &Aabb,
@@ -140,8 +161,11 @@ impl Builder<'_> {
         let nb = self.options.bins;
         let mut best: Option<(usize, f32, f32)> = None;
         let parent_area = bounds.surface_area().max(f32::MIN_POSITIVE);
-        let mut right_area = vec![0.0f32; nb];
-        let mut right_count = vec![0u32; nb];
+        let Sweep {
+            bins,
+            right_area,
+            right_count,
+        } = &mut self.sweep;
         for axis in 0..3 {
             let lo = centroid_bounds.min[axis];
             let extent = centroid_bounds.max[axis] - lo;
@@ -149,13 +173,7 @@ impl Builder<'_> {
                 continue;
             }
             let scale = nb as f32 / extent;
-            let mut bins = vec![
-                Bin {
-                    bounds: Aabb::EMPTY,
-                    count: 0
-                };
-                nb
-            ];
+            bins.fill(Bin::EMPTY);
             for &i in order {
                 let b = (((self.centroids[i as usize][axis] - lo) * scale) as usize).min(nb - 1);
                 bins[b].count += 1;

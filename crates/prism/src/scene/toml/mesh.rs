@@ -1,5 +1,6 @@
 //! Inline meshes: faces fanned into triangles, optional normals and uvs, and the mesh
-//! transform (scale, then rotate about x, y, z, then translate).
+//! transform (scale, then rotate about x, y, z, then translate), which mesh files included
+//! by `include` use too.
 
 use super::diagnostics::Problem;
 use super::schema::{MeshDef, TransformDef};
@@ -9,14 +10,14 @@ use glam::Mat3;
 use std::ops::Range;
 
 /// The affine map of a `transform` table, and what it does to normals.
-struct Transform {
+pub struct Transform {
     rotation: Mat3,
     scale: Vec3,
     translate: Vec3,
 }
 
 impl Transform {
-    fn new(def: &TransformDef) -> Self {
+    pub fn new(def: &TransformDef) -> Self {
         let r = def.rotate.map_or(Vec3::ZERO, |r| r.0);
         Transform {
             rotation: Mat3::from_rotation_z(r.z.to_radians())
@@ -44,12 +45,35 @@ impl Transform {
     fn mirrors(&self) -> bool {
         self.scale.x * self.scale.y * self.scale.z < 0.0
     }
+
+    /// Moves a mesh that is already built, keeping its outside outside. Fails when a
+    /// position overflows.
+    pub fn apply(&self, mesh: &mut TriangleMesh) -> Result<(), String> {
+        mesh.transform(|p| self.point(p), |n| self.normal(n));
+        if self.mirrors() {
+            mesh.reverse_winding();
+        }
+        match mesh.positions().iter().position(|p| !p.is_finite()) {
+            Some(i) => Err(format!(
+                "the transform moves vertex {i} beyond the range of 32-bit floats; expected \
+                 finite positions after the transform"
+            )),
+            None => Ok(()),
+        }
+    }
 }
 
 /// Builds the mesh of an `objects` entry whose table starts at `span`.
 pub fn mesh(def: MeshDef, span: Range<usize>) -> Result<TriangleMesh, Problem> {
-    let count = def.positions.len();
-    if def.indices.is_empty() {
+    let (Some(positions), Some(indices)) = (def.positions, def.indices) else {
+        return Err(Problem::at(
+            span,
+            "a mesh needs `positions` and `indices` (a mesh written out) or `file` (an OBJ or \
+             PLY file)",
+        ));
+    };
+    let count = positions.len();
+    if indices.is_empty() {
         return Err(Problem::at(
             span,
             "a mesh needs at least one face: expected indices = [[i, j, k], …]",
@@ -59,7 +83,7 @@ pub fn mesh(def: MeshDef, span: Range<usize>) -> Result<TriangleMesh, Problem> {
     let mirrored = transform.as_ref().is_some_and(Transform::mirrors);
 
     let mut triangles = Vec::new();
-    for (face_index, face) in def.indices.iter().enumerate() {
+    for (face_index, face) in indices.iter().enumerate() {
         let vertices = face.get_ref();
         if vertices.len() < 3 {
             return Err(Problem::at(
@@ -112,7 +136,7 @@ pub fn mesh(def: MeshDef, span: Range<usize>) -> Result<TriangleMesh, Problem> {
         None => None,
     };
 
-    let mut positions: Vec<Vec3> = def.positions.into_iter().map(|p| p.0).collect();
+    let mut positions: Vec<Vec3> = positions.into_iter().map(|p| p.0).collect();
     if let Some(t) = &transform {
         positions.iter_mut().for_each(|p| *p = t.point(*p));
         if let Some(ns) = &mut normals {

@@ -3,12 +3,13 @@
 //! Four steps: the toml crate parses the text into a tree that remembers byte spans;
 //! `tagged` rewrites `type = "…"` tables so serde can check keys per type; serde fills the
 //! `schema` structs, whose `values` types reject bad numbers on the spot; `build` below,
-//! with `camera`, `lights`, `materials`, `objects` and `mesh`, checks what involves more
-//! than one value. Every problem carries a span, turned into a line and column at the end
+//! with `camera`, `lights`, `materials`, `objects`, `mesh` and `include` (mesh files),
+//! checks what involves more than one value. Every problem carries a span, turned into a line and column at the end
 //! (`diagnostics`).
 
 mod camera;
 mod diagnostics;
+mod include;
 mod lights;
 mod materials;
 mod mesh;
@@ -21,7 +22,7 @@ use super::load::LoadError;
 use super::Scene;
 use crate::shading::Material;
 use diagnostics::Problem;
-use schema::SceneDef;
+use schema::{ObjectDef, SceneDef};
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::path::Path;
@@ -89,6 +90,11 @@ fn build(def: SceneDef, base_dir: &Path) -> Result<Scene, Problem> {
         material_index.insert(name, scene.add_material(m));
     }
     let mut default_material = None;
+    // Unnamed: the file's own "default" material if it has one, else the library's.
+    let mut default = |scene: &mut Scene| match material_index.get("default") {
+        Some(&m) => m,
+        None => *default_material.get_or_insert_with(|| scene.add_material(Material::default())),
+    };
 
     for light in def.lights {
         scene.lights.push(lights::light(light)?);
@@ -97,20 +103,37 @@ fn build(def: SceneDef, base_dir: &Path) -> Result<Scene, Problem> {
     for object in def.objects {
         let span = object.span();
         let object = object.into_inner();
-        let material = match object.material() {
-            Some(name) => *material_index.get(name.get_ref()).ok_or_else(|| {
+        let named = match object.material() {
+            Some(name) => Some(*material_index.get(name.get_ref()).ok_or_else(|| {
                 Problem::at(
                     name.span(),
                     unknown_material(name.get_ref(), &material_index),
                 )
-            })?,
-            // Unnamed: the file's own "default" material if it has one, else the library's.
-            None => match material_index.get("default") {
-                Some(&m) => m,
-                None => {
-                    *default_material.get_or_insert_with(|| scene.add_material(Material::default()))
+            })?),
+            None => None,
+        };
+        // A mesh with a `file` is a mesh file's parts, not one inline mesh.
+        let object = match object {
+            ObjectDef::Mesh(mut mesh) => match mesh.file.take() {
+                Some(file) => {
+                    include::add_mesh_file(
+                        &mut scene,
+                        mesh,
+                        file,
+                        span,
+                        base_dir,
+                        named,
+                        &mut default,
+                    )?;
+                    continue;
                 }
+                None => ObjectDef::Mesh(mesh),
             },
+            other => other,
+        };
+        let material = match named {
+            Some(m) => m,
+            None => default(&mut scene),
         };
         objects::add_object(&mut scene.geometry, object, span, material)?;
     }

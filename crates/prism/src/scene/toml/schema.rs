@@ -202,12 +202,15 @@ pub struct BoxDef {
     pub material: Option<Spanned<String>>,
 }
 
+/// A mesh written out (`positions`, `indices`…) or read from a `file`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MeshDef {
-    pub positions: Vec<Point>,
+    /// An OBJ or PLY file, relative to the scene file; excludes the inline keys.
+    pub file: Option<Spanned<String>>,
+    pub positions: Option<Vec<Point>>,
     /// Faces: three or more vertex indices each, fanned into triangles.
-    pub indices: Vec<Spanned<Vec<u32>>>,
+    pub indices: Option<Vec<Spanned<Vec<u32>>>>,
     pub normals: Option<Spanned<Vec<Direction>>>,
     pub uvs: Option<Spanned<Vec<Uv>>>,
     pub transform: Option<TransformDef>,

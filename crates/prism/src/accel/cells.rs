@@ -1,0 +1,147 @@
+//! What the spatial subdivisions (grid, kd-tree, octree) share: primitive bounds padded so
+//! that rounding cannot hide a primitive from a cell it touches, the ray's parameter span
+//! through a box, and the cell-by-cell search for the nearest hit.
+
+use super::mailbox::Mailbox;
+use super::Hit;
+use crate::geometry::Geometry;
+use crate::math::robust::{gamma, next_up};
+use crate::math::{Aabb, TraceRay, Vec3};
+use crate::stats::Stats;
+
+/// Relative padding of reference bounds, in units of the scene's coordinate magnitude.
+/// It must exceed the rounding of cell boundaries, of the ray's t at a cell face and of a
+/// primitive's own hit t (a few ulps each); 2⁻¹⁸ ≈ 4·10⁻⁶ leaves a wide margin and makes
+/// cells only that much fuller. Being relative to the scene, it works at every scale.
+const PAD: f32 = 1.0 / (1u32 << 18) as f32;
+
+/// Bounds of each primitive in `prims`, padded by `PAD` times the scene's magnitude, and the
+/// union of them all (the root cell).
+///
+/// Why pad: a subdivision puts a primitive in the cells its box overlaps and a ray only
+/// tests what lies in the cells it walks, so a hit point that rounding places just outside
+/// the primitive's cells would be lost. With the padding every primitive sits in all cells
+/// within `PAD·magnitude` of it, which covers all those rounding errors.
+pub(crate) fn padded_bounds(geometry: &Geometry, prims: &[u32]) -> (Vec<Aabb>, Aabb) {
+    let raw: Vec<Aabb> = prims
+        .iter()
+        .map(|&p| geometry.bounds(p).unwrap_or(Aabb::EMPTY))
+        .collect();
+    let world = raw.iter().fold(Aabb::EMPTY, |a, b| a.union(b));
+    if world.is_empty() {
+        return (raw, world);
+    }
+    let magnitude = world
+        .min
+        .abs()
+        .max(world.max.abs())
+        .max_element()
+        .max(world.extent().max_element());
+    let pad = Vec3::splat(PAD * magnitude);
+    let padded: Vec<Aabb> = raw
+        .iter()
+        .map(|b| Aabb {
+            min: b.min - pad,
+            max: b.max + pad,
+        })
+        .collect();
+    let world = Aabb {
+        min: world.min - pad,
+        max: world.max + pad,
+    };
+    (padded, world)
+}
+
+/// The span `[t_enter, t_exit]` of the ray inside `bounds`, clipped to `[0, t_max]`: the
+/// same robust slab test as `Aabb::hit`, returning the exit too.
+#[inline(always)]
+pub(crate) fn ray_span(bounds: &Aabb, ray: &TraceRay, t_max: f32) -> Option<(f32, f32)> {
+    let inv_dir = ray.inv_dir;
+    let origin = ray.ray.origin;
+    let negative = inv_dir.cmplt(Vec3::ZERO);
+    let near_plane = Vec3::select(negative, bounds.max, bounds.min);
+    let far_plane = Vec3::select(negative, bounds.min, bounds.max);
+    let near = (near_plane - origin) * inv_dir;
+    let far = (far_plane - origin) * inv_dir;
+    let t_enter = near.x.max(near.y).max(near.z).max(0.0);
+    let t_exit = far.x.min(far.y).min(far.z).min(t_max) * (1.0 + 2.0 * gamma(3));
+    (t_enter <= t_exit).then_some((t_enter, t_exit))
+}
+
+/// Where the ray crosses the plane `x[axis] = position`, or infinity if it runs parallel
+/// to it (including directions so small that their reciprocal overflows).
+#[inline(always)]
+pub(crate) fn plane_crossing(ray: &TraceRay, axis: usize, position: f32) -> f32 {
+    let inv = ray.inv_dir[axis];
+    if inv.is_finite() {
+        (position - ray.ray.origin[axis]) * inv
+    } else {
+        f32::INFINITY
+    }
+}
+
+/// The state of one nearest- or any-hit query as it walks cells front to back.
+///
+/// Hits are kept even when they lie beyond the cell being searched (the primitive reaches
+/// into later cells): the mailbox stops those primitives from being tested again, so the
+/// hit must not be forgotten. The walk ends once the best hit lies no farther than the
+/// current cell's exit, because everything not yet tested lies beyond that exit. That is
+/// the classic "a hit only counts inside its cell" rule, without dropping hits.
+pub(crate) struct CellSearch {
+    pub(crate) best: Option<Hit>,
+    pub(crate) t_max: f32,
+    any: bool,
+    mailbox: Mailbox,
+}
+
+impl CellSearch {
+    pub(crate) fn new(t_max: f32, any: bool) -> Self {
+        CellSearch {
+            best: None,
+            t_max,
+            any,
+            mailbox: Mailbox::new(),
+        }
+    }
+
+    /// Tests the cell's primitives; returns true when the query is answered, i.e. for an
+    /// any-hit query a hit was found, or for a nearest-hit query the best hit lies before
+    /// `t_exit`, the ray's exit from this cell.
+    #[inline(always)]
+    pub(crate) fn search_cell(
+        &mut self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        prims: &[u32],
+        t_exit: f32,
+        stats: &mut Stats,
+    ) -> bool {
+        for &prim in prims {
+            if !self.mailbox.first_visit(prim) {
+                continue;
+            }
+            // Exact ties go to the lower primitive id, as in the brute-force list, so the
+            // answer does not depend on the order cells are walked in: a lower id is tested
+            // against a bound one ulp farther and kept if it reaches the best distance.
+            let lower = self.best.is_some_and(|b| prim < b.prim);
+            let t_max = if lower {
+                next_up(self.t_max)
+            } else {
+                self.t_max
+            };
+            if let Some(h) = geometry.intersect_counted(prim, ray, t_max, stats) {
+                self.t_max = h.t;
+                self.best = Some(Hit {
+                    t: h.t,
+                    prim,
+                    u: h.u,
+                    v: h.v,
+                });
+                if self.any {
+                    return true;
+                }
+            }
+        }
+        self.best.is_some() && self.t_max <= t_exit
+    }
+}

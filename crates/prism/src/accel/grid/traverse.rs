@@ -1,0 +1,93 @@
+//! 3D-DDA (Amanatides & Woo 1987): step from cell to cell along the ray, always across the
+//! nearest of the three next cell faces, testing each cell's primitives once per ray.
+
+use super::Grid;
+use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
+use crate::accel::{Accel, AccelInfo, Hit};
+use crate::geometry::Geometry;
+use crate::math::TraceRay;
+use crate::stats::Stats;
+
+impl Grid {
+    fn traverse(
+        &self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        t_max: f32,
+        stats: &mut Stats,
+        any: bool,
+    ) -> Option<Hit> {
+        if self.refs.is_empty() {
+            return None;
+        }
+        stats.node_visits += 1;
+        let (t_enter, t_exit) = ray_span(&self.bounds, ray, t_max)?;
+        let (o, d) = (ray.ray.origin, ray.ray.dir);
+        let entry = o + t_enter * d;
+        let mut cell = [0u32; 3];
+        let mut step = [0i32; 3];
+        // Parameter at which the ray crosses the next cell face on each axis.
+        let mut t_next = [f32::INFINITY; 3];
+        for k in 0..3 {
+            let f = ((entry[k] - self.bounds.min[k]) / self.cell_size[k]).floor();
+            cell[k] = (f.max(0.0) as u32).min(self.res[k] - 1);
+            if ray.inv_dir[k].is_finite() && d[k] > 0.0 {
+                step[k] = 1;
+                t_next[k] = plane_crossing(ray, k, self.plane(k, cell[k] + 1));
+            } else if ray.inv_dir[k].is_finite() && d[k] < 0.0 {
+                step[k] = -1;
+                t_next[k] = plane_crossing(ray, k, self.plane(k, cell[k]));
+            }
+        }
+        let mut search = CellSearch::new(t_max, any);
+        loop {
+            stats.node_visits += 1;
+            let axis = if t_next[0] <= t_next[1] && t_next[0] <= t_next[2] {
+                0
+            } else if t_next[1] <= t_next[2] {
+                1
+            } else {
+                2
+            };
+            let cell_exit = t_next[axis].min(t_exit);
+            if search.search_cell(geometry, ray, self.cell_prims(cell), cell_exit, stats) {
+                return search.best;
+            }
+            if t_next[axis] > t_exit.min(search.t_max) {
+                return search.best;
+            }
+            // Step across the face; leaving the grid ends the walk.
+            let next = cell[axis] as i32 + step[axis];
+            if next < 0 || next >= self.res[axis] as i32 {
+                return search.best;
+            }
+            cell[axis] = next as u32;
+            let face = if step[axis] > 0 {
+                next as u32 + 1
+            } else {
+                next as u32
+            };
+            t_next[axis] = plane_crossing(ray, axis, self.plane(axis, face));
+        }
+    }
+}
+
+impl Accel for Grid {
+    fn intersect(
+        &self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        t_max: f32,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
+        self.traverse(geometry, ray, t_max, stats, false)
+    }
+
+    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
+        self.traverse(geometry, ray, t_max, stats, true).is_some()
+    }
+
+    fn info(&self) -> AccelInfo {
+        self.info()
+    }
+}

@@ -1,0 +1,96 @@
+//! Front-to-back kd-tree walk (the standard recursive-stack algorithm of Jansen, Arvo and
+//! Kirk as in pbrt): at each split descend into the child on the ray origin's side with the
+//! part of the ray before the plane, and push the other child with the part after it.
+
+use super::{KdTree, MAX_DEPTH};
+use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
+use crate::accel::{Accel, AccelInfo, Hit};
+use crate::geometry::Geometry;
+use crate::math::TraceRay;
+use crate::stats::Stats;
+
+impl KdTree {
+    fn traverse(
+        &self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        t_max: f32,
+        stats: &mut Stats,
+        any: bool,
+    ) -> Option<Hit> {
+        if self.nodes.is_empty() {
+            return None;
+        }
+        stats.node_visits += 1;
+        let (mut t_near, mut t_far) = ray_span(&self.bounds, ray, t_max)?;
+        let mut search = CellSearch::new(t_max, any);
+        let mut stack = [(0u32, 0.0f32, 0.0f32); MAX_DEPTH];
+        let mut sp = 0;
+        let mut current = 0usize;
+        loop {
+            let node = self.nodes[current];
+            if node.is_leaf() {
+                let (first, count) = node.prims();
+                let prims = &self.refs[first..first + count];
+                if search.search_cell(geometry, ray, prims, t_far, stats) {
+                    return search.best;
+                }
+                // Next pushed child that starts before the best hit so far.
+                loop {
+                    if sp == 0 {
+                        return search.best;
+                    }
+                    sp -= 1;
+                    let (n, a, b) = stack[sp];
+                    if a <= search.t_max {
+                        (current, t_near, t_far) = (n as usize, a, b);
+                        break;
+                    }
+                }
+                stats.node_visits += 1;
+                continue;
+            }
+            let axis = node.axis();
+            let split = node.split();
+            let t_split = plane_crossing(ray, axis, split);
+            let o = ray.ray.origin[axis];
+            let below_first = o < split || (o == split && ray.ray.dir[axis] <= 0.0);
+            let (first, second) = if below_first {
+                (current + 1, node.above())
+            } else {
+                (node.above(), current + 1)
+            };
+            if t_split > t_far || t_split <= 0.0 {
+                current = first;
+            } else if t_split < t_near {
+                current = second;
+            } else {
+                stack[sp] = (second as u32, t_split, t_far);
+                sp += 1;
+                current = first;
+                t_far = t_split;
+            }
+            stats.node_visits += 1;
+        }
+    }
+}
+
+impl Accel for KdTree {
+    fn intersect(
+        &self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        t_max: f32,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
+        self.traverse(geometry, ray, t_max, stats, false)
+    }
+
+    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
+        self.traverse(geometry, ray, t_max, stats, true).is_some()
+    }
+
+    fn info(&self) -> AccelInfo {
+        self.info()
+    }
+}
