@@ -32,9 +32,10 @@ case $target in
     *) [[ -f dict/$target.dict ]] && dict=(-x "dict/$target.dict") ;;
 esac
 # -V: stop after SECONDS; -m: memory limit (MB) so an input that allocates hugely is a
-# crash; -t: a run slower than this (ms) is a hang. A second run resumes (-i -).
-input=(-i "corpus/$target")
-[[ -d "$out/default/queue" ]] && input=(-i -)
+# crash; -t: a run slower than this (ms) is a hang. A second run resumes (-i -) and takes
+# in seeds added to corpus/TARGET since (-F, which needs a main instance: -M default).
+input=(-M default -i "corpus/$target")
+[[ -d "$out/default/queue" ]] && input=(-M default -i - -F "$here/corpus/$target")
 AFL_SKIP_CPUFREQ=1 AFL_NO_UI=1 AFL_I_DONT_CARE_ABOUT_MISSING_CRASHES=1 \
     cargo afl fuzz "${input[@]}" -o "$out" -m 1024 -t 1000 -V "$seconds" "${dict[@]}" "$@" \
     -- "$CARGO_TARGET_DIR/release/$target"
