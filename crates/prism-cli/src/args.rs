@@ -91,7 +91,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
 
-    /// Acceleration structure: bvh or brute-force.
+    /// Acceleration structure: bvh (the default), grid, kdtree, octree or brute-force.
     #[arg(long, value_name = "NAME")]
     pub accel: Option<AccelKind>,
 

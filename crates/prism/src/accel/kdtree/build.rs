@@ -154,10 +154,7 @@ impl Builder<'_> {
             let (a1, a2) = ((axis + 1) % 3, (axis + 2) % 3);
             let cap = extent[a1] * extent[a2];
             let ring = extent[a1] + extent[a2];
-            candidates.clear();
-            candidates.extend(starts.iter().chain(&ends).filter(|&&p| p > lo && p < hi));
-            candidates.sort_unstable_by(f32::total_cmp);
-            candidates.dedup();
+            merge_inside(&starts, &ends, lo, hi, &mut candidates);
             // Walk the candidates in increasing order: `below` counts the boxes with
             // min < p, `ended` those with max <= p; the rest reach above p. (Boxes flat in
             // the plane, which go to both sides, are counted on one only: a heuristic.)
@@ -188,5 +185,40 @@ impl Builder<'_> {
             }
         }
         best
+    }
+}
+
+/// The distinct values of two sorted lists that lie strictly between `lo` and `hi`, in
+/// increasing order, into `out`: a linear merge, cheaper than sorting them again.
+fn merge_inside(a: &[f32], b: &[f32], lo: f32, hi: f32, out: &mut Vec<f32>) {
+    out.clear();
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() || j < b.len() {
+        let take_a = j == b.len() || (i < a.len() && a[i] <= b[j]);
+        let p = if take_a { a[i] } else { b[j] };
+        if take_a {
+            i += 1;
+        } else {
+            j += 1;
+        }
+        if p > lo && p < hi && out.last() != Some(&p) {
+            out.push(p);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn merge_inside_keeps_distinct_interior_values_in_order() {
+        let mut out = Vec::new();
+        super::merge_inside(
+            &[0.0, 1.0, 2.0, 2.0, 5.0],
+            &[1.0, 3.0, 4.0, 6.0],
+            0.0,
+            6.0,
+            &mut out,
+        );
+        assert_eq!(out, [1.0, 2.0, 3.0, 4.0, 5.0]);
     }
 }
