@@ -13,6 +13,9 @@ pub mod ply;
 mod scale;
 mod toml;
 
+/// Parses the bytes of a .gltf or .glb file; the path names it in errors and anchors the
+/// relative URIs of its buffers and images.
+pub use self::gltf::parse as parse_gltf;
 /// Parses TOML scene text; the path names it in errors and anchors relative file names.
 pub use self::toml::parse as parse_toml;
 pub use load::{load, LoadError};

@@ -7,9 +7,6 @@ use gltf::json::validation::Checked;
 use gltf::json::Root;
 use std::borrow::Cow;
 
-/// Accessors without a bufferView stand for zeros; a count this large would only allocate.
-const MAX_ZEROED_ELEMENTS: u64 = 1 << 24;
-
 /// Reads accessors of one document against its loaded buffers.
 pub struct Accessors<'a> {
     root: &'a Root,
@@ -80,6 +77,11 @@ fn type_name(ty: Type) -> &'static str {
 impl<'a> Accessors<'a> {
     pub fn new(root: &'a Root, buffers: &'a [Cow<'a, [u8]>]) -> Self {
         Accessors { root, buffers }
+    }
+
+    /// The total size of the document's buffers.
+    fn buffer_bytes(&self) -> u64 {
+        self.buffers.iter().map(|b| b.len() as u64).sum()
     }
 
     /// A VEC2 or VEC3 attribute (`N` = 2 or 3) as floats; every value must be finite.
@@ -156,10 +158,14 @@ impl<'a> Accessors<'a> {
                     .map_err(|e| format!("accessor {index}: {e}"))?;
                 (0..data.count).map(|i| decode(data.get(i))).collect()
             }
-            None if count > MAX_ZEROED_ELEMENTS => {
+            // Without a bufferView the elements are zeros, which cost the file nothing:
+            // bound them by the data it does hold, so memory stays proportional to its size.
+            None if count > self.buffer_bytes() => {
                 return Err(format!(
                     "accessor {index} has no bufferView and {count} elements; prism accepts \
-                     at most {MAX_ZEROED_ELEMENTS} zero-initialised elements"
+                     at most one zero-initialised element per byte of buffer data, and the \
+                     file has {} bytes",
+                    self.buffer_bytes()
                 ))
             }
             None => vec![zero; count as usize],

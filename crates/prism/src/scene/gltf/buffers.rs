@@ -58,7 +58,7 @@ pub fn load<'a>(
 pub fn read<'a>(u: &str, base_dir: &Path, what: &str) -> Result<Cow<'a, [u8]>, String> {
     match uri::resolve(u, base_dir).map_err(|e| format!("{what}: {e}"))? {
         Source::Inline(bytes) => Ok(Cow::Owned(bytes)),
-        Source::File(file) => std::fs::read(&file).map(Cow::Owned).map_err(|e| {
+        Source::File(file) => read_regular_file(&file).map(Cow::Owned).map_err(|e| {
             format!(
                 "{what}: cannot read '{}' ({}): {e}",
                 uri::shorten(u),
@@ -66,6 +66,18 @@ pub fn read<'a>(u: &str, base_dir: &Path, what: &str) -> Result<Cow<'a, [u8]>, S
             )
         }),
     }
+}
+
+/// Reads a regular file. A uri may name any path ("/dev/zero", a pipe, a folder): those are
+/// refused before reading, since reading a device can exhaust memory or never end.
+fn read_regular_file(file: &Path) -> std::io::Result<Vec<u8>> {
+    if !std::fs::metadata(file)?.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file",
+        ));
+    }
+    std::fs::read(file)
 }
 
 /// The bytes of buffer view `view`, checked to lie inside its buffer.

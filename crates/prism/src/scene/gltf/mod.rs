@@ -33,21 +33,27 @@ use transform::Placement;
 
 /// Reads a .gltf or .glb file. The content decides which: GLB files start with "glTF".
 pub fn load(path: &Path) -> Result<Scene, LoadError> {
-    let file = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
-        path: file.clone(),
+        path: path.display().to_string(),
         message: e.to_string(),
     })?;
+    parse(&bytes, path)
+}
+
+/// Parses the bytes of a .gltf or .glb file. `path` names it in errors; buffers and images
+/// with relative URIs are read from its folder, the document itself is not read again.
+pub fn parse(bytes: &[u8], path: &Path) -> Result<Scene, LoadError> {
+    let file = path.display().to_string();
     let invalid = |message: String| LoadError::Invalid {
         path: file.clone(),
         message,
     };
-    let (json, bin, is_glb) = if glb::is_glb(&bytes) {
-        let g = glb::split(&bytes).map_err(|m| invalid(format!("invalid GLB file: {m}")))?;
+    let (json, bin, is_glb) = if glb::is_glb(bytes) {
+        let g = glb::split(bytes).map_err(|m| invalid(format!("invalid GLB file: {m}")))?;
         (g.json, g.bin, true)
     } else {
         // JSON has no byte order mark, but editors on some systems write one.
-        let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes);
+        let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
         (text, None, false)
     };
     let root = document::parse(json, path, is_glb)?;

@@ -1,0 +1,5 @@
+//! The `glb` fuzz target (see prism_fuzz::targets::glb).
+
+fn main() {
+    prism_fuzz::run(prism_fuzz::targets::glb);
+}

@@ -1,0 +1,5 @@
+//! The `nff` fuzz target (see prism_fuzz::targets::nff).
+
+fn main() {
+    prism_fuzz::run(prism_fuzz::targets::nff);
+}

@@ -1,0 +1,5 @@
+//! The `toml` fuzz target (see prism_fuzz::targets::toml).
+
+fn main() {
+    prism_fuzz::run(prism_fuzz::targets::toml);
+}

@@ -1,0 +1,10 @@
+//! Fuzz targets for prism's scene parsers: one function per input format, each taking the
+//! raw bytes AFL++ generates. The binaries in src/bin hand them to AFL (feature `afl`) or
+//! replay files with them; `cargo test` runs them over the committed corpora.
+
+mod exercise;
+mod replay;
+pub mod targets;
+
+pub use exercise::Outcome;
+pub use replay::run;
