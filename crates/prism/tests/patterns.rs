@@ -37,7 +37,11 @@ fn every_point_lies_strictly_inside_its_pixel() {
     for kind in PER_PIXEL {
         for n in [1, 2, 3, 5, 8] {
             let p = pattern(kind, n, 7);
-            let expected = if kind == SamplerKind::Centre { 1 } else { n * n };
+            let expected = if kind == SamplerKind::Centre {
+                1
+            } else {
+                n * n
+            };
             assert_eq!(p.count(), expected, "{kind} {n}");
             for (x, y) in [(0, 0), (1, 0), (17, 3), (640, 480), (65535, 65535)] {
                 let pts = offsets(&p, x, y);
@@ -78,18 +82,33 @@ fn grid_points_are_the_subpixel_centres() {
     let pts = offsets(&p, 3, 3);
     for (k, o) in pts.iter().enumerate() {
         let (i, j) = (k % 4, k / 4);
-        assert_eq!(*o, Vec2::new((i as f32 + 0.5) / 4.0, (j as f32 + 0.5) / 4.0));
+        assert_eq!(
+            *o,
+            Vec2::new((i as f32 + 0.5) / 4.0, (j as f32 + 0.5) / 4.0)
+        );
     }
 }
 
 #[test]
 fn random_patterns_differ_between_pixels_and_seeds_but_repeat_exactly() {
-    for kind in [SamplerKind::Random, SamplerKind::Jittered, SamplerKind::Relaxed] {
+    for kind in [
+        SamplerKind::Random,
+        SamplerKind::Jittered,
+        SamplerKind::Relaxed,
+    ] {
         let a = pattern(kind, 3, 1);
         let b = pattern(kind, 3, 1);
         let c = pattern(kind, 3, 2);
-        assert_eq!(offsets(&a, 10, 20), offsets(&b, 10, 20), "{kind}: repeatable");
-        assert_ne!(offsets(&a, 10, 20), offsets(&a, 11, 20), "{kind}: per pixel");
+        assert_eq!(
+            offsets(&a, 10, 20),
+            offsets(&b, 10, 20),
+            "{kind}: repeatable"
+        );
+        assert_ne!(
+            offsets(&a, 10, 20),
+            offsets(&a, 11, 20),
+            "{kind}: per pixel"
+        );
         assert_ne!(offsets(&a, 10, 20), offsets(&c, 10, 20), "{kind}: per seed");
     }
 }
@@ -155,11 +174,21 @@ fn relaxed_blocks_show_the_tile_shifted_mirrored_or_transposed() {
         |o| Vec2::new(1.0 - o.y, 1.0 - o.x),
     ];
     let same = |a: &[Vec2], b: &[Vec2]| {
-        a.len() == b.len() && a.iter().zip(b).all(|(u, v)| (*u - *v).abs().max_element() < 1e-5)
+        a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(u, v)| (*u - *v).abs().max_element() < 1e-5)
     };
     for (bx, by) in [(0, 0), (3, 2)] {
         let mut sources = Vec::new();
-        for (x, y) in [(0, 0), (1, 0), (k - 1, 2), (5, 7), (2, k - 1), (k / 2, k / 2)] {
+        for (x, y) in [
+            (0, 0),
+            (1, 0),
+            (k - 1, 2),
+            (5, 7),
+            (2, k - 1),
+            (k / 2, k / 2),
+        ] {
             let (x, y) = (bx * k + x, by * k + y);
             let shown = offsets(&p, x, y);
             assert_eq!(shown.len(), 9, "3×3 points in pixel ({x}, {y})");
@@ -175,7 +204,11 @@ fn relaxed_blocks_show_the_tile_shifted_mirrored_or_transposed() {
         }
         sources.sort_unstable();
         sources.dedup();
-        assert_eq!(sources.len(), 6, "distinct pixels show distinct tile pixels");
+        assert_eq!(
+            sources.len(),
+            6,
+            "distinct pixels show distinct tile pixels"
+        );
     }
     // Neighbouring blocks are arranged differently.
     assert_ne!(offsets(&p, 0, 0), offsets(&p, k, 0));

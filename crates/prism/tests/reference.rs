@@ -109,14 +109,23 @@ fn the_exact_reference_agrees_with_a_very_high_sample_render() {
             }
         }
     }
-    assert!(near_worst < 0.01, "near field: worst difference {near_worst}");
+    assert!(
+        near_worst < 0.01,
+        "near field: worst difference {near_worst}"
+    );
     // Far field: the render's noise averages out (no bias), and the reference explains
     // most of the render's departure from flat grey, which a wrong reference would not.
     let n = n_far as f64;
     let (bias, rms) = (far_bias / n, (far_err2 / n).sqrt());
-    assert!(bias.abs() < 3.0 * rms / n.sqrt(), "far field bias {bias}, rms {rms}");
+    assert!(
+        bias.abs() < 3.0 * rms / n.sqrt(),
+        "far field bias {bias}, rms {rms}"
+    );
     let signal = (far_signal2 / n).sqrt();
-    assert!(rms < 0.5 * signal, "far field: rms {rms} against signal {signal}");
+    assert!(
+        rms < 0.5 * signal,
+        "far field: rms {rms} against signal {signal}"
+    );
 }
 
 #[test]

@@ -82,9 +82,15 @@ fn corners_are_shared_so_a_pixel_costs_about_two_camera_rays() {
     let r = run(&scene, &options);
     assert_eq!(r.stats.primary_rays, w * h + (w + 1) * (h + 1));
     let per_pixel = r.rays.mean_camera();
-    assert!((per_pixel - 2.0).abs() < 0.1, "{per_pixel} camera rays per pixel");
+    assert!(
+        (per_pixel - 2.0).abs() < 0.1,
+        "{per_pixel} camera rays per pixel"
+    );
     let counted: u64 = r.rays.camera.iter().map(|&c| c as u64).sum();
-    assert_eq!(counted, r.stats.primary_rays, "the density view counts every ray once");
+    assert_eq!(
+        counted, r.stats.primary_rays,
+        "the density view counts every ray once"
+    );
 }
 
 /// Adaptive sampling replayed independently: every pixel's quadtree walked in full, with a
@@ -115,12 +121,17 @@ fn replay_adaptive(scene: &Scene, options: &RenderOptions) -> (usize, u64, usize
     for py in 0..options.height {
         for px in 0..options.width {
             let mut own = HashSet::new();
-            rule.walk(Square::pixel(px, py, steps), rule.depth, &lookup, &mut |sq, v| {
-                own.extend(sq.corners());
-                if v == Visit::Split {
-                    splits += 1;
-                }
-            });
+            rule.walk(
+                Square::pixel(px, py, steps),
+                rule.depth,
+                &lookup,
+                &mut |sq, v| {
+                    own.extend(sq.corners());
+                    if v == Visit::Split {
+                        splits += 1;
+                    }
+                },
+            );
             unshared += own.len();
         }
     }
@@ -143,7 +154,10 @@ fn adaptive_sampling_traces_each_lattice_point_once() {
         assert_eq!(r.stats.adaptive_splits, splits, "{name}: splits");
         assert!(splits > 0, "{name}: something was refined");
         let corners = ((w + 1) * (h + 1)) as u64;
-        assert!(r.stats.primary_rays > corners, "{name}: refined beyond the corners");
+        assert!(
+            r.stats.primary_rays > corners,
+            "{name}: refined beyond the corners"
+        );
         // Without sharing, every pixel would trace its own corners and edge points.
         assert!(
             (unshared as u64) > r.stats.primary_rays + corners,
@@ -192,7 +206,10 @@ fn every_sampler_and_filter_is_bit_identical_for_any_threads_and_tiles() {
                     "{sampler} / {filter}: image differs with {threads} threads, {tile}-pixel tiles"
                 );
                 assert_eq!(r.stats, reference.stats, "{sampler} / {filter}: statistics");
-                assert_eq!(r.rays, reference.rays, "{sampler} / {filter}: rays per pixel");
+                assert_eq!(
+                    r.rays, reference.rays,
+                    "{sampler} / {filter}: rays per pixel"
+                );
             }
         }
     }
@@ -278,7 +295,12 @@ fn the_spd_preset_takes_one_grid_ray_per_pixel_whatever_the_sampling_options() {
     };
     prism::preset::apply_spd(&mut scene, &mut options);
     assert_eq!(
-        (options.sampler, options.filter, options.filter_radius, options.samples),
+        (
+            options.sampler,
+            options.filter,
+            options.filter_radius,
+            options.samples
+        ),
         (SamplerKind::Grid, FilterKind::Box, None, 1)
     );
     assert_eq!(options.min_weight, 0.0);

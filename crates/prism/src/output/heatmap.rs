@@ -154,7 +154,10 @@ mod tests {
     fn a_heatmap_holds_the_image_the_bar_and_the_caption() {
         let values: Vec<f32> = (0..64).map(|i| i as f32).collect();
         let img = heatmap(&values, 8, 8, None, "RAYS PER PIXEL");
-        assert!(img.width > 8 * 16 && img.height > 8 * 16, "enlarged 16 times");
+        assert!(
+            img.width > 8 * 16 && img.height > 8 * 16,
+            "enlarged 16 times"
+        );
         assert_eq!(img.data.len() as u32, img.width * img.height * 3);
         // The top-left pixel is the lowest value, the enlarged bottom-right the highest.
         assert_eq!(&img.data[0..3], &VIRIDIS[0]);
