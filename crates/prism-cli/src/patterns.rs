@@ -204,10 +204,10 @@ fn adaptive_panel(rule: Refinement) -> Panel {
         .collect();
     Panel {
         title: format!(
-            "adaptive t {} d {}: {} points, 9 pixels",
+            "adaptive: {} rays (t {}, depth {})",
+            points.len(),
             rule.threshold,
-            rule.depth,
-            points.len()
+            rule.depth
         ),
         pixels: PIXELS,
         lines,
@@ -255,7 +255,9 @@ fn draw(s: &mut String, p: &Panel, x0: f64, y0: f64) {
         );
     }
     let r = if p.pixels > PIXELS { 2.0 } else { 3.0 };
-    for &(v, shared) in &p.points {
+    let inside =
+        |v: Vec2| (0.0..=p.pixels as f32).contains(&v.x) && (0.0..=p.pixels as f32).contains(&v.y);
+    for &(v, shared) in p.points.iter().filter(|(v, _)| inside(*v)) {
         let (x, y) = at(v);
         let fill = if shared { "#D55E00" } else { "#0072B2" };
         let _ = writeln!(

@@ -4,8 +4,9 @@
 //! The relaxation runs once per render over a tile of K×K pixels that wraps around (a
 //! torus), so points repel each other across pixel borders and across the tile's edges: the
 //! per-pixel sets join without seams and the tile repeats without gaps or clumps. Each
-//! step moves every point to the centroid of its Voronoi cell cut to its own pixel, which
-//! keeps exactly n×n points in every pixel. To hide the K-pixel period, each K×K block of
+//! step moves every point to the centroid of its Voronoi cell, or, when that lies beyond
+//! its pixel, to the centroid of the part of the cell inside the pixel; so every pixel
+//! keeps exactly n×n points. To hide the K-pixel period, each K×K block of
 //! the image shows the tile shifted by whole pixels and mirrored or transposed, chosen by
 //! the hash of the block.
 
@@ -102,6 +103,12 @@ impl RelaxedTile {
                 Vec2::new((p % self.side) as f32 + o.x, (p / self.side) as f32 + o.y)
             })
             .collect()
+    }
+
+    /// The offsets of the tile's own pixel (tx, ty), as relaxed.
+    pub fn tile_pixel(&self, tx: u32, ty: u32) -> &[Vec2] {
+        let start = ((ty * self.side + tx) * self.per_pixel) as usize;
+        &self.offsets[start..start + self.per_pixel as usize]
     }
 
     /// Appends pixel (px, py)'s offsets: the tile pixel its block maps it to, with the
@@ -209,12 +216,15 @@ impl Relaxation {
         self.bucket_points = points;
     }
 
-    /// Point `i`'s new position: the centroid of its Voronoi cell within its pixel.
+    /// Point `i`'s new position: the centroid of its Voronoi cell, kept in its pixel. The
+    /// cell is not cut to the pixel: that would push every point away from the borders and
+    /// print the pixel grid into the pattern.
     fn centroid(&self, positions: &[DVec2], i: usize, p: DVec2, cell: &mut Cell) -> DVec2 {
         let pixel = (i as u32 / self.per_pixel) as usize;
         let k = self.side as usize;
         let origin = DVec2::new((pixel % k) as f64, (pixel / k) as f64);
-        cell.rect(origin - p, origin + DVec2::ONE - p);
+        // No Voronoi cell reaches farther than the pixel's diagonal from its point.
+        cell.rect(DVec2::splat(-2.0), DVec2::splat(2.0));
         let b = self.buckets() as i64;
         let period = self.side as f64;
         let (bx, by) = self.bucket_of(p);
@@ -243,6 +253,24 @@ impl Relaxation {
             if 2.0 * cell.radius() <= ring as f64 / self.per_axis as f64 {
                 break;
             }
+        }
+        let Some(c) = cell.centroid() else {
+            return p;
+        };
+        let (lo, hi) = (origin - p, origin + DVec2::ONE - p);
+        if c.cmpgt(lo).all() && c.cmplt(hi).all() {
+            return p + c;
+        }
+        // The centroid lies beyond the pixel: take the centroid of the part of the cell
+        // inside it. Clamping instead would pile points up on the borders, and cutting
+        // every cell to its pixel would push all points away from them.
+        for q in [
+            DVec2::new(2.0 * hi.x, 0.0),
+            DVec2::new(2.0 * lo.x, 0.0),
+            DVec2::new(0.0, 2.0 * hi.y),
+            DVec2::new(0.0, 2.0 * lo.y),
+        ] {
+            cell.clip_to_bisector(q);
         }
         cell.centroid().map_or(p, |c| p + c)
     }
