@@ -1,8 +1,9 @@
-//! Writes the glTF and GLB seed files of corpus/gltf and corpus/glb: small documents that
-//! between them use every part of the format prism reads (node hierarchies, TRS and matrix
+//! Writes the binary seed files: corpus/gltf and corpus/glb, small documents that between
+//! them use every part of glTF that prism reads (node hierarchies, TRS and matrix
 //! transforms, indexed lists, strips and fans, strides, normalized and sparse accessors,
 //! cameras, punctual lights, PBR and transmission materials, a PNG texture from a data:
-//! URI or a buffer view). Run from fuzz/: `cargo run --example make_seeds`.
+//! URI or a buffer view), and the binary PLY files of corpus/ply (both byte orders).
+//! Run from fuzz/: `cargo run --example make_seeds`.
 
 use std::path::Path;
 
@@ -196,6 +197,37 @@ fn triangle_buffer() -> Vec<u8> {
     f32s(&[0., 0., 0., 1., 0., 0., 0., 1., 0.])
 }
 
+/// A binary PLY tetrahedron: double positions, a skipped list property on the vertices,
+/// ushort-counted int faces with one quad, and a trailing element to step over.
+fn binary_ply(big_endian: bool) -> Vec<u8> {
+    let order = if big_endian { "big" } else { "little" };
+    let mut out = format!(
+        "ply\nformat binary_{order}_endian 1.0\nelement vertex 4\nproperty double x\n\
+         property double y\nproperty double z\nproperty list uchar short tags\n\
+         element face 3\nproperty list ushort int vertex_indices\nelement extra 1\n\
+         property float weight\nend_header\n"
+    )
+    .into_bytes();
+    let e = |b: &mut Vec<u8>, le: &[u8]| {
+        let mut v = le.to_vec();
+        if big_endian {
+            v.reverse();
+        }
+        b.extend(v);
+    };
+    for p in [[0f64, 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]] {
+        p.iter().for_each(|c| e(&mut out, &c.to_le_bytes()));
+        out.push(1);
+        e(&mut out, &7i16.to_le_bytes());
+    }
+    for face in [&[0i32, 2, 1][..], &[0, 1, 3], &[1, 2, 3, 0]] {
+        e(&mut out, &(face.len() as u16).to_le_bytes());
+        face.iter().for_each(|i| e(&mut out, &i.to_le_bytes()));
+    }
+    e(&mut out, &0.5f32.to_le_bytes());
+    out
+}
+
 fn write(path: &Path, bytes: &[u8]) {
     std::fs::write(path, bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     println!("{} ({} bytes)", path.display(), bytes.len());
@@ -208,6 +240,11 @@ fn main() {
     let (gltf, glb_dir) = (corpus.join("gltf"), corpus.join("glb"));
     std::fs::create_dir_all(&gltf).expect("corpus/gltf");
     std::fs::create_dir_all(&glb_dir).expect("corpus/glb");
+
+    let ply = corpus.join("ply");
+    std::fs::create_dir_all(&ply).expect("corpus/ply");
+    write(&ply.join("binary-le.ply"), &binary_ply(false));
+    write(&ply.join("binary-be.ply"), &binary_ply(true));
 
     let quad = quad_buffer();
     let buffer = format!(

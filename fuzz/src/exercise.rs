@@ -19,6 +19,8 @@ const MAX_DEPTH: u32 = 3;
 pub enum Outcome {
     /// The scene, by its number of primitives (meshes count one per triangle) and lights.
     Parsed { primitives: usize, lights: usize },
+    /// A material library's number of materials.
+    Materials(usize),
     /// The parser's error message.
     Rejected(String),
 }

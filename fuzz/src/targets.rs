@@ -2,11 +2,13 @@
 //! checked and traced. A panic anywhere is a finding.
 
 use crate::exercise::{self, Outcome};
+use prism::scene::mesh_file::Materials;
 use std::path::Path;
 
-/// A folder that does not exist: files a scene names relative to itself (textures, glTF
-/// buffers) are never found, so a run depends on the input alone.
-const BASE: &str = "/nonexistent/prism-fuzz";
+/// The folder the inputs are parsed as if they were in: fuzz/data, which holds a material
+/// library (`lib.mtl`) and an image (`card.png`) for inputs to name, and nothing else, so a
+/// run depends on the input alone.
+const BASE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
 /// Text formats see the bytes as UTF-8 with bad sequences replaced, so that every input
 /// reaches the parser; the loaders reject non-UTF-8 files before parsing.
@@ -41,7 +43,44 @@ pub fn glb(data: &[u8]) -> Outcome {
     exercise::outcome(prism::scene::parse_gltf(data, &path), None)
 }
 
+/// Wavefront OBJ text (`prism::scene::obj::parse`), made a scene as `prism::scene::load`
+/// makes one (`mesh_scene`). `mtllib` names files, which the base folder does not hold.
+pub fn obj(data: &[u8]) -> Outcome {
+    let text = text(data);
+    let path = Path::new(BASE).join("input.obj");
+    let file = prism::scene::obj::parse(&text, &path, Materials::Read);
+    exercise::outcome(
+        file.and_then(|f| prism::scene::mesh_scene(f, &path)),
+        Some(&text),
+    )
+}
+
+/// MTL material library text (`prism::scene::obj::parse_mtl`).
+pub fn mtl(data: &[u8]) -> Outcome {
+    let text = text(data);
+    let path = Path::new(BASE).join("input.mtl");
+    match prism::scene::obj::parse_mtl(&text, &path) {
+        Ok(materials) => Outcome::Materials(materials.len()),
+        Err(e) => exercise::outcome(Err(e), Some(&text)),
+    }
+}
+
+/// PLY files, ASCII or binary (`prism::scene::ply::parse`), made a scene like `obj`.
+pub fn ply(data: &[u8]) -> Outcome {
+    let path = Path::new(BASE).join("input.ply");
+    let file = prism::scene::ply::parse(data, &path.display().to_string());
+    exercise::outcome(file.and_then(|f| prism::scene::mesh_scene(f, &path)), None)
+}
+
 pub type Target = fn(&[u8]) -> Outcome;
 
 /// Every target by name: the binaries, the corpus folders and the tests use these names.
-pub const ALL: &[(&str, Target)] = &[("nff", nff), ("toml", toml), ("gltf", gltf), ("glb", glb)];
+pub const ALL: &[(&str, Target)] = &[
+    ("nff", nff),
+    ("toml", toml),
+    ("gltf", gltf),
+    ("glb", glb),
+    ("obj", obj),
+    ("mtl", mtl),
+    ("ply", ply),
+];

@@ -44,3 +44,16 @@ pub fn load(path: &Path) -> Result<Scene, LoadError> {
         }),
     }
 }
+
+/// Reads a file that a scene file names (a glTF buffer or image, an MTL library). Only
+/// regular files are read: a name such as "/dev/zero" or a pipe would be read until memory
+/// runs out, or forever.
+pub(crate) fn read_regular_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    if !std::fs::metadata(path)?.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file",
+        ));
+    }
+    std::fs::read(path)
+}

@@ -74,7 +74,12 @@ pub fn load_mesh_file(path: &Path, materials: Materials) -> Result<MeshFile, Loa
 /// A mesh file as a whole scene: its meshes and materials, faces without a material in
 /// prism's default one, and a camera and light that frame the mesh.
 pub fn load_scene(path: &Path) -> Result<Scene, LoadError> {
-    let file = load_mesh_file(path, Materials::Read)?;
+    mesh_scene(load_mesh_file(path, Materials::Read)?, path)
+}
+
+/// A mesh file already read (from `path`, which names it in errors) as a whole scene, as
+/// `load_scene` makes it.
+pub fn mesh_scene(file: MeshFile, path: &Path) -> Result<Scene, LoadError> {
     let mut scene = Scene {
         materials: file.materials,
         ..Scene::default()

@@ -19,7 +19,7 @@ pub use self::gltf::parse as parse_gltf;
 /// Parses TOML scene text; the path names it in errors and anchors relative file names.
 pub use self::toml::parse as parse_toml;
 pub use load::{load, LoadError};
-pub use mesh_file::{load_mesh_file, MeshFile, MeshPart};
+pub use mesh_file::{load_mesh_file, mesh_scene, MeshFile, MeshPart};
 
 use crate::accel::{AccelKind, SceneIntersector};
 use crate::camera::Camera;

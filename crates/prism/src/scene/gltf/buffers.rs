@@ -2,6 +2,7 @@
 //! (for a .glb's first buffer without a uri) the BIN chunk.
 
 use super::uri::{self, Source};
+use crate::scene::load::read_regular_file;
 use gltf::json::Root;
 use std::borrow::Cow;
 use std::path::Path;
@@ -66,18 +67,6 @@ pub fn read<'a>(u: &str, base_dir: &Path, what: &str) -> Result<Cow<'a, [u8]>, S
             )
         }),
     }
-}
-
-/// Reads a regular file. A uri may name any path ("/dev/zero", a pipe, a folder): those are
-/// refused before reading, since reading a device can exhaust memory or never end.
-fn read_regular_file(file: &Path) -> std::io::Result<Vec<u8>> {
-    if !std::fs::metadata(file)?.is_file() {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "not a regular file",
-        ));
-    }
-    std::fs::read(file)
 }
 
 /// The bytes of buffer view `view`, checked to lie inside its buffer.

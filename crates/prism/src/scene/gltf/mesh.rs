@@ -172,6 +172,10 @@ impl Primitive {
         self.triangles.is_empty()
     }
 
+    pub fn triangle_count(&self) -> usize {
+        self.triangles.len()
+    }
+
     /// A world-space copy. Normals go through the inverse transpose; a mirroring transform
     /// reverses the winding so the outside stays outside; a flattening one (a zero scale)
     /// keeps the flat triangles but drops the vertex normals, which it leaves undefined.

@@ -58,24 +58,57 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<Scene, LoadError> {
     };
     let root = document::parse(json, path, is_glb)?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
-    build(&root, bin, base_dir).map_err(invalid)
+    build(&root, json.len(), bin, base_dir).map_err(invalid)
 }
 
-fn build(root: &Root, bin: Option<&[u8]>, base_dir: &Path) -> Result<Scene, String> {
+/// Nodes may place one mesh any number of times, and prism copies every placement: a
+/// 100 KB file placing a strip of 40 000 triangles in 4 000 nodes would ask for 160 million
+/// triangles (some 16 GB). The placed triangles may number at most this many per byte of
+/// the JSON and buffers, which keeps memory proportional to the file's size while leaving
+/// room for instancing.
+const MAX_PLACED_TRIANGLES_PER_BYTE: usize = 64;
+
+fn build(
+    root: &Root,
+    json_len: usize,
+    bin: Option<&[u8]>,
+    base_dir: &Path,
+) -> Result<Scene, String> {
     let buffers = buffers::load(root, bin, base_dir)?;
     let accessors = Accessors::new(root, &buffers);
     let mut images = Images::new(root, &buffers, base_dir);
     let placed = nodes::walk(root)?;
 
-    let mut scene = Scene::default();
     let mut decoded: HashMap<usize, Vec<mesh::Primitive>> = HashMap::new();
-    let mut material_ids: HashMap<Option<usize>, u32> = HashMap::new();
-    for &(node, mesh_index, world) in &placed.meshes {
+    let mut placed_triangles = 0usize;
+    for &(_, mesh_index, _) in &placed.meshes {
         let primitives = match decoded.entry(mesh_index) {
             Entry::Occupied(e) => e.into_mut(),
             Entry::Vacant(e) => e.insert(mesh::decode(root, &accessors, mesh_index, |m| {
                 materials::uv_set(root, m)
             })?),
+        };
+        let triangles: usize = primitives.iter().map(mesh::Primitive::triangle_count).sum();
+        placed_triangles = placed_triangles.saturating_add(triangles);
+    }
+    let data_len = buffers
+        .iter()
+        .fold(json_len, |n, b| n.saturating_add(b.len()));
+    let budget = data_len.saturating_mul(MAX_PLACED_TRIANGLES_PER_BYTE);
+    if placed_triangles > budget {
+        return Err(format!(
+            "the nodes place {placed_triangles} triangles in all, more than prism accepts from \
+             {data_len} bytes of JSON and buffers ({MAX_PLACED_TRIANGLES_PER_BYTE} per byte): \
+             expected fewer nodes placing large meshes"
+        ));
+    }
+
+    let mut scene = Scene::default();
+    let mut material_ids: HashMap<Option<usize>, u32> = HashMap::new();
+    for &(node, mesh_index, world) in &placed.meshes {
+        // Every placed mesh was decoded above.
+        let Some(primitives) = decoded.get(&mesh_index) else {
+            continue;
         };
         let at = Placement::new(world);
         for primitive in primitives.iter() {

@@ -78,6 +78,12 @@ pub fn parse(text: &str, path: &Path, materials: Materials) -> Result<MeshFile, 
     Ok(file)
 }
 
+/// Reads MTL library text on its own: the materials it defines, in order. `path` names it
+/// in errors and anchors its image files.
+pub fn parse_mtl(text: &str, path: &Path) -> Result<Vec<crate::shading::Material>, LoadError> {
+    mtl::parse(text, path, &mut TextureCache::new()).map(|library| library.materials)
+}
+
 fn tobj_failed(path: &str, e: tobj::LoadError) -> LoadError {
     LoadError::Invalid {
         path: path.to_string(),

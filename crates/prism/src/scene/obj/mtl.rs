@@ -51,7 +51,7 @@ pub type Parsed = Result<Library, LoadError>;
 /// error is the file's (the caller knows where it was named); the inner one is located in
 /// the library.
 pub fn load(path: &Path, textures: &mut TextureCache) -> Result<Parsed, std::io::Error> {
-    let bytes = std::fs::read(path)?;
+    let bytes = crate::scene::load::read_regular_file(path)?;
     Ok(parse(&String::from_utf8_lossy(&bytes), path, textures))
 }
 

@@ -1,0 +1,5 @@
+//! The `obj` fuzz target (see prism_fuzz::targets::obj).
+
+fn main() {
+    prism_fuzz::run(prism_fuzz::targets::obj);
+}
