@@ -4,9 +4,11 @@
 
 use std::fmt::Write;
 
-/// Okabe and Ito's colour-blind-safe palette, without its yellow (too pale on white).
-pub const PALETTE: [&str; 7] = [
-    "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000",
+/// Okabe and Ito's colour-blind-safe palette without its yellow (too pale on white),
+/// then three of Paul Tol's muted colours and a grey.
+pub const PALETTE: [&str; 10] = [
+    "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000", "#882255",
+    "#999933", "#777777",
 ];
 
 pub struct Series {
@@ -23,10 +25,9 @@ pub struct LogLogPlot {
     pub series: Vec<Series>,
 }
 
-const WIDTH: f64 = 760.0;
+const PLOT_WIDTH: f64 = 560.0;
 const HEIGHT: f64 = 480.0;
 const LEFT: f64 = 80.0;
-const RIGHT: f64 = 200.0;
 const TOP: f64 = 44.0;
 const BOTTOM: f64 = 60.0;
 
@@ -38,28 +39,29 @@ pub fn escape(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// A log axis from `lo` to `hi` (positive): the range widened to round values, and its
-/// labelled ticks.
+/// A log axis from `lo` to `hi` (positive): the range with a little room on both sides,
+/// as powers of ten, and its labelled ticks (1, 2, 5 or 1, 3 times powers of ten).
 fn axis(lo: f64, hi: f64) -> (f64, f64, Vec<f64>) {
     let (mut a, mut b) = (lo.log10(), hi.log10());
-    if b - a < 1e-9 {
-        a -= 0.5;
-        b += 0.5;
+    if b - a < 0.5 {
+        let mid = 0.5 * (a + b);
+        a = mid - 0.25;
+        b = mid + 0.25;
     }
-    let (a, b) = ((a - 0.05 * (b - a)).floor(), (b + 0.05 * (b - a)).ceil());
-    let decades = b - a;
-    let mults: &[f64] = if decades <= 2.0 {
+    let pad = 0.06 * (b - a);
+    let (a, b) = (a - pad, b + pad);
+    let mults: &[f64] = if b - a <= 2.5 {
         &[1.0, 2.0, 5.0]
-    } else if decades <= 4.0 {
+    } else if b - a <= 4.0 {
         &[1.0, 3.0]
     } else {
         &[1.0]
     };
     let mut ticks = Vec::new();
-    for e in a as i32..=b as i32 {
+    for e in a.floor() as i32..=b.ceil() as i32 {
         for m in mults {
             let v = m * 10f64.powi(e);
-            if v.log10() <= b + 1e-9 {
+            if (a..=b).contains(&v.log10()) {
                 ticks.push(v);
             }
         }
@@ -106,7 +108,15 @@ impl LogLogPlot {
         } else {
             axis(y_lo, y_hi)
         };
-        let pw = WIDTH - LEFT - RIGHT;
+        let longest = self
+            .series
+            .iter()
+            .map(|s| s.label.chars().count())
+            .max()
+            .unwrap_or(0);
+        let right = 60.0 + 7.5 * longest as f64;
+        let width = LEFT + PLOT_WIDTH + right;
+        let pw = PLOT_WIDTH;
         let ph = HEIGHT - TOP - BOTTOM;
         let px = |x: f64| LEFT + (x.log10() - xa) / (xb - xa) * pw;
         let py = |y: f64| TOP + (1.0 - (y.log10() - ya) / (yb - ya)) * ph;
@@ -114,7 +124,7 @@ impl LogLogPlot {
         let mut s = String::new();
         let _ = writeln!(
             s,
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" viewBox="0 0 {WIDTH} {HEIGHT}" font-family="Helvetica, Arial, sans-serif" font-size="13">"#
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{HEIGHT}" viewBox="0 0 {width} {HEIGHT}" font-family="Helvetica, Arial, sans-serif" font-size="13">"#
         );
         let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
         let _ = writeln!(
@@ -223,7 +233,11 @@ mod tests {
     fn axes_cover_the_data_with_round_ticks() {
         let (a, b, ticks) = axis(1.0, 64.0);
         assert!(a <= 0.0 && b >= 64f64.log10());
-        assert!(ticks.contains(&1.0) && ticks.contains(&10.0));
+        assert!(ticks.contains(&1.0) && ticks.contains(&10.0) && ticks.contains(&50.0));
+        assert!(
+            !ticks.contains(&0.5) && !ticks.contains(&100.0),
+            "{ticks:?}"
+        );
         assert_eq!(tick_label(0.02), "0.02");
         assert_eq!(tick_label(1000.0), "1000");
     }

@@ -10,7 +10,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use prism::metrics::{compare, flip::DEFAULT_PPD, Comparison};
 use prism::render::{render, Film, FilterKind};
-use prism::sampling::SamplerKind;
+use prism::sampling::{AdaptiveRule, SamplerKind};
 use prism::RenderOptions;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -75,6 +75,16 @@ pub struct SweepArgs {
     )]
     pub adaptive_thresholds: Vec<f32>,
 
+    /// Adaptive variants to render, comma-separated RULE:JITTER pairs, e.g.
+    /// `neighbourhood:1,corners:0` (the default adaptive sampler and POV-Ray's +AM2).
+    #[arg(
+        long,
+        value_name = "LIST",
+        value_delimiter = ',',
+        default_value = "neighbourhood:1"
+    )]
+    pub adaptive_variants: Vec<Variant>,
+
     /// Reconstruction filter of every render, the reference's included.
     #[arg(long, value_name = "NAME", default_value = "box")]
     pub filter: FilterKind,
@@ -105,6 +115,31 @@ pub struct SweepArgs {
     pub quiet: bool,
 }
 
+/// An adaptive rule with a jitter amount.
+#[derive(Clone, Copy, Debug)]
+pub struct Variant {
+    rule: AdaptiveRule,
+    jitter: f32,
+}
+
+impl std::str::FromStr for Variant {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (rule, jitter) = s
+            .split_once(':')
+            .ok_or_else(|| format!("expected RULE:JITTER such as corners:0, got '{s}'"))?;
+        let jitter: f32 = jitter
+            .parse()
+            .ok()
+            .filter(|j| (0.0..=1.0).contains(j))
+            .ok_or_else(|| format!("the jitter in '{s}' must be a number from 0 to 1"))?;
+        Ok(Variant {
+            rule: rule.parse()?,
+            jitter,
+        })
+    }
+}
+
 /// One render of the sweep.
 #[derive(Clone, Debug)]
 struct Run {
@@ -113,12 +148,30 @@ struct Run {
     spp: u32,
     threshold: f32,
     depth: u32,
+    rule: AdaptiveRule,
+    jitter: f32,
+    /// Name the rule and jitter in labels (several were asked for).
+    variant: bool,
 }
 
 impl Run {
+    /// The adaptive variant, when the sweep has several.
+    fn variant(&self) -> String {
+        if self.variant {
+            format!(" {} j{}", self.rule, self.jitter)
+        } else {
+            String::new()
+        }
+    }
+
     fn label(&self) -> String {
         match self.sampler {
-            SamplerKind::Adaptive => format!("adaptive t={} d={}", self.threshold, self.depth),
+            SamplerKind::Adaptive => format!(
+                "adaptive t={} d={}{}",
+                self.threshold,
+                self.depth,
+                self.variant()
+            ),
             k if k.uses_sample_count() => format!("{k} {}", self.spp),
             k => k.to_string(),
         }
@@ -223,6 +276,8 @@ pub fn run(args: &SweepArgs) -> Result<ExitCode> {
             samples: if run.spp > 0 { per_axis(run.spp)? } else { 1 },
             adaptive_threshold: run.threshold,
             adaptive_depth: run.depth,
+            adaptive_rule: run.rule,
+            adaptive_jitter: run.jitter,
             ..base.clone()
         };
         let start = Instant::now();
@@ -306,28 +361,35 @@ pub fn run(args: &SweepArgs) -> Result<ExitCode> {
 
 /// The runs the arguments ask for, in a fixed order.
 fn plan(args: &SweepArgs) -> Result<Vec<Run>> {
+    let variant = args.adaptive_variants.len() > 1;
     let mut runs = Vec::new();
     for &sampler in &args.samplers {
-        let run = |spp, threshold, depth| Run {
+        let run = |spp, threshold, depth, rule, jitter| Run {
             sampler,
             spp,
             threshold,
             depth,
+            rule,
+            jitter,
+            variant,
         };
+        let (rule, jitter) = (AdaptiveRule::default(), 0.0);
         match sampler {
             SamplerKind::Adaptive => {
-                for &t in &args.adaptive_thresholds {
-                    for &d in &args.adaptive_depths {
-                        runs.push(run(0, t, d));
+                for v in &args.adaptive_variants {
+                    for &t in &args.adaptive_thresholds {
+                        for &d in &args.adaptive_depths {
+                            runs.push(run(0, t, d, v.rule, v.jitter));
+                        }
                     }
                 }
             }
             k if k.uses_sample_count() => {
                 for &spp in &args.spp {
-                    runs.push(run(spp, 0.0, 0));
+                    runs.push(run(spp, 0.0, 0, rule, jitter));
                 }
             }
-            _ => runs.push(run(0, 0.0, 0)),
+            _ => runs.push(run(0, 0.0, 0, rule, jitter)),
         }
     }
     if runs.is_empty() {
@@ -346,7 +408,7 @@ fn render_film(
 
 fn write_csv(path: &Path, scene: &str, results: &[Measured]) -> Result<()> {
     let mut s = String::from(
-        "scene,sampler,label,spp,threshold,depth,camera_rays_per_pixel,rays_per_pixel,\
+        "scene,sampler,label,spp,threshold,depth,rule,jitter,camera_rays_per_pixel,rays_per_pixel,\
          rmse,psnr,ssim,flip,far_rays_per_pixel,far_rmse,far_ssim,far_flip,seconds\n",
     );
     for m in results {
@@ -358,12 +420,14 @@ fn write_csv(path: &Path, scene: &str, results: &[Measured]) -> Result<()> {
         };
         let _ = writeln!(
             s,
-            "{scene},{},{},{},{},{},{:.4},{:.4},{:.6},{:.3},{:.5},{:.5},{},{},{},{},{:.3}",
+            "{scene},{},{},{},{},{},{},{},{:.4},{:.4},{:.6},{:.3},{:.5},{:.5},{},{},{},{},{:.3}",
             m.run.sampler,
             m.run.label(),
             m.run.spp,
             m.run.threshold,
             m.run.depth,
+            m.run.rule,
+            m.run.jitter,
             m.camera_per_pixel,
             m.rays_per_pixel,
             m.all.rmse,
@@ -389,13 +453,17 @@ fn write_plot(
     results: &[Measured],
     metric: fn(&Measured) -> f64,
 ) -> Result<()> {
-    // One line per pattern; adaptive: one per threshold, over its depths.
-    let mut keys: Vec<(SamplerKind, Option<u32>)> = Vec::new();
-    for m in results {
-        let key = (
+    // One line per pattern; adaptive: one per threshold and variant, over its depths.
+    let key_of = |m: &Measured| {
+        (
             m.run.sampler,
-            (m.run.sampler == SamplerKind::Adaptive).then_some(m.run.threshold.to_bits()),
-        );
+            (m.run.sampler == SamplerKind::Adaptive)
+                .then(|| format!("adaptive t={}{}", m.run.threshold, m.run.variant())),
+        )
+    };
+    let mut keys: Vec<(SamplerKind, Option<String>)> = Vec::new();
+    for m in results {
+        let key = key_of(m);
         if !keys.contains(&key) {
             keys.push(key);
         }
@@ -403,19 +471,15 @@ fn write_plot(
     let series = keys
         .iter()
         .enumerate()
-        .map(|(i, &(sampler, threshold))| {
+        .map(|(i, key)| {
+            let (sampler, name) = key;
             let points = results
                 .iter()
-                .filter(|m| {
-                    m.run.sampler == sampler
-                        && threshold.is_none_or(|t| t == m.run.threshold.to_bits())
-                })
+                .filter(|m| key_of(m) == *key)
                 .map(|m| (m.rays_per_pixel, metric(m)))
                 .collect();
-            let label = match threshold {
-                Some(t) => format!("adaptive t={}", f32::from_bits(t)),
-                None => sampler.to_string(),
-            };
+            let label = name.clone().unwrap_or_else(|| sampler.to_string());
+            let sampler = *sampler;
             Series {
                 label,
                 points,
@@ -480,11 +544,15 @@ fn summary(scene: &str, base: &RenderOptions, reference: &str, results: &[Measur
                     let _ = writeln!(
                         s,
                         "goal: adaptive reaches jittered-16's {metric} ({target:.5}) with {} \
-                         at {:.2} rays/px = {:.0}% of jittered-16's {:.2} (goal ≤ 35%)",
+                         ({:.5}) at {:.2} rays/px = {:.0}% of jittered-16's {:.2}; camera \
+                         rays {:.2}/px = {:.0}% (goal ≤ 35%)",
                         a.run.label(),
+                        get(a),
                         a.rays_per_pixel,
                         100.0 * a.rays_per_pixel / j16.rays_per_pixel,
-                        j16.rays_per_pixel
+                        j16.rays_per_pixel,
+                        a.camera_per_pixel,
+                        100.0 * a.camera_per_pixel / j16.camera_per_pixel,
                     );
                 }
                 None => {
