@@ -4,6 +4,8 @@
 use anyhow::{bail, Result};
 use clap::{Args, Parser, Subcommand};
 use prism::accel::AccelKind;
+use prism::render::FilterKind;
+use prism::sampling::SamplerKind;
 use prism::scene::builtin;
 use prism::{RenderOptions, Scene};
 use std::path::PathBuf;
@@ -30,6 +32,15 @@ pub enum Command {
     /// Describe a scene without rendering it: shapes, materials, lights, bounds, memory
     /// and the acceleration structure built for it.
     Info(InfoArgs),
+    /// Compare two images: RMSE, PSNR, SSIM and FLIP of TEST against REFERENCE.
+    Compare(crate::compare::CompareArgs),
+    /// Write the exact box-filtered image of the checkerboard scene (no sampling).
+    Reference(crate::reference::ReferenceArgs),
+    /// Render a scene with each sampling pattern at several sample counts and plot the
+    /// error against the rays per pixel.
+    Sweep(crate::sweep::SweepArgs),
+    /// Draw each sampling pattern's points (SVG).
+    Patterns(crate::patterns::PatternsArgs),
 }
 
 #[derive(Args, Debug)]
@@ -41,6 +52,13 @@ pub struct InfoArgs {
     /// Acceleration structure to build and describe.
     #[arg(long, value_name = "NAME", default_value = "bvh")]
     pub accel: AccelKind,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DensityRays {
+    #[default]
+    All,
+    Camera,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -75,9 +93,52 @@ pub struct RenderArgs {
     #[arg(short = 'H', long, value_name = "PIXELS")]
     pub height: Option<u32>,
 
-    /// Samples per pixel along each axis: N traces an N×N grid of subpixel centres.
-    #[arg(short, long, value_name = "N")]
+    /// Samples per pixel along each axis: N gives N×N samples per pixel.
+    #[arg(short, long, value_name = "N", conflicts_with = "spp")]
     pub samples: Option<u32>,
+
+    /// Samples per pixel, a square number (1, 4, 9, 16, …) for every pattern, so that
+    /// patterns compare at equal counts.
+    #[arg(long, value_name = "N")]
+    pub spp: Option<u32>,
+
+    /// Sampling pattern: centre, grid, corners, random, jittered, relaxed or adaptive
+    /// [default: grid].
+    #[arg(long, value_name = "NAME")]
+    pub sampler: Option<SamplerKind>,
+
+    /// Reconstruction filter: box, tent, gaussian or mitchell [default: box].
+    #[arg(long, value_name = "NAME")]
+    pub filter: Option<FilterKind>,
+
+    /// Filter radius in pixels [default: box 0.5, tent 1, gaussian 1.5, mitchell 2].
+    #[arg(long, value_name = "PIXELS")]
+    pub filter_radius: Option<f32>,
+
+    /// Adaptive sampling: split a square when its corners differ by more than this, in
+    /// display (sRGB) units from 0 to 1 [default: 0.1].
+    #[arg(long, value_name = "X")]
+    pub adaptive_threshold: Option<f32>,
+
+    /// Adaptive sampling: levels of splitting below the pixel, 0 to 6 [default: 3].
+    #[arg(long, value_name = "N")]
+    pub adaptive_depth: Option<u32>,
+
+    /// Adaptive sampling: what splits a pixel, `neighbourhood` (the 16 corners around it,
+    /// and texture finer than the pixels) or `corners` (its own four, as POV-Ray)
+    /// [default: neighbourhood].
+    #[arg(long, value_name = "RULE")]
+    pub adaptive_rule: Option<prism::sampling::AdaptiveRule>,
+
+    /// Adaptive sampling: 0 traces exactly on the lattice, 1 anywhere in each point's
+    /// lattice cell [default: 1].
+    #[arg(long, value_name = "X")]
+    pub adaptive_jitter: Option<f32>,
+
+    /// Adaptive depth control: stop a reflected or refracted branch whose weight in the
+    /// pixel is below this; 0 traces every branch to the depth limit [default: 1/255].
+    #[arg(long, value_name = "W")]
+    pub min_weight: Option<f32>,
 
     /// Maximum ray-tree depth, counting the eye ray as 1 (1 to 256) [default: 5].
     #[arg(short, long, value_name = "N")]
@@ -91,7 +152,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
 
-    /// Acceleration structure: bvh or brute-force.
+    /// Acceleration structure: bvh (the default), grid, kdtree, octree or brute-force.
     #[arg(long, value_name = "NAME")]
     pub accel: Option<AccelKind>,
 
@@ -99,6 +160,16 @@ pub struct RenderArgs {
     /// 5, a reflection ray at every reflective or transmitting surface).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<Preset>,
+
+    /// Also write the sample-density view: rays per pixel as a heat map with a colour
+    /// bar (PNG).
+    #[arg(long, value_name = "FILE")]
+    pub density: Option<PathBuf>,
+
+    /// Which rays the density view counts: `all` (camera, shadow, reflected, refracted) or
+    /// `camera`.
+    #[arg(long, value_name = "KIND", default_value = "all")]
+    pub density_rays: DensityRays,
 
     /// Print a table of ray counts, tests and times after rendering.
     #[arg(long)]
@@ -131,7 +202,7 @@ impl RenderArgs {
     }
 
     /// The scene's options with the command line's on top.
-    pub fn options(&self, scene: &RenderOptions) -> RenderOptions {
+    pub fn options(&self, scene: &RenderOptions) -> Result<RenderOptions> {
         let mut o = scene.clone();
         if let Some(v) = self.width {
             o.width = v;
@@ -141,6 +212,44 @@ impl RenderArgs {
         }
         if let Some(v) = self.samples {
             o.samples = v;
+        }
+        if let Some(spp) = self.spp {
+            o.samples = per_axis(spp)?;
+        }
+        if let Some(v) = self.sampler {
+            o.sampler = v;
+        }
+        if (self.samples.is_some() || self.spp.is_some()) && !o.sampler.uses_sample_count() {
+            bail!(
+                "the {} sampler chooses its own sample count; leave out --spp and --samples{}",
+                o.sampler,
+                if o.sampler == SamplerKind::Adaptive {
+                    " (--adaptive-depth and --adaptive-threshold set its effort)"
+                } else {
+                    ""
+                }
+            );
+        }
+        if let Some(v) = self.filter {
+            o.filter = v;
+        }
+        if let Some(v) = self.filter_radius {
+            o.filter_radius = Some(v);
+        }
+        if let Some(v) = self.adaptive_threshold {
+            o.adaptive_threshold = v;
+        }
+        if let Some(v) = self.adaptive_depth {
+            o.adaptive_depth = v;
+        }
+        if let Some(v) = self.adaptive_rule {
+            o.adaptive_rule = v;
+        }
+        if let Some(v) = self.adaptive_jitter {
+            o.adaptive_jitter = v;
+        }
+        if let Some(v) = self.min_weight {
+            o.min_weight = v;
         }
         if let Some(v) = self.depth {
             o.max_depth = v;
@@ -154,6 +263,21 @@ impl RenderArgs {
         if let Some(v) = self.accel {
             o.accel = v;
         }
-        o
+        Ok(o)
     }
+}
+
+/// Samples per axis for `spp` samples per pixel, which must be a square.
+pub fn per_axis(spp: u32) -> Result<u32> {
+    let n = (spp as f64).sqrt().round() as u32;
+    if n == 0 || n * n != spp {
+        let below = (spp as f64).sqrt().floor().max(1.0) as u32;
+        bail!(
+            "--spp {spp} is not a square number: every pattern takes n×n samples per pixel; \
+             try {} or {}",
+            below * below,
+            (below + 1) * (below + 1)
+        );
+    }
+    Ok(n)
 }

@@ -63,13 +63,13 @@ pub fn print(scene: &Scene, name: &str, accel: AccelKind) -> Result<()> {
         c.fov_degrees
     );
     println!(
-        "image              {}×{}, {}×{} samples, depth {}",
+        "image              {}×{}, depth {}, min weight {}",
         scene.options.width,
         scene.options.height,
-        scene.options.samples,
-        scene.options.samples,
-        scene.options.max_depth
+        scene.options.max_depth,
+        scene.options.min_weight
     );
+    println!("sampling           {}", scene.options.sampling_summary());
     let mesh_bytes: usize = g
         .meshes
         .iter()

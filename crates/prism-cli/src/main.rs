@@ -4,9 +4,15 @@
 //! written with the finished tiles).
 
 mod args;
+mod compare;
+mod density;
 mod info;
+mod patterns;
+mod plot;
 mod progress;
+mod reference;
 mod report;
+mod sweep;
 
 use anyhow::{Context, Result};
 use args::{Cli, Command, RenderArgs};
@@ -25,6 +31,10 @@ fn main() -> ExitCode {
     {
         Command::Render(args) => render(&args),
         Command::Info(args) => info(&args),
+        Command::Compare(args) => compare::run(&args),
+        Command::Reference(args) => reference::run(&args),
+        Command::Sweep(args) => sweep::run(&args),
+        Command::Patterns(args) => patterns::run(&args),
         Command::List => {
             list();
             Ok(ExitCode::SUCCESS)
@@ -66,7 +76,7 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     let (mut scene, scene_name) = args.load_scene()?;
     let load_time = load_start.elapsed();
     scene.validate().context("the scene is not valid")?;
-    let mut options = args.options(&scene.options);
+    let mut options = args.options(&scene.options)?;
     if args.preset == Some(args::Preset::Spd) {
         prism::preset::apply_spd(&mut scene, &mut options);
     }
@@ -81,6 +91,9 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
         other => other,
     };
 
+    if let Some(path) = &args.density {
+        density::check(path)?;
+    }
     let prepared = scene.prepare(options.accel);
 
     let cancel = Arc::new(AtomicBool::new(false));
@@ -99,6 +112,9 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     bar.finish(result.complete);
 
     prism::output::write_image_as(&args.output, &result.film, format)?;
+    if let Some(path) = &args.density {
+        density::write(path, &result.rays, args.density_rays)?;
+    }
     let report = report::Report::new(
         &scene_name,
         &prepared,

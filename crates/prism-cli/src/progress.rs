@@ -15,7 +15,7 @@ pub struct RenderProgress {
 
 impl RenderProgress {
     pub fn new(options: &RenderOptions, quiet: bool) -> Self {
-        let pixels = options.width as u64 * options.height as u64;
+        let pixels = prism::render::progress_total(options);
         let bar = if quiet || !std::io::stderr().is_terminal() {
             ProgressBar::hidden()
         } else {

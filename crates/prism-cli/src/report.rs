@@ -15,6 +15,7 @@ pub struct Report {
     accel: String,
     times: [(&'static str, Duration); 3],
     pixels: u64,
+    sampling: String,
 }
 
 impl Report {
@@ -27,6 +28,7 @@ impl Report {
         output: &Path,
     ) -> Self {
         let s = result.stats;
+        let pixels = options.width as u64 * options.height as u64;
         let render_s = result.render_time.as_secs_f64();
         let accel = prepared.intersector.accel.describe();
         let json = json!({
@@ -49,9 +51,14 @@ impl Report {
                 "shadow_continuations": s.shadow_continuations,
                 "reflected": s.reflected_rays,
                 "refracted": s.refracted_rays,
+                "pruned_by_min_weight": s.pruned_rays,
                 "total": s.total_rays(),
+                "camera_per_pixel": s.primary_rays as f64 / pixels.max(1) as f64,
+                "per_pixel": s.total_rays() as f64 / pixels.max(1) as f64,
                 "per_second": s.total_rays() as f64 / render_s.max(1e-9),
             },
+            "sampling": options.sampling_summary(),
+            "adaptive_splits": s.adaptive_splits,
             "total_internal_reflections": s.total_internal_reflections,
             "primitive_tests": s.primitive_tests,
             "primitive_tests_by_kind": ShapeKind::ALL
@@ -71,7 +78,8 @@ impl Report {
                 ("build", prepared.build_time),
                 ("render", result.render_time),
             ],
-            pixels: options.width as u64 * options.height as u64,
+            pixels,
+            sampling: options.sampling_summary(),
         }
     }
 
@@ -79,6 +87,7 @@ impl Report {
         let s = &self.stats;
         let total = s.total_rays().max(1) as f64;
         println!("accelerator        {}", self.accel);
+        println!("sampling           {}", self.sampling);
         println!("{:<18} {:>14} {:>8}", "rays", "count", "share");
         for (name, n) in [
             ("primary", s.primary_rays),
@@ -91,6 +100,20 @@ impl Report {
             println!("{name:<18} {n:>14} {:>7.1}%", 100.0 * n as f64 / total);
         }
         println!("{:<18} {:>14}", "total", s.total_rays());
+        let px = self.pixels.max(1) as f64;
+        println!(
+            "{:<18} {:>14.3} {:>8}",
+            "per pixel",
+            s.total_rays() as f64 / px,
+            format!("({:.3} camera)", s.primary_rays as f64 / px)
+        );
+        println!(
+            "{:<18} {:>14}   (reflected/refracted rays below min_weight, each with its subtree)",
+            "pruned", s.pruned_rays
+        );
+        if s.adaptive_splits > 0 {
+            println!("{:<18} {:>14}", "adaptive splits", s.adaptive_splits);
+        }
         println!("{:<18} {:>14}", "TIR events", s.total_internal_reflections);
         println!(
             "{:<18} {:>14} {:>8.2} per ray",

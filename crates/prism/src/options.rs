@@ -2,10 +2,18 @@
 //! API all fill this struct; anything they leave out keeps the default documented here.
 
 use crate::accel::AccelKind;
+use crate::render::FilterKind;
+use crate::sampling::{adaptive, AdaptiveRule, SamplerKind};
 use serde::{Deserialize, Serialize};
 
 /// Largest accepted `max_depth`.
 pub const MAX_DEPTH_LIMIT: u32 = 256;
+/// POV-Ray's `adc_bailout`: one 8-bit level.
+pub const DEFAULT_MIN_WEIGHT: f32 = 1.0 / 255.0;
+pub const DEFAULT_ADAPTIVE_THRESHOLD: f32 = 0.1;
+pub const DEFAULT_ADAPTIVE_DEPTH: u32 = 3;
+/// Largest accepted filter radius, in pixels.
+pub const MAX_FILTER_RADIUS: f32 = 8.0;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -14,14 +22,35 @@ pub struct RenderOptions {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
-    /// Samples per pixel along each axis: n gives an n×n grid of subpixel centres
-    /// (1 = one ray through the pixel centre).
+    /// Samples per pixel along each axis: n gives n×n samples per pixel with the `grid`,
+    /// `random`, `jittered` and `relaxed` samplers (1 = one ray per pixel). The `centre`,
+    /// `corners` and `adaptive` samplers choose their own count and ignore this.
     pub samples: u32,
+    /// Where a pixel's camera rays go (see `SamplerKind`).
+    pub sampler: SamplerKind,
+    /// The reconstruction filter that turns samples into pixels.
+    pub filter: FilterKind,
+    /// The filter's radius in pixels; None takes the filter's usual radius (box 0.5, tent
+    /// 1, Gaussian 1.5, Mitchell 2).
+    pub filter_radius: Option<f32>,
+    /// Adaptive sampling: a square splits when, in some channel, its corners'
+    /// display-encoded (sRGB) values span more than this (0 to 1).
+    pub adaptive_threshold: f32,
+    /// Adaptive sampling: levels of splitting below the pixel (0 to 6); d allows 2^d × 2^d
+    /// squares per pixel.
+    pub adaptive_depth: u32,
+    /// Adaptive sampling: what decides that a pixel splits (its own corners, as POV-Ray, or
+    /// its neighbourhood's).
+    pub adaptive_rule: AdaptiveRule,
+    /// Adaptive sampling: 0 traces points exactly on the lattice (POV-Ray's +AM2 without
+    /// jitter); 1 anywhere in their lattice cell (pixel corners within ±¼ pixel).
+    pub adaptive_jitter: f32,
     /// Maximum ray-tree depth; the eye ray has depth 1, so 5 allows four bounces.
     pub max_depth: u32,
     /// Adaptive depth control: a reflected or refracted ray whose weight in the pixel (the
     /// product of reflection and transmission weights from the eye) is below this is not
-    /// traced. 0 traces every ray up to `max_depth`.
+    /// traced. The default, 1/255, is POV-Ray's `adc_bailout`: such a ray cannot change an
+    /// 8-bit pixel by more than about a level. 0 traces every ray up to `max_depth`.
     pub min_weight: f32,
     /// Follow the SPD testing procedure's ray-tree rules (Haines, SPD rules 8 and 9): every
     /// hit on a surface with Ks > 0 or T > 0 spawns a reflection ray, and every hit on a
@@ -29,8 +58,8 @@ pub struct RenderOptions {
     pub spd_rules: bool,
     /// Worker threads; 0 uses every core.
     pub threads: usize,
-    /// Seed for every random decision (none yet with regular sampling; kept so a render is
-    /// a pure function of scene, options and seed).
+    /// Seed for every random decision (the random, jittered and relaxed samplers); a
+    /// render is a pure function of scene, options and seed.
     pub seed: u64,
     /// The acceleration structure for ray queries.
     pub accel: AccelKind,
@@ -44,8 +73,15 @@ impl Default for RenderOptions {
             width: 640,
             height: 480,
             samples: 1,
+            sampler: SamplerKind::Grid,
+            filter: FilterKind::Box,
+            filter_radius: None,
+            adaptive_threshold: DEFAULT_ADAPTIVE_THRESHOLD,
+            adaptive_depth: DEFAULT_ADAPTIVE_DEPTH,
+            adaptive_rule: AdaptiveRule::Neighbourhood,
+            adaptive_jitter: 1.0,
             max_depth: 5,
-            min_weight: 0.0,
+            min_weight: DEFAULT_MIN_WEIGHT,
             spd_rules: false,
             threads: 0,
             seed: 0,
@@ -56,6 +92,24 @@ impl Default for RenderOptions {
 }
 
 impl RenderOptions {
+    /// The sampling settings in words, e.g. "jittered 4×4 (16 spp), box filter (radius 0.5)".
+    pub fn sampling_summary(&self) -> String {
+        let n = self.samples;
+        let pattern = match self.sampler {
+            SamplerKind::Adaptive => format!(
+                "adaptive (threshold {}, depth {}, {} rule, jitter {})",
+                self.adaptive_threshold,
+                self.adaptive_depth,
+                self.adaptive_rule,
+                self.adaptive_jitter
+            ),
+            SamplerKind::Centre | SamplerKind::Corners => self.sampler.name().to_string(),
+            kind => format!("{kind} {n}×{n} ({} spp)", n * n),
+        };
+        let radius = self.filter_radius.unwrap_or(self.filter.default_radius());
+        format!("{pattern}, {} filter (radius {radius})", self.filter)
+    }
+
     /// Checks ranges; the message names the option as the CLI and scene file spell it.
     pub fn validate(&self) -> Result<(), String> {
         if self.width == 0 || self.height == 0 {
@@ -88,6 +142,32 @@ impl RenderOptions {
             return Err(format!(
                 "min_weight must be between 0 and 1, got {}",
                 self.min_weight
+            ));
+        }
+        if let Some(r) = self.filter_radius {
+            if !(0.5..=MAX_FILTER_RADIUS).contains(&r) {
+                return Err(format!(
+                    "filter_radius must be between 0.5 and {MAX_FILTER_RADIUS} pixels, got {r}"
+                ));
+            }
+        }
+        if !(0.0..=1.0).contains(&self.adaptive_threshold) {
+            return Err(format!(
+                "adaptive_threshold must be between 0 and 1, got {}",
+                self.adaptive_threshold
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.adaptive_jitter) {
+            return Err(format!(
+                "adaptive_jitter must be between 0 and 1, got {}",
+                self.adaptive_jitter
+            ));
+        }
+        if self.adaptive_depth > adaptive::MAX_DEPTH {
+            return Err(format!(
+                "adaptive_depth must be between 0 and {}, got {}",
+                adaptive::MAX_DEPTH,
+                self.adaptive_depth
             ));
         }
         if self.tile_size == 0 {

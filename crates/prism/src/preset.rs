@@ -18,6 +18,9 @@ pub fn apply_spd(scene: &mut Scene, options: &mut RenderOptions) {
     options.width += 1;
     options.height += 1;
     options.samples = 1;
+    options.sampler = crate::sampling::SamplerKind::Grid;
+    options.filter = crate::render::FilterKind::Box;
+    options.filter_radius = None;
     options.max_depth = 5;
     options.min_weight = 0.0;
     options.spd_rules = true;

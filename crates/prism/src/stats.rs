@@ -19,6 +19,11 @@ pub struct Stats {
     pub shadow_continuations: u64,
     pub reflected_rays: u64,
     pub refracted_rays: u64,
+    /// Reflected or refracted rays not traced because their weight in the pixel fell below
+    /// `min_weight` (adaptive depth control); each also saves its whole subtree.
+    pub pruned_rays: u64,
+    /// Squares split by adaptive sampling.
+    pub adaptive_splits: u64,
     /// Refractions that turned into reflection because sin²θt > 1.
     pub total_internal_reflections: u64,
     /// Ray–primitive intersection tests.
@@ -57,6 +62,8 @@ impl AddAssign for Stats {
         self.shadow_continuations += o.shadow_continuations;
         self.reflected_rays += o.reflected_rays;
         self.refracted_rays += o.refracted_rays;
+        self.pruned_rays += o.pruned_rays;
+        self.adaptive_splits += o.adaptive_splits;
         self.total_internal_reflections += o.total_internal_reflections;
         self.primitive_tests += o.primitive_tests;
         self.node_visits += o.node_visits;

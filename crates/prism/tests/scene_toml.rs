@@ -112,6 +112,36 @@ fn the_worked_example_in_the_docs_renders() {
 /// (what, file text, line the error must name, phrase the message must contain)
 const MALFORMED: &[(&str, &str, usize, &str)] = &[
     (
+        "unknown sampler",
+        "[render]\nsampler = \"stratified\"\n",
+        2,
+        "`jittered`",
+    ),
+    (
+        "unknown filter",
+        "[render]\n\nfilter = \"lanczos\"\n",
+        3,
+        "`mitchell`",
+    ),
+    (
+        "filter radius out of range",
+        "\n[render]\nfilter_radius = 0.1\n",
+        2,
+        "filter_radius must be between 0.5 and 8",
+    ),
+    (
+        "adaptive depth out of range",
+        "\n[render]\nadaptive_depth = 9\n",
+        2,
+        "adaptive_depth must be between 0 and 6",
+    ),
+    (
+        "adaptive rule",
+        "[render]\nadaptive_rule = \"edges\"\n",
+        2,
+        "`neighbourhood`",
+    ),
+    (
         "TOML syntax",
         "[camera]\neye = [0, 1, 2\n",
         2,
@@ -470,6 +500,28 @@ fn malformed_files_name_the_line_and_what_was_expected() {
             "{what}: `{message}` does not say `{phrase}`"
         );
     }
+}
+
+#[test]
+fn sampling_keys_fill_the_render_options() {
+    let scene = parse(
+        "[render]\nsampler = \"adaptive\"\nfilter = \"gaussian\"\nfilter_radius = 2\n\
+         adaptive_threshold = 0.2\nadaptive_depth = 2\nadaptive_rule = \"corners\"\n\
+         adaptive_jitter = 0\nmin_weight = 0.01\n",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let o = &scene.options;
+    assert_eq!(o.sampler, prism::sampling::SamplerKind::Adaptive);
+    assert_eq!(o.filter, prism::render::FilterKind::Gaussian);
+    assert_eq!(o.filter_radius, Some(2.0));
+    assert_eq!((o.adaptive_threshold, o.adaptive_depth), (0.2, 2));
+    assert_eq!(o.adaptive_rule, prism::sampling::AdaptiveRule::Corners);
+    assert_eq!((o.adaptive_jitter, o.min_weight), (0.0, 0.01));
+    // Left out, the defaults: the grid, the box, adaptive depth control at 1/255.
+    let plain = parse("[render]\nwidth = 8\n").unwrap();
+    assert_eq!(plain.options.sampler, prism::sampling::SamplerKind::Grid);
+    assert_eq!(plain.options.filter, prism::render::FilterKind::Box);
+    assert_eq!(plain.options.min_weight, 1.0 / 255.0);
 }
 
 #[test]

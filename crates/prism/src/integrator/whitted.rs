@@ -38,12 +38,20 @@ impl<'a> Whitted<'a> {
     }
 
     /// Whether a secondary ray of weight `w` (in its parent) is traced. `present` says the
-    /// material has the term at all (kr or kt > 0), which is all SPD's rules ask.
-    fn spawns(&self, present: bool, w: f32, weight: f32) -> bool {
+    /// material has the term at all (kr or kt > 0), which is all SPD's rules ask. Rays the
+    /// static limit would trace but adaptive depth control drops are counted.
+    fn spawns(&self, present: bool, w: f32, weight: f32, stats: &mut Stats) -> bool {
         if self.spd_rules {
-            present
+            return present;
+        }
+        if w <= 0.0 {
+            return false;
+        }
+        if weight * w >= self.min_weight {
+            true
         } else {
-            w > 0.0 && weight * w >= self.min_weight
+            stats.pruned_rays += 1;
+            false
         }
     }
 
@@ -120,7 +128,7 @@ impl<'a> Whitted<'a> {
             stats.total_internal_reflections += 1;
         }
         let has_specular = material.reflect > 0.0 || material.transmit > 0.0;
-        if self.spawns(has_specular, w.reflect, weight) {
+        if self.spawns(has_specular, w.reflect, weight, stats) {
             let mut dir = reflect(ray.dir, ns);
             // An interpolated normal can mirror the ray below the true surface; use the
             // geometric normal there instead.
@@ -132,7 +140,8 @@ impl<'a> Whitted<'a> {
             let r = self.trace(&Ray::new(origin, dir), depth + 1, weight * w.reflect, stats);
             radiance += w.reflect * r;
         }
-        if !w.total_internal_reflection && self.spawns(material.transmit > 0.0, w.transmit, weight)
+        if !w.total_internal_reflection
+            && self.spawns(material.transmit > 0.0, w.transmit, weight, stats)
         {
             if let Some(dir) = refract(ray.dir, ns, eta) {
                 let origin = offset_ray_origin(sp.p, sp.p_error, ng, dir);

@@ -5,15 +5,15 @@ use crate::render::Film;
 use std::io::Cursor;
 
 pub fn png(film: &Film) -> Result<Vec<u8>, String> {
+    png_rgb8(&to_srgb8(film), film.width, film.height)
+}
+
+/// PNG of 8-bit RGB rows from the top.
+pub fn png_rgb8(data: &[u8], width: u32, height: u32) -> Result<Vec<u8>, String> {
     use image::ImageEncoder;
     let mut out = Vec::new();
     image::codecs::png::PngEncoder::new(&mut out)
-        .write_image(
-            &to_srgb8(film),
-            film.width,
-            film.height,
-            image::ExtendedColorType::Rgb8,
-        )
+        .write_image(data, width, height, image::ExtendedColorType::Rgb8)
         .map_err(|e| e.to_string())?;
     Ok(out)
 }

@@ -1,9 +1,17 @@
+//! Image files: writing a film to disk, reading images back (`read`) and drawing figures
+//! (`heatmap`, with the label font in `glyphs`).
+//!
 //! Writing a film to disk. The format follows the file extension: PNG (8-bit sRGB),
 //! EXR (linear, 32-bit float or half) or PFM (linear 32-bit float). Every file is written
 //! to a temporary name beside the target and renamed into place, so an interrupted write
 //! never leaves a broken image under the requested name.
 
 mod encode;
+mod glyphs;
+pub mod heatmap;
+mod read;
+
+pub use read::{parse_pfm, read_image, ReadError};
 
 use crate::render::Film;
 use std::path::{Path, PathBuf};
@@ -62,6 +70,26 @@ pub fn write_image_as(path: &Path, film: &Film, format: ImageFormat) -> Result<(
         ImageFormat::Pfm => Ok(encode::pfm(film)),
     }
     .map_err(err)?;
+    write_atomic(path, &bytes)
+}
+
+/// Writes an 8-bit RGB image (a figure, already display-encoded) as PNG, atomically.
+pub fn write_png_rgb8(path: &Path, image: &heatmap::Rgb8) -> Result<(), OutputError> {
+    let bytes = encode::png_rgb8(&image.data, image.width, image.height).map_err(|message| {
+        OutputError::Write {
+            path: path.to_path_buf(),
+            message,
+        }
+    })?;
+    write_atomic(path, &bytes)
+}
+
+/// Writes `bytes` to a temporary name beside `path` and renames it into place.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    let err = |message: String| OutputError::Write {
+        path: path.to_path_buf(),
+        message,
+    };
     let file_name = path
         .file_name()
         .ok_or_else(|| err("not a file name".into()))?;
@@ -69,7 +97,7 @@ pub fn write_image_as(path: &Path, film: &Film, format: ImageFormat) -> Result<(
     tmp_name.push(file_name);
     tmp_name.push(format!(".{}.tmp", std::process::id()));
     let tmp = path.with_file_name(tmp_name);
-    std::fs::write(&tmp, &bytes).map_err(|e| err(e.to_string()))?;
+    std::fs::write(&tmp, bytes).map_err(|e| err(e.to_string()))?;
     std::fs::rename(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         err(e.to_string())

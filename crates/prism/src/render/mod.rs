@@ -1,17 +1,28 @@
-//! Rendering: the image is cut into square tiles that a rayon pool renders in any order.
-//! Each pixel depends only on (scene, options, pixel), and tiles are written back by
-//! position, so the image and the statistics are identical for every thread count.
+//! Rendering: a sampler chooses where camera rays go, the integrator traces them, and a
+//! reconstruction filter turns the samples into pixels. Per-pixel patterns render square
+//! tiles that a rayon pool takes in any order (`pixels`); patterns that share samples
+//! between pixels render in passes over rows (`lattice`). Either way each traced value
+//! depends only on (scene, options, seed, position) and pixels are exact sums, so the image
+//! and the statistics are identical for every thread count, tile size and order.
 
 mod film;
+mod filter;
+mod lattice;
+mod pixels;
+mod rays;
+mod splat;
 
 pub use film::Film;
+pub use filter::{Filter, FilterKind};
+pub use rays::{PixelRays, RayCounts};
 
-use crate::camera::CameraError;
+use crate::camera::{CameraError, CameraRays};
 use crate::integrator::Whitted;
+use crate::math::Color;
 use crate::options::RenderOptions;
+use crate::sampling::Sampler;
 use crate::scene::PreparedScene;
 use crate::stats::Stats;
-use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -46,19 +57,35 @@ pub fn tiles(width: u32, height: u32, size: u32) -> Vec<Tile> {
     out
 }
 
-/// What a finished tile reports to a progress display.
+/// What a finished piece of work reports to a progress display. `pixels` counts pixel
+/// passes: the total to expect is `progress_total`.
 #[derive(Clone, Copy, Debug)]
 pub struct TileDone {
     pub pixels: u64,
     pub rays: u64,
 }
 
+/// The sum of `TileDone::pixels` over a whole render: pixels times the passes the
+/// sampler makes over them.
+pub fn progress_total(options: &RenderOptions) -> u64 {
+    let pixels = options.width as u64 * options.height as u64;
+    use crate::sampling::SamplerKind;
+    pixels
+        * match options.sampler {
+            SamplerKind::Corners => lattice::passes(None),
+            SamplerKind::Adaptive => lattice::passes(Some(options.adaptive_depth)),
+            _ => 1,
+        }
+}
+
 pub struct RenderResult {
     pub film: Film,
     pub stats: Stats,
-    /// False when the render was cancelled; unrendered tiles are black.
+    /// False when the render was cancelled; unrendered pixels are black.
     pub complete: bool,
     pub render_time: Duration,
+    /// Rays per pixel, for the sample-density view.
+    pub rays: RayCounts,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -71,8 +98,60 @@ pub enum RenderError {
     Threads { threads: usize, message: String },
 }
 
+/// Everything a worker needs: where rays come from, how they are traced, how samples
+/// become pixels, and whom to tell.
+pub(crate) struct Job<'a> {
+    width: u32,
+    height: u32,
+    camera: CameraRays,
+    integrator: Whitted<'a>,
+    filter: Filter,
+    on_tile: &'a (dyn Fn(TileDone) + Sync),
+    cancel: &'a AtomicBool,
+}
+
+impl Job<'_> {
+    /// Radiance through film position (x, y), in pixels from the top-left corner.
+    #[inline]
+    fn trace(&self, x: f32, y: f32, stats: &mut Stats) -> Color {
+        self.integrator
+            .trace_camera_ray(&self.camera.ray(x, y), stats)
+    }
+
+    fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+}
+
+/// What a sampler's render produces.
+struct Traced {
+    film: Film,
+    stats: Stats,
+    complete: bool,
+    rays: RayCounts,
+}
+
+impl Traced {
+    fn new(width: u32, height: u32) -> Self {
+        Traced {
+            film: Film::new(width, height),
+            stats: Stats::default(),
+            complete: true,
+            rays: RayCounts::new(width, height),
+        }
+    }
+
+    /// Adds a row's statistics and its pixels' rays.
+    fn add_row(&mut self, y: u32, stats: Stats, rays: &[PixelRays]) {
+        self.stats += stats;
+        for (x, &r) in rays.iter().enumerate() {
+            self.rays.add(x as u32, y, r);
+        }
+    }
+}
+
 /// Renders `scene` with `options`. `on_tile` is called (from worker threads) after each
-/// tile; setting `cancel` stops the render after the tiles in flight.
+/// piece of work; setting `cancel` stops the render after the pieces in flight.
 pub fn render(
     scene: &PreparedScene,
     options: &RenderOptions,
@@ -80,13 +159,15 @@ pub fn render(
     cancel: &AtomicBool,
 ) -> Result<RenderResult, RenderError> {
     options.validate().map_err(RenderError::Options)?;
-    let camera = scene.scene.camera.setup(options.width, options.height)?;
-    let integrator = Whitted::new(scene, options);
-    let n = options.samples;
-    let inv_n = 1.0 / n as f32;
-    let sample_weight = 1.0 / (n * n) as f32;
-    let tile_list = tiles(options.width, options.height, options.tile_size);
-
+    let job = Job {
+        width: options.width,
+        height: options.height,
+        camera: scene.scene.camera.setup(options.width, options.height)?,
+        integrator: Whitted::new(scene, options),
+        filter: Filter::new(options.filter, options.filter_radius),
+        on_tile,
+        cancel,
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads)
         .build()
@@ -96,59 +177,16 @@ pub fn render(
         })?;
 
     let start = Instant::now();
-    let results: Vec<Option<(Vec<crate::math::Color>, Stats)>> = pool.install(|| {
-        tile_list
-            .par_iter()
-            .map(|tile| {
-                if cancel.load(Ordering::Relaxed) {
-                    return None;
-                }
-                let mut stats = Stats::default();
-                let mut pixels = Vec::with_capacity(tile.pixel_count() as usize);
-                for y in tile.y0..tile.y1 {
-                    for x in tile.x0..tile.x1 {
-                        let mut sum = crate::math::Color::ZERO;
-                        for j in 0..n {
-                            for i in 0..n {
-                                let fx = x as f32 + (i as f32 + 0.5) * inv_n;
-                                let fy = y as f32 + (j as f32 + 0.5) * inv_n;
-                                let ray = camera.ray(fx, fy);
-                                sum += integrator.trace_camera_ray(&ray, &mut stats);
-                            }
-                        }
-                        pixels.push(sum * sample_weight);
-                    }
-                }
-                on_tile(TileDone {
-                    pixels: tile.pixel_count(),
-                    rays: stats.total_rays(),
-                });
-                Some((pixels, stats))
-            })
-            .collect()
+    let traced = pool.install(|| match Sampler::new(options) {
+        Sampler::Pixel(pattern) => pixels::render(&job, &pattern, options.tile_size),
+        Sampler::Corners => lattice::render_corners(&job),
+        Sampler::Adaptive(rule) => lattice::render_adaptive(&job, &rule),
     });
-    let render_time = start.elapsed();
-
-    let mut film = Film::new(options.width, options.height);
-    let mut stats = Stats::default();
-    let mut complete = true;
-    for (tile, result) in tile_list.iter().zip(results) {
-        let Some((pixels, tile_stats)) = result else {
-            complete = false;
-            continue;
-        };
-        stats += tile_stats;
-        let mut it = pixels.into_iter();
-        for y in tile.y0..tile.y1 {
-            for x in tile.x0..tile.x1 {
-                film.set(x, y, it.next().unwrap_or_default());
-            }
-        }
-    }
     Ok(RenderResult {
-        film,
-        stats,
-        complete,
-        render_time,
+        film: traced.film,
+        stats: traced.stats,
+        complete: traced.complete,
+        render_time: start.elapsed(),
+        rays: traced.rays,
     })
 }

@@ -42,8 +42,38 @@ struct Builder<'a> {
     prims: &'a [u32],
     options: &'a KdTreeOptions,
     max_depth: usize,
+}
+
+/// Nodes with more references than this build their two children in parallel.
+const PARALLEL_REFERENCES: usize = 50_000;
+
+/// A tree or subtree in its own arrays: above-child indices and leaf offsets are relative to
+/// its first node and first reference.
+#[derive(Default)]
+struct Subtree {
     nodes: Vec<Node>,
     refs: Vec<u32>,
+}
+
+impl Subtree {
+    /// Appends `other` after the nodes and references already here, shifting its indices.
+    fn append(&mut self, other: Subtree) {
+        let (node_offset, ref_offset) = (self.nodes.len() as u32, self.refs.len() as u32);
+        self.nodes.extend(other.nodes.into_iter().map(|n| {
+            if n.is_leaf() {
+                Node {
+                    bits: n.bits,
+                    data: n.data + ref_offset,
+                }
+            } else {
+                Node {
+                    bits: n.bits + (node_offset << 2),
+                    data: n.data,
+                }
+            }
+        }));
+        self.refs.extend(other.refs);
+    }
 }
 
 struct Split {
@@ -51,6 +81,9 @@ struct Split {
     position: f32,
     cost: f32,
 }
+
+/// A node's child: its cell and the items reaching into it.
+type Side = (Aabb, Vec<u32>);
 
 impl KdTree {
     pub fn build(geometry: &Geometry, prims: Vec<u32>, options: &KdTreeOptions) -> KdTree {
@@ -62,21 +95,20 @@ impl KdTree {
             options.max_depth
         }
         .clamp(1, MAX_DEPTH - 1);
-        let mut b = Builder {
+        let b = Builder {
             boxes: &boxes,
             prims: &prims,
             options,
             max_depth,
-            nodes: Vec::new(),
-            refs: Vec::new(),
         };
+        let mut tree = Subtree::default();
         if n > 0 {
-            b.node(bounds, (0..n as u32).collect(), 1, 0);
+            b.node(&mut tree, bounds, (0..n as u32).collect(), 1, 0);
         }
         KdTree {
             bounds,
-            nodes: b.nodes,
-            refs: b.refs,
+            nodes: tree.nodes,
+            refs: tree.refs,
             primitives: n,
             options: options.clone(),
         }
@@ -84,24 +116,68 @@ impl KdTree {
 }
 
 impl Builder<'_> {
-    /// Builds the subtree over `items` (indices into `boxes`) and returns its node index.
-    fn node(&mut self, bounds: Aabb, items: Vec<u32>, depth: usize, bad_refines: u32) -> usize {
-        let index = self.nodes.len();
+    /// Builds the subtree over `items` (indices into `boxes`) at the end of `out` and
+    /// returns its root's index. Big subtrees build their children on two threads; the
+    /// result is the same tree as a serial build.
+    fn node(
+        &self,
+        out: &mut Subtree,
+        bounds: Aabb,
+        items: Vec<u32>,
+        depth: usize,
+        bad_refines: u32,
+    ) -> usize {
+        let index = out.nodes.len();
+        let (split, bad_refines) = self.choose_split(&bounds, &items, depth, bad_refines);
+        let Some(split) = split else {
+            out.nodes.push(Node::leaf(out.refs.len(), items.len()));
+            out.refs
+                .extend(items.iter().map(|&i| self.prims[i as usize]));
+            return index;
+        };
+        let (below, above) = self.partition(&bounds, items, &split);
+        out.nodes.push(Node::interior(split.axis, split.position));
+        let above_index = if below.1.len() + above.1.len() > PARALLEL_REFERENCES {
+            let subtree = |(b, items): Side| {
+                let mut t = Subtree::default();
+                self.node(&mut t, b, items, depth + 1, bad_refines);
+                t
+            };
+            let (lo, hi) = rayon::join(|| subtree(below), || subtree(above));
+            out.append(lo);
+            let above_index = out.nodes.len();
+            out.append(hi);
+            above_index
+        } else {
+            self.node(out, below.0, below.1, depth + 1, bad_refines);
+            self.node(out, above.0, above.1, depth + 1, bad_refines)
+        };
+        out.nodes[index].bits |= (above_index as u32) << 2;
+        index
+    }
+
+    /// The split to make, if any, and the updated count of unpromising splits in a row.
+    fn choose_split(
+        &self,
+        bounds: &Aabb,
+        items: &[u32],
+        depth: usize,
+        bad_refines: u32,
+    ) -> (Option<Split>, u32) {
         let n = items.len();
         let leaf_cost = self.options.intersection_cost * n as f32;
         let split = if n > 1 && depth < self.max_depth {
-            self.best_split(&bounds, &items)
+            self.best_split(bounds, items)
         } else {
             None
         };
         let bad_refines = bad_refines + split.as_ref().is_some_and(|s| s.cost >= leaf_cost) as u32;
         let split = split.filter(|s| bad_refines < 3 && !(s.cost > 4.0 * leaf_cost && n < 16));
-        let Some(split) = split else {
-            self.nodes.push(Node::leaf(self.refs.len(), n));
-            self.refs
-                .extend(items.iter().map(|&i| self.prims[i as usize]));
-            return index;
-        };
+        (split, bad_refines)
+    }
+
+    /// The two children's cells and items.
+    fn partition(&self, bounds: &Aabb, items: Vec<u32>, split: &Split) -> (Side, Side) {
         let (axis, p) = (split.axis, split.position);
         // A box goes to each side it reaches into; one that merely touches the plane stays
         // on its own side (the padding already keeps it clear of the other), and a box
@@ -121,14 +197,10 @@ impl Builder<'_> {
                 b.max[axis] > p || b.min[axis] >= p
             })
             .collect();
-        let (mut lo, mut hi) = (bounds, bounds);
+        let (mut lo, mut hi) = (*bounds, *bounds);
         lo.max[axis] = p;
         hi.min[axis] = p;
-        self.nodes.push(Node::interior(axis, p));
-        self.node(lo, below, depth + 1, bad_refines);
-        let above_index = self.node(hi, above, depth + 1, bad_refines);
-        self.nodes[index].bits |= (above_index as u32) << 2;
-        index
+        ((lo, below), (hi, above))
     }
 
     fn best_split(&self, bounds: &Aabb, items: &[u32]) -> Option<Split> {
@@ -154,10 +226,7 @@ impl Builder<'_> {
             let (a1, a2) = ((axis + 1) % 3, (axis + 2) % 3);
             let cap = extent[a1] * extent[a2];
             let ring = extent[a1] + extent[a2];
-            candidates.clear();
-            candidates.extend(starts.iter().chain(&ends).filter(|&&p| p > lo && p < hi));
-            candidates.sort_unstable_by(f32::total_cmp);
-            candidates.dedup();
+            merge_inside(&starts, &ends, lo, hi, &mut candidates);
             // Walk the candidates in increasing order: `below` counts the boxes with
             // min < p, `ended` those with max <= p; the rest reach above p. (Boxes flat in
             // the plane, which go to both sides, are counted on one only: a heuristic.)
@@ -188,5 +257,40 @@ impl Builder<'_> {
             }
         }
         best
+    }
+}
+
+/// The distinct values of two sorted lists that lie strictly between `lo` and `hi`, in
+/// increasing order, into `out`: a linear merge, cheaper than sorting them again.
+fn merge_inside(a: &[f32], b: &[f32], lo: f32, hi: f32, out: &mut Vec<f32>) {
+    out.clear();
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() || j < b.len() {
+        let take_a = j == b.len() || (i < a.len() && a[i] <= b[j]);
+        let p = if take_a { a[i] } else { b[j] };
+        if take_a {
+            i += 1;
+        } else {
+            j += 1;
+        }
+        if p > lo && p < hi && out.last() != Some(&p) {
+            out.push(p);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn merge_inside_keeps_distinct_interior_values_in_order() {
+        let mut out = Vec::new();
+        super::merge_inside(
+            &[0.0, 1.0, 2.0, 2.0, 5.0],
+            &[1.0, 3.0, 4.0, 6.0],
+            0.0,
+            6.0,
+            &mut out,
+        );
+        assert_eq!(out, [1.0, 2.0, 3.0, 4.0, 5.0]);
     }
 }

@@ -1,5 +1,5 @@
 //! Octree construction: split a cell into octants while it holds more than
-//! `max_leaf_size` primitives, the depth limit allows, and the split separates something.
+//! `max_leaf_size` primitives, the depth limit allows, and the split is likely to pay.
 
 use super::{octant, Node, Octree, INTERIOR, MAX_DEPTH};
 use crate::accel::cells::padded_bounds;
@@ -83,8 +83,13 @@ impl Builder<'_> {
                     (b, inside)
                 })
                 .collect();
-            // Coincident or all-spanning primitives: cutting separates nothing, stop.
-            if children.iter().any(|(_, c)| c.len() < n) {
+            // A ray crossing the cell passes through two octants on average (each has a
+            // quarter of its surface area), so at 4n references in all a cut would no
+            // longer pay. Stopping at 3n keeps copies of big primitives from multiplying
+            // level after level (at 4n the gears scene took 226 MiB, at 2n its leaves
+            // stayed huge), and stops at coincident primitives.
+            let references: usize = children.iter().map(|(_, c)| c.len()).sum();
+            if references < 3 * n {
                 let first = self.nodes.len();
                 self.nodes[index] = Node {
                     first: first as u32,

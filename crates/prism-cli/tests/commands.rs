@@ -1,0 +1,253 @@
+//! The sampling side of the command line: --spp and --sampler checks, the density view,
+//! `prism compare`, `prism reference`, `prism sweep` and `prism patterns`.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn work_dir(test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("commands-{test}"));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn prism(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_prism"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the prism binary runs")
+}
+
+#[track_caller]
+fn expect_exit(out: &Output, code: i32, args: &[&str]) -> (String, String) {
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "prism {args:?}: expected exit {code}; stderr:\n{err}"
+    );
+    assert!(!err.contains("panicked"), "prism {args:?} panicked:\n{err}");
+    (text, err)
+}
+
+fn run(dir: &Path, args: &[&str], code: i32) -> (String, String) {
+    expect_exit(&prism(dir, args), code, args)
+}
+
+const SMALL: [&str; 7] = ["render", "-b", "cornell", "-q", "-W", "20", "-H"];
+
+fn render_args<'a>(extra: &[&'a str]) -> Vec<&'a str> {
+    let mut args: Vec<&str> = SMALL.to_vec();
+    args.push("14");
+    args.extend(extra);
+    args
+}
+
+#[test]
+fn spp_must_be_square_and_fit_the_sampler() {
+    let dir = work_dir("spp");
+    let (_, err) = run(&dir, &render_args(&["--spp", "8", "-o", "a.png"]), 1);
+    assert!(
+        err.contains("--spp 8 is not a square number") && err.contains("try 4 or 9"),
+        "{err}"
+    );
+    let (_, err) = run(
+        &dir,
+        &render_args(&["--sampler", "adaptive", "--spp", "4", "-o", "a.png"]),
+        1,
+    );
+    assert!(err.contains("chooses its own sample count"), "{err}");
+    let (_, err) = run(
+        &dir,
+        &render_args(&["--sampler", "stratified", "-o", "a.png"]),
+        2,
+    );
+    assert!(err.contains("jittered") && err.contains("relaxed"), "{err}");
+    assert!(!dir.join("a.png").exists());
+    let (json, _) = run(
+        &dir,
+        &render_args(&[
+            "--sampler",
+            "jittered",
+            "--spp",
+            "9",
+            "-o",
+            "a.png",
+            "--stats-json",
+            "-",
+        ]),
+        0,
+    );
+    let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(json["rays"]["primary"], 20 * 14 * 9);
+    assert_eq!(json["options"]["sampler"], "jittered");
+    assert_eq!(json["rays"]["camera_per_pixel"], 9.0);
+}
+
+#[test]
+fn the_stats_table_shows_rays_per_pixel_and_pruned_rays() {
+    let dir = work_dir("stats");
+    let (table, _) = run(
+        &dir,
+        &render_args(&["--sampler", "corners", "-o", "a.png", "--stats"]),
+        0,
+    );
+    assert!(
+        table.contains("sampling           corners, box filter"),
+        "{table}"
+    );
+    let per_pixel = table
+        .lines()
+        .find(|l| l.starts_with("per pixel"))
+        .unwrap_or_else(|| panic!("no per-pixel line:\n{table}"));
+    // (21·15 corners + 20·14 centres) / (20·14) camera rays.
+    assert!(per_pixel.contains("(2.125 camera)"), "{per_pixel}");
+    assert!(table.contains("pruned"), "{table}");
+}
+
+#[test]
+fn the_density_view_is_a_png_with_a_colour_bar() {
+    let dir = work_dir("density");
+    run(
+        &dir,
+        &render_args(&["--sampler", "adaptive", "-o", "a.png", "--density", "d.png"]),
+        0,
+    );
+    let img = image::open(dir.join("d.png")).unwrap();
+    assert!(
+        img.width() > 20 && img.height() > 14,
+        "enlarged, with bar and caption"
+    );
+    // A wrong format fails before rendering: no image is written.
+    let (_, err) = run(
+        &dir,
+        &render_args(&["-o", "b.png", "--density", "d.exr"]),
+        1,
+    );
+    assert!(err.contains("written as PNG"), "{err}");
+    assert!(!dir.join("b.png").exists());
+}
+
+#[test]
+fn compare_measures_the_difference_of_two_images() {
+    let dir = work_dir("compare");
+    run(&dir, &render_args(&["-o", "a.exr"]), 0);
+    run(&dir, &render_args(&["-o", "b.pfm", "--spp", "4"]), 0);
+    let (same, _) = run(&dir, &["compare", "a.exr", "a.exr"], 0);
+    assert!(
+        same.contains("RMSE   0.000000") && same.contains("inf dB"),
+        "{same}"
+    );
+    let (json, _) = run(
+        &dir,
+        &["compare", "a.exr", "b.pfm", "--json", "--flip-map", "f.png"],
+        0,
+    );
+    let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let rmse = json["rmse"].as_f64().unwrap();
+    assert!(rmse > 0.0 && rmse < 0.2, "{json}");
+    assert!(json["ssim"].as_f64().unwrap() < 1.0);
+    assert!(dir.join("f.png").exists());
+    run(
+        &dir,
+        &[
+            "render", "-b", "cornell", "-q", "-W", "8", "-H", "8", "-o", "c.png",
+        ],
+        0,
+    );
+    let (_, err) = run(&dir, &["compare", "a.exr", "c.png"], 1);
+    assert!(err.contains("differ in size: 20×14 and 8×8"), "{err}");
+    let (_, err) = run(&dir, &["compare", "a.exr", "missing.png"], 1);
+    assert!(err.contains("missing.png"), "{err}");
+}
+
+#[test]
+fn reference_writes_the_exact_checkerboard_and_refuses_other_scenes() {
+    let dir = work_dir("reference");
+    run(
+        &dir,
+        &["reference", "-q", "-W", "32", "-H", "18", "-o", "ref.pfm"],
+        0,
+    );
+    run(
+        &dir,
+        &[
+            "render",
+            "-b",
+            "checkerboard",
+            "-q",
+            "-W",
+            "32",
+            "-H",
+            "18",
+            "-o",
+            "one.pfm",
+        ],
+        0,
+    );
+    let (text, _) = run(&dir, &["compare", "ref.pfm", "one.pfm"], 0);
+    assert!(
+        !text.contains("RMSE   0.000000"),
+        "one sample per pixel is not exact"
+    );
+    let (_, err) = run(&dir, &["reference", "-b", "whitted", "-o", "w.exr"], 1);
+    assert!(err.contains("no exact reference"), "{err}");
+}
+
+#[test]
+fn sweep_writes_a_table_plots_and_a_summary() {
+    let dir = work_dir("sweep");
+    let args = [
+        "sweep",
+        "-q",
+        "-W",
+        "24",
+        "-H",
+        "14",
+        "--samplers",
+        "grid,jittered,relaxed,adaptive",
+        "--spp",
+        "1,16",
+        "--adaptive-depths",
+        "1,2",
+        "--adaptive-thresholds",
+        "0.1",
+        "-o",
+        "out",
+    ];
+    let (summary, _) = run(&dir, &args, 0);
+    for file in [
+        "sweep.csv",
+        "sweep-rmse.svg",
+        "sweep-flip.svg",
+        "sweep-far-rmse.svg",
+        "summary.txt",
+    ] {
+        assert!(dir.join("out").join(file).exists(), "{file}");
+    }
+    let csv = fs::read_to_string(dir.join("out/sweep.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 2 + 2 + 2 + 2, "{csv}");
+    assert!(
+        summary.contains("jittered-16") && summary.contains("jittered vs grid"),
+        "{summary}"
+    );
+    let svg = fs::read_to_string(dir.join("out/sweep-rmse.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("adaptive t=0.1"));
+    let (_, err) = run(&dir, &["sweep", "--spp", "5", "-o", "x"], 1);
+    assert!(err.contains("not a square"), "{err}");
+}
+
+#[test]
+fn patterns_draws_every_sampler() {
+    let dir = work_dir("patterns");
+    run(&dir, &["patterns", "-o", "p.svg", "--spp", "4"], 0);
+    let svg = fs::read_to_string(dir.join("p.svg")).unwrap();
+    for name in [
+        "centre", "grid", "corners", "random", "jittered", "relaxed", "adaptive",
+    ] {
+        assert!(svg.contains(&format!("{name}:")), "{name} missing");
+    }
+}

@@ -1,0 +1,394 @@
+//! Rendering with lattice patterns, whose samples neighbouring pixels share: `corners`
+//! (every pixel corner plus every centre) and `adaptive` (corners refined where they
+//! differ). Points sit on a lattice of 2^depth steps per pixel; each is owned, traced and
+//! stored by the one pixel whose half-open square holds it, so every point is traced
+//! exactly once and the ray counts do not depend on how the work is cut up.
+//!
+//! The work runs in passes over pixel rows, each pass reading only what earlier passes
+//! stored: the corners; then, per level, the points of the squares that split at that
+//! level (a pixel also traces the midpoints on its left and top edges when the neighbour
+//! across the edge splits there); then the reconstruction, which splats each pixel's
+//! samples through the filter.
+
+use super::rays::PixelRays;
+use super::splat::{FilmSums, SplatBuffer};
+use super::{Job, TileDone, Traced};
+use crate::math::{Color, Vec2};
+use crate::sampling::adaptive::{Refinement, Square, Visit};
+use crate::stats::Stats;
+use rayon::prelude::*;
+use std::sync::Mutex;
+
+/// Progress passes of each pattern, for the progress total.
+pub(super) fn passes(depth: Option<u32>) -> u64 {
+    match depth {
+        None => 3,
+        Some(d) => d as u64 + 2,
+    }
+}
+
+/// Traced lattice points: the pixel corners densely, finer points per owning pixel.
+struct Lattice {
+    width: u32,
+    height: u32,
+    steps: u32,
+    /// (W+1)×(H+1) corners; None where the render was cancelled first.
+    corners: Vec<Option<Color>>,
+    /// Per pixel, its finer points sorted by local key.
+    points: Vec<PixelPoints>,
+}
+
+impl Lattice {
+    fn new(width: u32, height: u32, steps: u32) -> Self {
+        Lattice {
+            width,
+            height,
+            steps,
+            corners: vec![None; (width as usize + 1) * (height as usize + 1)],
+            points: vec![Vec::new(); width as usize * height as usize],
+        }
+    }
+
+    /// The pixel that traces and stores lattice point (x, y): the one whose half-open
+    /// square holds it; the last column and row also own the image's right and bottom edges.
+    fn owner(&self, x: u32, y: u32) -> (u32, u32) {
+        (
+            (x / self.steps).min(self.width - 1),
+            (y / self.steps).min(self.height - 1),
+        )
+    }
+
+    fn local_key(&self, x: u32, y: u32, owner: (u32, u32)) -> u32 {
+        (y - owner.1 * self.steps) << 16 | (x - owner.0 * self.steps)
+    }
+
+    fn lookup(&self, x: u32, y: u32) -> Option<Color> {
+        let s = self.steps;
+        if x > self.width * s || y > self.height * s {
+            return None;
+        }
+        if x % s == 0 && y % s == 0 {
+            return self.corners[((y / s) * (self.width + 1) + x / s) as usize];
+        }
+        let owner = self.owner(x, y);
+        let key = self.local_key(x, y, owner);
+        let list = &self.points[(owner.1 * self.width + owner.0) as usize];
+        list.binary_search_by_key(&key, |&(k, _)| k)
+            .ok()
+            .map(|i| list[i].1)
+    }
+
+    /// Offset of lattice point (x, y) within pixel (px, py), in pixels.
+    fn offset(&self, x: f32, y: f32, px: u32, py: u32) -> Vec2 {
+        let s = self.steps as f32;
+        Vec2::new(
+            (x - (px * self.steps) as f32) / s,
+            (y - (py * self.steps) as f32) / s,
+        )
+    }
+}
+
+/// The points one pixel traced in a pass: (local key, colour).
+type PixelPoints = Vec<(u32, Color)>;
+
+/// One row's output of a tracing pass.
+struct RowTrace<T> {
+    values: T,
+    stats: Stats,
+    rays: Vec<PixelRays>,
+}
+
+pub(super) fn render_corners(job: &Job) -> Traced {
+    let mut out = Traced::new(job.width, job.height);
+    let mut lattice = Lattice::new(job.width, job.height, 1);
+    let mut centres = vec![None; job.width as usize * job.height as usize];
+    if trace_corners(job, &mut lattice, |x, y| (x as f32, y as f32), &mut out) {
+        trace_centres(job, &mut centres, &mut out);
+    }
+    let film = reconstruct(job, |buffer, x, y| {
+        if let Some(c) = centres[(y * job.width + x) as usize] {
+            buffer.add(&job.filter, x, y, Vec2::splat(0.5), 1.0, c);
+        }
+        // The corners this pixel owns: its top-left one, and along the image's right and
+        // bottom edges the ones beyond.
+        let xs = if x + 1 == job.width { x..=x + 1 } else { x..=x };
+        for j in if y + 1 == job.height {
+            y..=y + 1
+        } else {
+            y..=y
+        } {
+            for i in xs.clone() {
+                if let Some(c) = lattice.lookup(i, j) {
+                    let o = Vec2::new((i - x) as f32, (j - y) as f32);
+                    buffer.add(&job.filter, x, y, o, 1.0, c);
+                }
+            }
+        }
+    });
+    out.film = film;
+    out
+}
+
+pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Traced {
+    let mut out = Traced::new(job.width, job.height);
+    let mut lattice = Lattice::new(job.width, job.height, rule.steps());
+    if trace_corners(job, &mut lattice, |x, y| rule.position(x, y), &mut out) {
+        for level in 0..rule.depth {
+            if !refine(job, rule, &mut lattice, level, &mut out) {
+                break;
+            }
+        }
+    }
+    let steps = rule.steps();
+    let film = reconstruct(job, |buffer, x, y| {
+        let lookup = |lx: u32, ly: u32| lattice.lookup(lx, ly);
+        rule.walk(
+            Square::pixel(x, y, steps),
+            rule.depth,
+            &lookup,
+            &mut |sq, visit| {
+                // A square that does not split (or whose split was never traced) is worth
+                // the mean of its corners over its area.
+                if let Visit::Leaf(c) | Visit::Frontier(c) = visit {
+                    let mean = (c[0] + c[1] + c[2] + c[3]) * 0.25;
+                    let half = sq.size as f32 * 0.5;
+                    let o = lattice.offset(sq.x as f32 + half, sq.y as f32 + half, x, y);
+                    let side = sq.size as f32 / steps as f32;
+                    buffer.add(&job.filter, x, y, o, side * side, mean);
+                }
+            },
+        );
+    });
+    out.film = film;
+    out
+}
+
+/// Traces the (W+1)×(H+1) pixel corners, each at `position` (lattice units) of its
+/// lattice coordinates; false if cancelled.
+fn trace_corners(
+    job: &Job,
+    lattice: &mut Lattice,
+    position: impl Fn(u32, u32) -> (f32, f32) + Sync,
+    out: &mut Traced,
+) -> bool {
+    let (w, h) = (job.width, job.height);
+    let steps = lattice.steps;
+    let s = steps as f32;
+    let rows: Vec<Option<RowTrace<Vec<Color>>>> = (0..=h)
+        .into_par_iter()
+        .map(|j| {
+            if job.cancelled() {
+                return None;
+            }
+            let mut stats = Stats::default();
+            let mut values = Vec::with_capacity(w as usize + 1);
+            let mut rays = vec![PixelRays::default(); w as usize];
+            for i in 0..=w {
+                let before = stats;
+                let (fx, fy) = position(i * steps, j * steps);
+                values.push(job.trace(fx / s, fy / s, &mut stats));
+                rays[i.min(w - 1) as usize] += PixelRays::between(&before, &stats);
+            }
+            (job.on_tile)(TileDone {
+                pixels: if j < h { w as u64 } else { 0 },
+                rays: stats.total_rays(),
+            });
+            Some(RowTrace {
+                values,
+                stats,
+                rays,
+            })
+        })
+        .collect();
+    let mut complete = true;
+    for (j, row) in rows.into_iter().enumerate() {
+        let Some(row) = row else {
+            complete = false;
+            continue;
+        };
+        let start = j * (w as usize + 1);
+        for (slot, c) in lattice.corners[start..].iter_mut().zip(row.values) {
+            *slot = Some(c);
+        }
+        out.add_row(j.min(h as usize - 1) as u32, row.stats, &row.rays);
+    }
+    out.complete &= complete;
+    complete
+}
+
+/// Traces every pixel centre (the corners pattern's own samples).
+fn trace_centres(job: &Job, centres: &mut [Option<Color>], out: &mut Traced) {
+    let w = job.width;
+    let rows: Vec<Option<RowTrace<Vec<Color>>>> = (0..job.height)
+        .into_par_iter()
+        .map(|y| {
+            if job.cancelled() {
+                return None;
+            }
+            let mut stats = Stats::default();
+            let mut values = Vec::with_capacity(w as usize);
+            let mut rays = Vec::with_capacity(w as usize);
+            for x in 0..w {
+                let before = stats;
+                values.push(job.trace(x as f32 + 0.5, y as f32 + 0.5, &mut stats));
+                rays.push(PixelRays::between(&before, &stats));
+            }
+            (job.on_tile)(TileDone {
+                pixels: w as u64,
+                rays: stats.total_rays(),
+            });
+            Some(RowTrace {
+                values,
+                stats,
+                rays,
+            })
+        })
+        .collect();
+    for (y, row) in rows.into_iter().enumerate() {
+        let Some(row) = row else {
+            out.complete = false;
+            continue;
+        };
+        let start = y * w as usize;
+        for (slot, c) in centres[start..start + w as usize]
+            .iter_mut()
+            .zip(row.values)
+        {
+            *slot = Some(c);
+        }
+        out.add_row(y as u32, row.stats, &row.rays);
+    }
+}
+
+/// One refinement pass: traces the new points of every square that splits at `level`;
+/// false if cancelled.
+fn refine(
+    job: &Job,
+    rule: &Refinement,
+    lattice: &mut Lattice,
+    level: u32,
+    out: &mut Traced,
+) -> bool {
+    let (w, steps) = (job.width, lattice.steps);
+    let shared = &*lattice;
+    let lookup = |x: u32, y: u32| shared.lookup(x, y);
+    let rows: Vec<Option<RowTrace<Vec<PixelPoints>>>> = (0..job.height)
+        .into_par_iter()
+        .map(|y| {
+            if job.cancelled() {
+                return None;
+            }
+            let mut stats = Stats::default();
+            let mut values = Vec::with_capacity(w as usize);
+            let mut rays = Vec::with_capacity(w as usize);
+            let mut wanted: Vec<(u32, u32)> = Vec::new();
+            for x in 0..w {
+                wanted.clear();
+                let mut splits = 0u64;
+                rule.walk(Square::pixel(x, y, steps), level, &lookup, &mut |sq, v| {
+                    if matches!(v, Visit::Frontier(_)) && sq.level == level {
+                        splits += 1;
+                        wanted.extend(sq.new_points());
+                    }
+                });
+                stats.adaptive_splits += splits;
+                // Midpoints on this pixel's left and top edges are its own; the neighbour
+                // across the edge may be the one that needs them.
+                if x > 0 {
+                    rule.walk(
+                        Square::pixel(x - 1, y, steps),
+                        level,
+                        &lookup,
+                        &mut |sq, v| {
+                            if matches!(v, Visit::Frontier(_))
+                                && sq.level == level
+                                && sq.x + sq.size == x * steps
+                            {
+                                wanted.push(sq.new_points()[3]);
+                            }
+                        },
+                    );
+                }
+                if y > 0 {
+                    rule.walk(
+                        Square::pixel(x, y - 1, steps),
+                        level,
+                        &lookup,
+                        &mut |sq, v| {
+                            if matches!(v, Visit::Frontier(_))
+                                && sq.level == level
+                                && sq.y + sq.size == y * steps
+                            {
+                                wanted.push(sq.new_points()[4]);
+                            }
+                        },
+                    );
+                }
+                wanted.retain(|&(px, py)| shared.owner(px, py) == (x, y));
+                wanted.sort_unstable();
+                wanted.dedup();
+                let before = stats;
+                let s = steps as f32;
+                let traced: PixelPoints = wanted
+                    .iter()
+                    .map(|&(px, py)| {
+                        let (fx, fy) = rule.position(px, py);
+                        let c = job.trace(fx / s, fy / s, &mut stats);
+                        (shared.local_key(px, py, (x, y)), c)
+                    })
+                    .collect();
+                values.push(traced);
+                rays.push(PixelRays::between(&before, &stats));
+            }
+            (job.on_tile)(TileDone {
+                pixels: w as u64,
+                rays: stats.total_rays(),
+            });
+            Some(RowTrace {
+                values,
+                stats,
+                rays,
+            })
+        })
+        .collect();
+    let mut complete = true;
+    for (y, row) in rows.into_iter().enumerate() {
+        let Some(row) = row else {
+            complete = false;
+            continue;
+        };
+        for (x, new) in row.values.into_iter().enumerate() {
+            if !new.is_empty() {
+                let list = &mut lattice.points[y * w as usize + x];
+                list.extend(new);
+                list.sort_unstable_by_key(|&(k, _)| k);
+            }
+        }
+        out.add_row(y as u32, row.stats, &row.rays);
+    }
+    out.complete &= complete;
+    complete
+}
+
+/// The reconstruction pass: `splat` adds pixel (x, y)'s samples to a buffer covering its
+/// row and the filter's reach; buffers merge exactly into the film.
+fn reconstruct(job: &Job, splat: impl Fn(&mut SplatBuffer, u32, u32) + Sync) -> super::Film {
+    let (w, h) = (job.width, job.height);
+    let sums = Mutex::new(FilmSums::new(w, h));
+    (0..h).into_par_iter().for_each(|y| {
+        let mut buffer = SplatBuffer::around(&job.filter, (w, h), 0, y, w, y + 1);
+        for x in 0..w {
+            splat(&mut buffer, x, y);
+        }
+        sums.lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .merge(&buffer);
+        (job.on_tile)(TileDone {
+            pixels: w as u64,
+            rays: 0,
+        });
+    });
+    sums.into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+        .into_film()
+}

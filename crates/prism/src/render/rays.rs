@@ -1,0 +1,63 @@
+//! Rays per pixel: how many camera rays and how many rays in all each pixel cost, for the
+//! sample-density view. Rays shared by several pixels count in the pixel that traced them.
+
+use crate::stats::Stats;
+
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RayCounts {
+    pub width: u32,
+    pub height: u32,
+    /// Camera rays per pixel, row-major.
+    pub camera: Vec<u32>,
+    /// Every ray (camera, shadow, reflected, refracted) per pixel.
+    pub total: Vec<u32>,
+}
+
+impl RayCounts {
+    pub fn new(width: u32, height: u32) -> Self {
+        let n = width as usize * height as usize;
+        RayCounts {
+            width,
+            height,
+            camera: vec![0; n],
+            total: vec![0; n],
+        }
+    }
+
+    /// Adds rays to pixel (x, y).
+    pub fn add(&mut self, x: u32, y: u32, rays: PixelRays) {
+        let i = y as usize * self.width as usize + x as usize;
+        self.camera[i] = self.camera[i].saturating_add(rays.camera);
+        self.total[i] = self.total[i].saturating_add(rays.total);
+    }
+
+    /// Mean camera rays per pixel.
+    pub fn mean_camera(&self) -> f64 {
+        self.camera.iter().map(|&c| c as f64).sum::<f64>() / self.camera.len().max(1) as f64
+    }
+}
+
+/// Camera rays and all rays of one piece of work.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PixelRays {
+    pub camera: u32,
+    pub total: u32,
+}
+
+impl PixelRays {
+    /// The rays counted between two snapshots of a worker's statistics.
+    pub fn between(before: &Stats, after: &Stats) -> Self {
+        let clamp = |n: u64| n.min(u32::MAX as u64) as u32;
+        PixelRays {
+            camera: clamp(after.primary_rays - before.primary_rays),
+            total: clamp(after.total_rays() - before.total_rays()),
+        }
+    }
+}
+
+impl std::ops::AddAssign for PixelRays {
+    fn add_assign(&mut self, o: PixelRays) {
+        self.camera = self.camera.saturating_add(o.camera);
+        self.total = self.total.saturating_add(o.total);
+    }
+}

@@ -1,0 +1,343 @@
+//! Whitted's adaptive supersampling, as POV-Ray's `+AM2` does it: trace the pixel's four
+//! corners (shared with the neighbouring pixels); when their colours differ by more than a
+//! threshold, trace the centre and the four edge midpoints and treat the four quarter
+//! squares the same way, down to a depth limit. A square that does not split is worth the
+//! mean of its corners.
+//!
+//! Every point lies on a lattice of 2^depth steps per pixel, so a point is named by integer
+//! lattice coordinates and is traced once however many squares (of one pixel or of its
+//! neighbours) use it. This file owns the geometry, the rule and where each point is traced;
+//! `render::lattice` owns the passes that trace the points.
+//!
+//! The classic rule (`AdaptiveRule::Corners` without jitter) misses what falls between a
+//! pixel's corners, and on a regular lattice a pattern finer than the pixels aliases into
+//! broad bands where all corners agree. Two additions fix that while keeping the corners
+//! shared (docs/sampling.md measures them):
+//! - jitter: each point is traced at a hashed position within its cell of the finest
+//!   lattice (pixel corners within ±¼ pixel), turning aliasing into noise, as POV-Ray's
+//!   `Jitter` does;
+//! - the neighbourhood rule: a pixel splits when any of the 16 corners around it (its own
+//!   and its eight neighbours') differ, and a pixel whose 4×4 corners change colour more
+//!   often than any single straight edge can make them (texture finer than the pixels) is
+//!   refined to at least depth − 1 everywhere.
+
+use super::hash::uniform;
+use crate::math::Color;
+use serde::{Deserialize, Serialize};
+
+/// Largest accepted depth: 64×64 squares per pixel.
+pub const MAX_DEPTH: u32 = 6;
+
+/// Hash dimensions of a lattice point's jitter.
+const DIM_JITTER_X: u32 = 7;
+const DIM_JITTER_Y: u32 = 8;
+
+/// Colour changes between adjacent corners of a 4×4 block that a straight edge can cause at
+/// most: it crosses each of the four rows and four columns once.
+const STRAIGHT_EDGE_CHANGES: usize = 8;
+
+/// When a pixel splits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AdaptiveRule {
+    /// Only its own four corners decide (POV-Ray's +AM2).
+    Corners,
+    /// The corners of its 3×3 neighbourhood decide, and texture forces refinement.
+    #[default]
+    Neighbourhood,
+}
+
+impl AdaptiveRule {
+    pub const ALL: [AdaptiveRule; 2] = [AdaptiveRule::Corners, AdaptiveRule::Neighbourhood];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            AdaptiveRule::Corners => "corners",
+            AdaptiveRule::Neighbourhood => "neighbourhood",
+        }
+    }
+}
+
+impl std::str::FromStr for AdaptiveRule {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let s = if s == "neighborhood" {
+            "neighbourhood"
+        } else {
+            s
+        };
+        AdaptiveRule::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| {
+                format!("unknown adaptive rule '{s}', expected corners or neighbourhood")
+            })
+    }
+}
+
+impl std::fmt::Display for AdaptiveRule {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The refinement rule and where it traces.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Refinement {
+    /// A square splits when, in some channel, its corners' display-encoded (sRGB, clamped
+    /// to [0, 1]) values span more than this.
+    pub threshold: f32,
+    /// Levels of splitting below the pixel; 0 traces the corners only.
+    pub depth: u32,
+    pub rule: AdaptiveRule,
+    /// 0: points exactly on the lattice; 1: anywhere in their cell (see the module notes).
+    pub jitter: f32,
+    pub seed: u64,
+}
+
+impl Refinement {
+    /// Lattice steps along a pixel side.
+    pub fn steps(&self) -> u32 {
+        1 << self.depth
+    }
+
+    /// Where lattice point (x, y) is traced, in lattice units.
+    pub fn position(&self, x: u32, y: u32) -> (f32, f32) {
+        if self.jitter == 0.0 {
+            return (x as f32, y as f32);
+        }
+        let steps = self.steps();
+        let corner = x % steps == 0 && y % steps == 0;
+        let span = self.jitter * if corner { 0.5 * steps as f32 } else { 1.0 };
+        let jx = (uniform(x, y, 0, DIM_JITTER_X, self.seed) - 0.5) * span;
+        let jy = (uniform(x, y, 0, DIM_JITTER_Y, self.seed) - 0.5) * span;
+        (x as f32 + jx, y as f32 + jy)
+    }
+
+    /// Walks the quadtree of `root` down to `max_level`, reading point colours through
+    /// `lookup` (None: not traced). Squares are visited parent first.
+    pub fn walk(
+        &self,
+        root: Square,
+        max_level: u32,
+        lookup: &impl Fn(u32, u32) -> Option<Color>,
+        visit: &mut impl FnMut(Square, Visit),
+    ) {
+        self.walk_from(root, false, max_level, lookup, visit);
+    }
+
+    fn walk_from(
+        &self,
+        square: Square,
+        textured: bool,
+        max_level: u32,
+        lookup: &impl Fn(u32, u32) -> Option<Color>,
+        visit: &mut impl FnMut(Square, Visit),
+    ) {
+        let corners = square.corners().map(|(x, y)| lookup(x, y));
+        let [Some(a), Some(b), Some(c), Some(d)] = corners else {
+            visit(square, Visit::Missing);
+            return;
+        };
+        let corners = [a, b, c, d];
+        let (busy, textured) = if square.level == 0 && self.rule == AdaptiveRule::Neighbourhood {
+            self.neighbourhood(&square, lookup)
+        } else {
+            (contrast(&corners) > self.threshold, textured)
+        };
+        // Texture is refined to depth − 1 regardless, and one level further where it differs.
+        let split =
+            square.level < self.depth && (busy || (textured && square.level + 1 < self.depth));
+        if !split {
+            visit(square, Visit::Leaf(corners));
+            return;
+        }
+        let ready = square.level < max_level
+            && square
+                .new_points()
+                .iter()
+                .all(|&(x, y)| lookup(x, y).is_some());
+        if !ready {
+            visit(square, Visit::Frontier(corners));
+            return;
+        }
+        visit(square, Visit::Split);
+        for child in square.children() {
+            self.walk_from(child, textured, max_level, lookup, visit);
+        }
+    }
+
+    /// The neighbourhood rule for a pixel: whether the 4×4 corners around it differ, and
+    /// whether they change colour more often than one straight edge can make them.
+    fn neighbourhood(
+        &self,
+        pixel: &Square,
+        lookup: &impl Fn(u32, u32) -> Option<Color>,
+    ) -> (bool, bool) {
+        let s = pixel.size as i64;
+        let mut block = [None; 16];
+        for dy in -1..=2i64 {
+            for dx in -1..=2i64 {
+                let (x, y) = (pixel.x as i64 + dx * s, pixel.y as i64 + dy * s);
+                if x >= 0 && y >= 0 {
+                    block[((dy + 1) * 4 + dx + 1) as usize] = lookup(x as u32, y as u32);
+                }
+            }
+        }
+        let present: Vec<Color> = block.iter().flatten().copied().collect();
+        let busy = spread(&present) > self.threshold;
+        let differ = |i: usize, j: usize| match (block[i], block[j]) {
+            (Some(a), Some(b)) => spread(&[a, b]) > self.threshold,
+            _ => false,
+        };
+        let changes = (0..16)
+            .map(|i| {
+                let right = i % 4 < 3 && differ(i, i + 1);
+                let down = i < 12 && differ(i, i + 4);
+                right as usize + down as usize
+            })
+            .sum::<usize>();
+        (busy, changes > STRAIGHT_EDGE_CHANGES)
+    }
+}
+
+/// What a walk finds at a square.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Visit {
+    /// A corner is not traced (the render was cancelled).
+    Missing,
+    /// The square does not split; its corners' colours.
+    Leaf([Color; 4]),
+    /// The square splits and the walk goes on into its quarters.
+    Split,
+    /// The square splits, but the walk stops here: it is at the level asked for, or its new
+    /// points are not traced.
+    Frontier([Color; 4]),
+}
+
+/// A square of the quadtree in lattice coordinates: top-left corner and side.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Square {
+    pub x: u32,
+    pub y: u32,
+    pub size: u32,
+    /// 0 for the pixel itself.
+    pub level: u32,
+}
+
+impl Square {
+    /// The whole pixel (px, py) on a lattice of `steps` per pixel.
+    pub fn pixel(px: u32, py: u32, steps: u32) -> Square {
+        Square {
+            x: px * steps,
+            y: py * steps,
+            size: steps,
+            level: 0,
+        }
+    }
+
+    /// Top-left, top-right, bottom-left, bottom-right.
+    pub fn corners(&self) -> [(u32, u32); 4] {
+        let (x, y, s) = (self.x, self.y, self.size);
+        [(x, y), (x + s, y), (x, y + s), (x + s, y + s)]
+    }
+
+    /// The points a split adds: centre, then the top, left, right and bottom midpoints.
+    pub fn new_points(&self) -> [(u32, u32); 5] {
+        let (x, y, s, h) = (self.x, self.y, self.size, self.size / 2);
+        [
+            (x + h, y + h),
+            (x + h, y),
+            (x, y + h),
+            (x + s, y + h),
+            (x + h, y + s),
+        ]
+    }
+
+    pub fn children(&self) -> [Square; 4] {
+        let h = self.size / 2;
+        let level = self.level + 1;
+        let at = |x, y| Square {
+            x,
+            y,
+            size: h,
+            level,
+        };
+        [
+            at(self.x, self.y),
+            at(self.x + h, self.y),
+            at(self.x, self.y + h),
+            at(self.x + h, self.y + h),
+        ]
+    }
+}
+
+/// The largest per-channel spread of any set of colours, in display-encoded units.
+pub fn spread(colours: &[Color]) -> f32 {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for c in colours {
+        for (k, v) in c.to_array().into_iter().enumerate() {
+            let e = display(v);
+            lo[k] = lo[k].min(e);
+            hi[k] = hi[k].max(e);
+        }
+    }
+    (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max)
+}
+
+/// The largest per-channel spread of the corners, in display-encoded units.
+pub fn contrast(corners: &[Color; 4]) -> f32 {
+    spread(corners)
+}
+
+/// sRGB encoding of a linear value clamped to [0, 1] (NaN counts as 0).
+fn display(c: f32) -> f32 {
+    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn contrast_is_the_largest_channel_spread_on_screen() {
+        let black = Color::ZERO;
+        let white = Color::ONE;
+        assert_eq!(contrast(&[black; 4]), 0.0);
+        assert!((contrast(&[black, black, black, white]) - 1.0).abs() < 1e-6);
+        let grey = Color::splat(0.214_041_14); // sRGB 0.5
+        let c = contrast(&[grey, black, grey, grey]);
+        assert!((c - 0.5).abs() < 1e-4, "{c}");
+    }
+
+    #[test]
+    fn a_walk_splits_where_corners_differ_and_stops_at_the_depth() {
+        let rule = Refinement {
+            threshold: 0.1,
+            depth: 2,
+            rule: AdaptiveRule::Corners,
+            jitter: 0.0,
+            seed: 0,
+        };
+        // White left of x = 1 lattice step, black elsewhere: only squares touching x <= 1
+        // see both colours.
+        let lookup = |x: u32, _y: u32| Some(if x <= 1 { Color::ONE } else { Color::ZERO });
+        let mut splits = 0;
+        let mut leaves = 0;
+        rule.walk(Square::pixel(0, 0, 4), 2, &lookup, &mut |sq, v| match v {
+            Visit::Split => splits += 1,
+            Visit::Leaf(_) => leaves += 1,
+            Visit::Frontier(_) => panic!("depth-2 squares never split: {sq:?}"),
+            Visit::Missing => panic!("all points exist"),
+        });
+        // The pixel and its two left quarters split; the quarters' 8 children are leaves,
+        // plus the two right quarters.
+        assert_eq!((splits, leaves), (3, 10));
+    }
+}

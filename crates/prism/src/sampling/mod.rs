@@ -1,0 +1,162 @@
+//! Where a pixel's camera rays go. Per-pixel patterns (centre, grid, random, jittered,
+//! relaxed) give each pixel its own samples; lattice patterns (corners, adaptive) put
+//! samples on pixel corners and edges that neighbouring pixels share. Every random number
+//! comes from `hash`, a function of (pixel, sample index, dimension, seed).
+//!
+//! Filters and the film, which turn samples into pixels, live in `render`.
+
+pub mod adaptive;
+mod grid;
+pub mod hash;
+mod jittered;
+mod random;
+pub mod relaxed;
+mod voronoi;
+
+pub use adaptive::{AdaptiveRule, Refinement};
+pub use relaxed::RelaxedTile;
+
+use crate::math::Vec2;
+use crate::options::RenderOptions;
+use serde::{Deserialize, Serialize};
+
+/// The sampling pattern, as `--sampler` and the scene file's `sampler` name it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SamplerKind {
+    /// One ray through the pixel centre.
+    #[serde(alias = "center")]
+    Centre,
+    /// n×n subpixel centres.
+    #[default]
+    Grid,
+    /// The centre and the four corners, corners shared with the neighbours.
+    Corners,
+    /// n² uniform random points.
+    Random,
+    /// n×n strata with one random point each.
+    Jittered,
+    /// Jittered points relaxed toward blue noise.
+    Relaxed,
+    /// Corner rays refined where they differ (Whitted; POV-Ray's +AM2).
+    Adaptive,
+}
+
+impl SamplerKind {
+    pub const ALL: [SamplerKind; 7] = [
+        SamplerKind::Centre,
+        SamplerKind::Grid,
+        SamplerKind::Corners,
+        SamplerKind::Random,
+        SamplerKind::Jittered,
+        SamplerKind::Relaxed,
+        SamplerKind::Adaptive,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SamplerKind::Centre => "centre",
+            SamplerKind::Grid => "grid",
+            SamplerKind::Corners => "corners",
+            SamplerKind::Random => "random",
+            SamplerKind::Jittered => "jittered",
+            SamplerKind::Relaxed => "relaxed",
+            SamplerKind::Adaptive => "adaptive",
+        }
+    }
+
+    /// Whether the pattern takes `samples` (n per axis, n² per pixel); the others choose
+    /// their own count.
+    pub fn uses_sample_count(self) -> bool {
+        matches!(
+            self,
+            SamplerKind::Grid | SamplerKind::Random | SamplerKind::Jittered | SamplerKind::Relaxed
+        )
+    }
+}
+
+impl std::str::FromStr for SamplerKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let s = if s == "center" { "centre" } else { s };
+        SamplerKind::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<_> = SamplerKind::ALL.iter().map(|k| k.name()).collect();
+                format!(
+                    "unknown sampler '{s}', expected one of: {}",
+                    names.join(", ")
+                )
+            })
+    }
+}
+
+impl std::fmt::Display for SamplerKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A pattern whose samples each belong to one pixel.
+#[derive(Clone, Debug)]
+pub enum PixelPattern {
+    Grid { n: u32 },
+    Random { count: u32, seed: u64 },
+    Jittered { n: u32, seed: u64 },
+    Relaxed(RelaxedTile),
+}
+
+impl PixelPattern {
+    pub fn count(&self) -> u32 {
+        match self {
+            PixelPattern::Grid { n } | PixelPattern::Jittered { n, .. } => n * n,
+            PixelPattern::Random { count, .. } => *count,
+            PixelPattern::Relaxed(tile) => tile.per_pixel(),
+        }
+    }
+
+    /// Appends the offsets in (0, 1)² of pixel (px, py)'s samples, in sample order.
+    pub fn offsets(&self, px: u32, py: u32, out: &mut Vec<Vec2>) {
+        match self {
+            PixelPattern::Grid { n } => grid::grid(*n, out),
+            PixelPattern::Random { count, seed } => random::random(px, py, *count, *seed, out),
+            PixelPattern::Jittered { n, seed } => jittered::jittered(px, py, *n, *seed, out),
+            PixelPattern::Relaxed(tile) => tile.offsets(px, py, out),
+        }
+    }
+}
+
+/// A sampler ready for one render.
+#[derive(Clone, Debug)]
+pub enum Sampler {
+    Pixel(PixelPattern),
+    /// Pixel centres plus the (W+1)×(H+1) shared corners.
+    Corners,
+    Adaptive(Refinement),
+}
+
+impl Sampler {
+    /// Builds the sampler the options ask for (relaxed sampling relaxes its tile here).
+    pub fn new(options: &RenderOptions) -> Sampler {
+        let n = options.samples;
+        let seed = options.seed;
+        match options.sampler {
+            SamplerKind::Centre => Sampler::Pixel(PixelPattern::Grid { n: 1 }),
+            SamplerKind::Grid => Sampler::Pixel(PixelPattern::Grid { n }),
+            SamplerKind::Random => Sampler::Pixel(PixelPattern::Random { count: n * n, seed }),
+            SamplerKind::Jittered => Sampler::Pixel(PixelPattern::Jittered { n, seed }),
+            SamplerKind::Relaxed => {
+                Sampler::Pixel(PixelPattern::Relaxed(RelaxedTile::new(n, seed)))
+            }
+            SamplerKind::Corners => Sampler::Corners,
+            SamplerKind::Adaptive => Sampler::Adaptive(Refinement {
+                threshold: options.adaptive_threshold,
+                depth: options.adaptive_depth,
+                rule: options.adaptive_rule,
+                jitter: options.adaptive_jitter,
+                seed,
+            }),
+        }
+    }
+}

@@ -1,0 +1,307 @@
+//! Rendering with every sampler and filter: the default grid keeps the renderer's original
+//! arithmetic bit for bit; shared samples (corners, adaptive) are traced exactly once;
+//! every sampler is bit-identical for any thread count and tile size; filters keep a flat
+//! image flat; adaptive depth control with a zero threshold changes nothing.
+
+use prism::integrator::Whitted;
+use prism::math::Color;
+use prism::render::{render, FilterKind, RenderResult};
+use prism::sampling::adaptive::{Square, Visit};
+use prism::sampling::{Sampler, SamplerKind};
+use prism::scene::builtin;
+use prism::{RenderOptions, Scene, Stats};
+use std::cell::RefCell;
+use std::collections::{HashMap, HashSet};
+use std::sync::atomic::AtomicBool;
+
+fn run(scene: &Scene, options: &RenderOptions) -> RenderResult {
+    let prepared = scene.prepare(options.accel);
+    render(&prepared, options, &|_| {}, &AtomicBool::new(false)).unwrap()
+}
+
+fn small(scene: &Scene, width: u32, height: u32) -> RenderOptions {
+    RenderOptions {
+        width,
+        height,
+        ..scene.options.clone()
+    }
+}
+
+fn bits(r: &RenderResult) -> Vec<u32> {
+    r.film
+        .pixels
+        .iter()
+        .flat_map(|c| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()])
+        .collect()
+}
+
+#[test]
+fn the_grid_with_the_pixel_box_keeps_the_original_arithmetic() {
+    let scene = builtin::find("whitted").unwrap();
+    let options = RenderOptions {
+        samples: 3,
+        ..small(&scene, 40, 30)
+    };
+    let result = run(&scene, &options);
+    // The loop the renderer had before sampling patterns existed.
+    let prepared = scene.prepare(options.accel);
+    let camera = scene.camera.setup(40, 30).unwrap();
+    let integrator = Whitted::new(&prepared, &options);
+    let (n, inv_n) = (3u32, 1.0 / 3.0f32);
+    let weight = 1.0 / (n * n) as f32;
+    let mut stats = Stats::default();
+    for y in 0..30 {
+        for x in 0..40 {
+            let mut sum = Color::ZERO;
+            for j in 0..n {
+                for i in 0..n {
+                    let fx = x as f32 + (i as f32 + 0.5) * inv_n;
+                    let fy = y as f32 + (j as f32 + 0.5) * inv_n;
+                    sum += integrator.trace_camera_ray(&camera.ray(fx, fy), &mut stats);
+                }
+            }
+            let expected = sum * weight;
+            let got = result.film.get(x, y);
+            assert!(
+                got.to_array().map(f32::to_bits) == expected.to_array().map(f32::to_bits),
+                "pixel ({x}, {y}): {got} against {expected}"
+            );
+        }
+    }
+    assert_eq!(stats, result.stats);
+}
+
+#[test]
+fn corners_are_shared_so_a_pixel_costs_about_two_camera_rays() {
+    let scene = builtin::find("cornell").unwrap();
+    let (w, h) = (37u64, 23u64);
+    let options = RenderOptions {
+        sampler: SamplerKind::Corners,
+        ..small(&scene, w as u32, h as u32)
+    };
+    let r = run(&scene, &options);
+    assert_eq!(r.stats.primary_rays, w * h + (w + 1) * (h + 1));
+    let per_pixel = r.rays.mean_camera();
+    assert!(
+        (per_pixel - 2.0).abs() < 0.1,
+        "{per_pixel} camera rays per pixel"
+    );
+    let counted: u64 = r.rays.camera.iter().map(|&c| c as u64).sum();
+    assert_eq!(
+        counted, r.stats.primary_rays,
+        "the density view counts every ray once"
+    );
+}
+
+/// Adaptive sampling replayed independently: every pixel's quadtree walked in full, with a
+/// cache that traces a lattice point the first time any pixel asks for it.
+fn replay_adaptive(scene: &Scene, options: &RenderOptions) -> (usize, u64, usize) {
+    let Sampler::Adaptive(rule) = Sampler::new(options) else {
+        panic!("adaptive options")
+    };
+    let prepared = scene.prepare(options.accel);
+    let camera = scene.camera.setup(options.width, options.height).unwrap();
+    let integrator = Whitted::new(&prepared, options);
+    let steps = rule.steps();
+    let (wl, hl) = (options.width * steps, options.height * steps);
+    let cache: RefCell<HashMap<(u32, u32), Color>> = RefCell::default();
+    let stats = RefCell::new(Stats::default());
+    let lookup = |x: u32, y: u32| {
+        if x > wl || y > hl {
+            return None;
+        }
+        let mut cache = cache.borrow_mut();
+        Some(*cache.entry((x, y)).or_insert_with(|| {
+            let (fx, fy) = rule.position(x, y);
+            let ray = camera.ray(fx / steps as f32, fy / steps as f32);
+            integrator.trace_camera_ray(&ray, &mut stats.borrow_mut())
+        }))
+    };
+    let (mut splits, mut unshared) = (0u64, 0usize);
+    for py in 0..options.height {
+        for px in 0..options.width {
+            let mut own = HashSet::new();
+            rule.walk(
+                Square::pixel(px, py, steps),
+                rule.depth,
+                &lookup,
+                &mut |sq, v| {
+                    own.extend(sq.corners());
+                    if v == Visit::Split {
+                        splits += 1;
+                    }
+                },
+            );
+            unshared += own.len();
+        }
+    }
+    let traced = cache.borrow().len();
+    (traced, splits, unshared)
+}
+
+#[test]
+fn adaptive_sampling_traces_each_lattice_point_once() {
+    for (name, w, h, depth) in [("whitted", 30, 22, 2), ("checkerboard", 32, 18, 3)] {
+        let scene = builtin::find(name).unwrap();
+        let options = RenderOptions {
+            sampler: SamplerKind::Adaptive,
+            adaptive_depth: depth,
+            ..small(&scene, w, h)
+        };
+        let r = run(&scene, &options);
+        let (traced, splits, unshared) = replay_adaptive(&scene, &options);
+        assert_eq!(r.stats.primary_rays, traced as u64, "{name}: camera rays");
+        assert_eq!(r.stats.adaptive_splits, splits, "{name}: splits");
+        assert!(splits > 0, "{name}: something was refined");
+        let corners = ((w + 1) * (h + 1)) as u64;
+        assert!(
+            r.stats.primary_rays > corners,
+            "{name}: refined beyond the corners"
+        );
+        // Without sharing, every pixel would trace its own corners and edge points.
+        assert!(
+            (unshared as u64) > r.stats.primary_rays + corners,
+            "{name}: sharing saves rays ({unshared} unshared, {} traced)",
+            r.stats.primary_rays
+        );
+    }
+}
+
+#[test]
+fn adaptive_sampling_with_a_threshold_of_one_traces_only_the_corners() {
+    let scene = builtin::find("whitted").unwrap();
+    for depth in [0, 3] {
+        let options = RenderOptions {
+            sampler: SamplerKind::Adaptive,
+            adaptive_threshold: 1.0,
+            adaptive_depth: depth,
+            ..small(&scene, 20, 15)
+        };
+        let r = run(&scene, &options);
+        assert_eq!(r.stats.primary_rays, 21 * 16, "depth {depth}");
+        assert_eq!(r.stats.adaptive_splits, 0);
+    }
+}
+
+#[test]
+fn every_sampler_and_filter_is_bit_identical_for_any_threads_and_tiles() {
+    let scene = builtin::find("whitted").unwrap();
+    for sampler in SamplerKind::ALL {
+        for filter in [FilterKind::Box, FilterKind::Mitchell] {
+            let options = |threads, tile_size| RenderOptions {
+                sampler,
+                filter,
+                samples: 2,
+                adaptive_depth: 2,
+                threads,
+                tile_size,
+                seed: 9,
+                ..small(&scene, 33, 21)
+            };
+            let reference = run(&scene, &options(1, 16));
+            for (threads, tile) in [(2, 7), (2, 1), (1, 64)] {
+                let r = run(&scene, &options(threads, tile));
+                assert!(
+                    bits(&r) == bits(&reference),
+                    "{sampler} / {filter}: image differs with {threads} threads, {tile}-pixel tiles"
+                );
+                assert_eq!(r.stats, reference.stats, "{sampler} / {filter}: statistics");
+                assert_eq!(
+                    r.rays, reference.rays,
+                    "{sampler} / {filter}: rays per pixel"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_flat_image_stays_flat_under_every_sampler_and_filter() {
+    // Nothing to hit: every ray returns the background, so every weighted average of
+    // samples, up to the image's edges, must give it back.
+    let mut scene = Scene {
+        background: Color::new(0.3, 0.5, 0.7),
+        ..Scene::default()
+    };
+    scene.options.width = 13;
+    scene.options.height = 9;
+    for sampler in SamplerKind::ALL {
+        for filter in FilterKind::ALL {
+            for radius in [None, Some(3.0)] {
+                let options = RenderOptions {
+                    sampler,
+                    filter,
+                    filter_radius: radius,
+                    samples: 2,
+                    ..scene.options.clone()
+                };
+                let r = run(&scene, &options);
+                for p in &r.film.pixels {
+                    assert!(
+                        (*p - scene.background).abs().max_element() < 1e-6,
+                        "{sampler} / {filter} radius {radius:?}: {p}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_zero_weight_threshold_traces_the_static_ray_tree() {
+    let scene = builtin::find("whitted").unwrap();
+    let with = |min_weight| {
+        run(
+            &scene,
+            &RenderOptions {
+                min_weight,
+                ..small(&scene, 48, 36)
+            },
+        )
+    };
+    let zero = with(0.0);
+    assert_eq!(zero.stats.pruned_rays, 0);
+    // A threshold below every product of weights in the scene prunes nothing either: the
+    // zero threshold is the static depth limit, not a special case.
+    let tiny = with(1e-30);
+    assert!(bits(&tiny) == bits(&zero));
+    assert_eq!(tiny.stats, zero.stats);
+    // The default prunes, saves at least the pruned rays, and changes the image little.
+    let default = with(RenderOptions::default().min_weight);
+    assert!(default.stats.pruned_rays > 0);
+    let saved = zero.stats.total_rays() - default.stats.total_rays();
+    assert!(saved >= default.stats.pruned_rays, "saved {saved}");
+    let c = prism::metrics::compare(&zero.film, &default.film, None, 67.0).unwrap();
+    assert!(c.flip < 0.01 && c.rmse < 2e-3, "{c:?}");
+    // Higher thresholds trace fewer rays.
+    let mut last = zero.stats.total_rays();
+    for t in [0.001, 0.01, 0.1, 0.5] {
+        let n = with(t).stats.total_rays();
+        assert!(n <= last, "threshold {t}: {n} rays after {last}");
+        last = n;
+    }
+    assert!(last < zero.stats.total_rays());
+}
+
+#[test]
+fn the_spd_preset_takes_one_grid_ray_per_pixel_whatever_the_sampling_options() {
+    let mut scene = builtin::find("whitted").unwrap();
+    let mut options = RenderOptions {
+        sampler: SamplerKind::Adaptive,
+        filter: FilterKind::Mitchell,
+        filter_radius: Some(3.0),
+        samples: 4,
+        ..RenderOptions::default()
+    };
+    prism::preset::apply_spd(&mut scene, &mut options);
+    assert_eq!(
+        (
+            options.sampler,
+            options.filter,
+            options.filter_radius,
+            options.samples
+        ),
+        (SamplerKind::Grid, FilterKind::Box, None, 1)
+    );
+    assert_eq!(options.min_weight, 0.0);
+}
