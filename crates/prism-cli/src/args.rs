@@ -184,6 +184,17 @@ pub struct RenderArgs {
     pub quiet: bool,
 }
 
+/// A built-in scene by name, or an error listing the names there are.
+pub fn find_builtin(name: &str) -> Result<Scene> {
+    match builtin::find(name) {
+        Some(scene) => Ok(scene),
+        None => bail!(
+            "no built-in scene named '{name}'; available: {} (or sphereflake:N)",
+            builtin::names().join(", ")
+        ),
+    }
+}
+
 impl RenderArgs {
     /// The scene to render and a name for reports.
     pub fn load_scene(&self) -> Result<(Scene, String)> {
@@ -192,13 +203,7 @@ impl RenderArgs {
             return Ok((scene, path.display().to_string()));
         }
         let name = self.builtin.as_deref().unwrap_or("whitted");
-        match builtin::find(name) {
-            Some(scene) => Ok((scene, format!("builtin:{name}"))),
-            None => bail!(
-                "no built-in scene named '{name}'; available: {} (or sphereflake:N)",
-                builtin::names().join(", ")
-            ),
-        }
+        Ok((find_builtin(name)?, format!("builtin:{name}")))
     }
 
     /// The scene's options with the command line's on top.

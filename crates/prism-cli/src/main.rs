@@ -51,12 +51,7 @@ fn main() -> ExitCode {
 
 fn info(args: &args::InfoArgs) -> Result<ExitCode> {
     let scene = match args.scene.strip_prefix("builtin:") {
-        Some(name) => builtin::find(name).ok_or_else(|| {
-            anyhow::anyhow!(
-                "no built-in scene named '{name}'; available: {}",
-                builtin::names().join(", ")
-            )
-        })?,
+        Some(name) => args::find_builtin(name)?,
         None => prism::scene::load(std::path::Path::new(&args.scene))?,
     };
     info::print(&scene, &args.scene, args.accel)?;
