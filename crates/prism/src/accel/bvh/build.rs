@@ -6,7 +6,7 @@ use super::{Bvh, Node, MAX_DEPTH};
 use crate::geometry::Geometry;
 use crate::math::{Aabb, Vec3};
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct BvhOptions {
     /// Bins per axis for the SAH sweep.
     pub bins: usize,
