@@ -2,6 +2,40 @@
 //! hit, over the bounded primitives of a `Geometry`; the brute-force list is the oracle the
 //! tests hold the others to.
 
+/// Implements `Accel` for a structure whose two queries are one inherent walk,
+/// `traverse(geometry, ray, t_max, stats, any)`, that stops at the first hit when `any`
+/// is set, and which describes itself with an inherent `info()`.
+macro_rules! accel_from_traverse {
+    ($structure:ty) => {
+        impl $crate::accel::Accel for $structure {
+            fn intersect(
+                &self,
+                geometry: &$crate::geometry::Geometry,
+                ray: &$crate::math::TraceRay,
+                t_max: f32,
+                stats: &mut $crate::stats::Stats,
+            ) -> Option<$crate::accel::Hit> {
+                self.traverse(geometry, ray, t_max, stats, false)
+            }
+
+            fn occluded(
+                &self,
+                geometry: &$crate::geometry::Geometry,
+                ray: &$crate::math::TraceRay,
+                t_max: f32,
+                stats: &mut $crate::stats::Stats,
+            ) -> bool {
+                self.traverse(geometry, ray, t_max, stats, true).is_some()
+            }
+
+            fn info(&self) -> $crate::accel::AccelInfo {
+                self.info()
+            }
+        }
+    };
+}
+pub(crate) use accel_from_traverse;
+
 mod brute;
 pub mod bvh;
 mod cells;
