@@ -86,10 +86,7 @@ impl Bvh {
             builder.subdivide(0, &mut order, 0, 1);
         }
         prims = order.iter().map(|&i| prims[i as usize]).collect();
-        Bvh {
-            nodes: builder.nodes,
-            prims,
-        }
+        Bvh::from_tree(builder.nodes, prims)
     }
 }
 
