@@ -205,3 +205,34 @@ fn the_cost_view_is_the_same_for_any_thread_count() {
     );
     assert!(err.contains("cost view is written as PNG"), "{err}");
 }
+
+#[test]
+fn the_bad_case_scenes_render_and_describe_themselves() {
+    let dir = work_dir("bad-cases");
+    let (list, _) = run(&dir, &["list"], 0);
+    for (name, what) in [
+        ("stadium", "bad for the grid"),
+        ("slivers", "bad for bounding boxes"),
+        ("shards", "bad for the kd-tree"),
+        ("pearls", "bad for the octree"),
+    ] {
+        let line = list.lines().find(|l| l.trim_start().starts_with(name));
+        assert!(line.is_some_and(|l| l.contains(what)), "{name}: {list}");
+        run(
+            &dir,
+            &[
+                "render", "-b", name, "-q", "-W", "32", "-H", "24", "-o", "img.png",
+            ],
+            0,
+        );
+        let image = image::open(dir.join("img.png")).unwrap().to_rgb8();
+        let first = *image.get_pixel(0, 0);
+        assert!(
+            image.pixels().any(|p| *p != first),
+            "{name}: the render is one flat colour"
+        );
+        let builtin = format!("builtin:{name}");
+        let (info, _) = run(&dir, &["info", &builtin], 0);
+        assert!(info.contains("accelerator"), "{info}");
+    }
+}
