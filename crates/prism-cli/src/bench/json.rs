@@ -7,6 +7,8 @@ use serde_json::{json, Value};
 
 pub struct RunSettings {
     pub threads: usize,
+    /// What the times were read from.
+    pub clock: &'static str,
     pub size: u32,
     pub repeat: usize,
 }
@@ -45,6 +47,7 @@ pub fn json(scenes: &[SceneResult], settings: &RunSettings) -> Value {
         .collect();
     json!({
         "threads": settings.threads,
+        "clock": settings.clock,
         "size": settings.size,
         "repeat": settings.repeat,
         "default_method": AccelSpec::default().to_string(),

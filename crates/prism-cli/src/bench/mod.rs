@@ -12,7 +12,7 @@ mod table;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use prism::accel::{AccelKind, AccelSpec};
-use prism::bench::{measure, MeasureOptions, RaySet};
+use prism::bench::{measure, Clock, MeasureOptions, RaySet};
 use results::{Outcome, Row, SceneResult};
 use scenes::SceneSource;
 use std::path::{Path, PathBuf};
@@ -169,7 +169,7 @@ pub fn run(args: &BenchArgs) -> Result<ExitCode> {
         .unwrap_or(if args.quick { 32 } else { 256 })
         .max(1);
     let repeat = args.repeat.unwrap_or(if args.quick { 1 } else { 5 }).max(1);
-    let options = MeasureOptions {
+    let mut options = MeasureOptions {
         repeat,
         max_builds: if args.quick { 1 } else { 5 },
         trace_budget: Duration::from_secs(3),
@@ -185,11 +185,19 @@ pub fn run(args: &BenchArgs) -> Result<ExitCode> {
         .build()
         .context("cannot start the worker threads")?;
     let threads = pool.current_num_threads();
+    // One thread: CPU time, which other processes on the machine do not inflate. Several:
+    // CPU time would sum them, so wall time.
+    options.clock = if threads == 1 {
+        Clock::ProcessCpu
+    } else {
+        Clock::Wall
+    };
     println!(
         "prism bench: {size} px (longer side), 1 camera ray per pixel plus shadow rays to each \
-         light; {threads} thread{}, median of {repeat} pass{}",
+         light; {threads} thread{}, median of {repeat} pass{} timed by {}",
         if threads == 1 { "" } else { "s" },
-        if repeat == 1 { "" } else { "es" }
+        if repeat == 1 { "" } else { "es" },
+        options.clock.describe()
     );
     println!("P = primary rays (nearest hit), S = shadow rays (any hit); nodes and tests per ray; * = fastest for P");
     println!("{}", table::header());
@@ -213,6 +221,7 @@ pub fn run(args: &BenchArgs) -> Result<ExitCode> {
     let method_names: Vec<String> = methods.iter().map(|(m, _)| m.clone()).collect();
     let settings = json::RunSettings {
         threads,
+        clock: options.clock.describe(),
         size,
         repeat,
     };

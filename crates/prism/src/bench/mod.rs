@@ -2,8 +2,10 @@
 //! for every method (`rays`), then build time, memory, traversal work per ray and ray
 //! throughput for each (`measure`). `prism bench` runs these over scenes × methods.
 
+mod clock;
 mod measure;
 mod rays;
 
+pub use clock::{Clock, Stopwatch};
 pub use measure::{measure, MeasureOptions, Measured, RayKindResult};
 pub use rays::{RaySet, RaySetSize, ShadowRay};
