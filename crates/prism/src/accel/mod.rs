@@ -12,7 +12,7 @@ mod mailbox;
 pub mod octree;
 
 pub use brute::BruteForce;
-pub use bvh::{Bvh, BvhOptions};
+pub use bvh::{Bvh, BvhBuilder, BvhOptions};
 pub use grid::{Grid, GridOptions};
 pub use info::AccelInfo;
 pub use kdtree::{KdTree, KdTreeOptions};

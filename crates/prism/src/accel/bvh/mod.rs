@@ -1,18 +1,20 @@
-//! Bounding volume hierarchy over axis-aligned boxes: a binned SAH build (`build.rs`) into
-//! a flat array of 32-byte nodes, and a stack traversal that visits the nearer child first
-//! (`traverse.rs`).
+//! Bounding volume hierarchy over axis-aligned boxes: several builders (`build/`) into a
+//! flat array of 32-byte nodes, an optional reinsertion pass (`reinsert.rs`), and a stack
+//! traversal that visits the nearer child first (`traverse.rs`).
 
 mod build;
+mod options;
+mod reinsert;
 mod traverse;
 
 use crate::accel::AccelInfo;
 use crate::math::{Aabb, Vec3};
 
-pub use build::BvhOptions;
+pub use options::{BvhBuilder, BvhOptions};
 
 /// A node is 32 bytes, two to a cache line. Interior nodes have `count == 0` and their
 /// children at `first` and `first + 1`; leaves hold `prims[first .. first + count]`.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C)]
 struct Node {
     min: Vec3,
@@ -25,12 +27,54 @@ impl Node {
     fn is_leaf(&self) -> bool {
         self.count > 0
     }
+
+    fn leaf(bounds: Aabb, first: u32, count: usize) -> Node {
+        Node {
+            min: bounds.min,
+            first,
+            max: bounds.max,
+            count: count as u32,
+        }
+    }
+
+    fn interior(bounds: Aabb, first: u32) -> Node {
+        Node {
+            min: bounds.min,
+            first,
+            max: bounds.max,
+            count: 0,
+        }
+    }
+
+    fn bounds(&self) -> Aabb {
+        Aabb {
+            min: self.min,
+            max: self.max,
+        }
+    }
+
+    /// The same node with its children `shift` places further on (leaves unchanged).
+    fn relocated(self, shift: u32) -> Node {
+        if self.is_leaf() {
+            self
+        } else {
+            Node {
+                first: self.first + shift,
+                ..self
+            }
+        }
+    }
 }
 
+/// Two trees are equal when their nodes and primitive orders are (how the tests check that
+/// a parallel build is the serial one).
+#[derive(PartialEq)]
 pub struct Bvh {
     nodes: Vec<Node>,
     /// Primitive indices (into `Geometry::primitives`) in leaf order.
     prims: Vec<u32>,
+    builder: BvhBuilder,
+    reinserted: bool,
 }
 
 /// Depth the build never exceeds, so traversal can use a fixed stack.
@@ -53,7 +97,15 @@ impl Bvh {
     /// Shape statistics and the SAH cost of the built tree.
     pub fn info(&self) -> AccelInfo {
         let mut info = AccelInfo {
-            method: "bvh (binned SAH)".into(),
+            method: format!(
+                "bvh ({}{})",
+                self.builder.description(),
+                if self.reinserted {
+                    " + reinsertion"
+                } else {
+                    ""
+                }
+            ),
             primitives: self.prims.len(),
             nodes: self.nodes.len(),
             memory_bytes: self.memory_bytes(),

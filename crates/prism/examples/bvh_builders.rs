@@ -1,0 +1,105 @@
+//! Side-by-side figures for the BVH builders, with and without reinsertion, on the
+//! 1M-triangle torus knot and the sphereflake: build time (median of several builds), SAH
+//! cost, and primary-ray throughput (median of several passes over a 512² camera image on
+//! all threads). Run with `cargo run --release --example bvh_builders [scene...]`.
+
+use prism::accel::{Accel, Bvh, BvhBuilder, BvhOptions};
+use prism::math::TraceRay;
+use prism::scene::builtin;
+use prism::{Scene, Stats};
+use rayon::prelude::*;
+use std::time::Instant;
+
+const SIZE: u32 = 512;
+const BUILDS: usize = 5;
+const PASSES: usize = 5;
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn measure(name: &str, scene: &Scene) {
+    let g = &scene.geometry;
+    let prims: Vec<u32> = (0..g.primitives.len() as u32)
+        .filter(|&i| g.bounds(i).is_some())
+        .collect();
+    let camera = scene
+        .camera
+        .setup(SIZE, SIZE)
+        .expect("built-in cameras are valid");
+    let rays: Vec<TraceRay> = (0..SIZE * SIZE)
+        .map(|i| TraceRay::new(camera.ray((i % SIZE) as f32 + 0.5, (i / SIZE) as f32 + 0.5)))
+        .collect();
+    println!(
+        "{name}: {} bounded primitives, {} threads",
+        prims.len(),
+        rayon::current_num_threads()
+    );
+    println!(
+        "{:<28} {:>10} {:>9} {:>7} {:>10} {:>11}",
+        "builder", "build ms", "SAH", "depth", "nodes", "Mrays/s"
+    );
+    for builder in BvhBuilder::ALL {
+        for reinsert in [false, true] {
+            let options = BvhOptions {
+                builder,
+                reinsert,
+                ..BvhOptions::default()
+            };
+            let mut times = Vec::new();
+            let mut bvh = None;
+            for _ in 0..BUILDS {
+                let start = Instant::now();
+                let built = Bvh::build(g, prims.clone(), &options);
+                times.push(start.elapsed().as_secs_f64() * 1e3);
+                bvh = Some(built);
+            }
+            let bvh = bvh.expect("built at least once");
+            let info = bvh.info();
+            let mut rates = Vec::new();
+            let mut hits = 0;
+            for _ in 0..PASSES {
+                let start = Instant::now();
+                hits = rays
+                    .par_chunks(SIZE as usize)
+                    .map(|row| {
+                        let mut stats = Stats::default();
+                        row.iter()
+                            .filter(|r| bvh.intersect(g, r, f32::INFINITY, &mut stats).is_some())
+                            .count()
+                    })
+                    .sum::<usize>();
+                rates.push(rays.len() as f64 / start.elapsed().as_secs_f64() / 1e6);
+            }
+            println!(
+                "{:<28} {:>10.1} {:>9.2} {:>7} {:>10} {:>11.2}   ({hits} hits)",
+                format!(
+                    "{}{}",
+                    builder.name(),
+                    if reinsert { " + reinsert" } else { "" }
+                ),
+                median(times),
+                info.sah_cost.unwrap_or(f64::NAN),
+                info.depth,
+                info.nodes,
+                median(rates),
+            );
+        }
+    }
+}
+
+fn main() {
+    let names: Vec<String> = std::env::args().skip(1).collect();
+    let names = if names.is_empty() {
+        vec!["torusknot".to_string(), "sphereflake".to_string()]
+    } else {
+        names
+    };
+    for name in names {
+        match builtin::find(&name) {
+            Some(scene) => measure(&name, &scene),
+            None => eprintln!("no built-in scene '{name}'"),
+        }
+    }
+}
