@@ -3,7 +3,7 @@
 
 use anyhow::{bail, Result};
 use clap::{Args, Parser, Subcommand};
-use prism::accel::AccelKind;
+use prism::accel::AccelSpec;
 use prism::render::FilterKind;
 use prism::sampling::SamplerKind;
 use prism::scene::builtin;
@@ -49,9 +49,10 @@ pub struct InfoArgs {
     /// a built-in scene.
     pub scene: String,
 
-    /// Acceleration structure to build and describe.
-    #[arg(long, value_name = "NAME", default_value = "bvh")]
-    pub accel: AccelKind,
+    /// Acceleration structure to build and describe, as for `render --accel`; the scene
+    /// file's own `accel` setting when not given.
+    #[arg(long, value_name = "SPEC")]
+    pub accel: Option<AccelSpec>,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -152,9 +153,11 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
 
-    /// Acceleration structure: bvh (the default), grid, kdtree, octree or brute-force.
-    #[arg(long, value_name = "NAME")]
-    pub accel: Option<AccelKind>,
+    /// Acceleration structure and its parameters, METHOD[:KEY=VALUE,...]: bvh (the
+    /// default; keys bins, leaf, trav), grid (lambda, cells), kdtree (trav, isect,
+    /// empty-bonus, depth), octree (leaf, depth) or brute-force. Example: bvh:leaf=4.
+    #[arg(long, value_name = "SPEC")]
+    pub accel: Option<AccelSpec>,
 
     /// Apply a published testing procedure: `spd` = Haines' SPD rules (corner rays, depth
     /// 5, a reflection ray at every reflective or transmitting surface).
@@ -265,8 +268,8 @@ impl RenderArgs {
         if let Some(v) = self.seed {
             o.seed = v;
         }
-        if let Some(v) = self.accel {
-            o.accel = v;
+        if let Some(v) = &self.accel {
+            o.accel = v.clone();
         }
         Ok(o)
     }

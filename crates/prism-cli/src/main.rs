@@ -54,7 +54,8 @@ fn info(args: &args::InfoArgs) -> Result<ExitCode> {
         Some(name) => args::find_builtin(name)?,
         None => prism::scene::load(std::path::Path::new(&args.scene))?,
     };
-    info::print(&scene, &args.scene, args.accel)?;
+    let accel = args.accel.as_ref().unwrap_or(&scene.options.accel);
+    info::print(&scene, &args.scene, accel)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -89,7 +90,7 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     if let Some(path) = &args.density {
         density::check(path)?;
     }
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
 
     let cancel = Arc::new(AtomicBool::new(false));
     {

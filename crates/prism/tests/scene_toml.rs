@@ -30,7 +30,7 @@ fn render_at(scene: &Scene, width: u32, height: u32) -> Film {
     let mut options = scene.options.clone();
     options.width = width;
     options.height = height;
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     render(&prepared, &options, &|_| {}, &AtomicBool::new(false))
         .expect("the scene renders")
         .film
@@ -187,7 +187,19 @@ const MALFORMED: &[(&str, &str, usize, &str)] = &[
         "unknown accelerator",
         "[render]\naccel = \"kd-tree\"\n",
         2,
-        "expected one of `brute-force`, `bvh`, `grid`, `kdtree`, `octree`",
+        "expected one of: brute-force, bvh, grid, kdtree, octree",
+    ),
+    (
+        "accelerator parameter out of range",
+        "[render]\n\naccel = \"bvh:leaf=0\"\n",
+        3,
+        "bad value '0' for 'leaf': expected an integer from 1 to 1024",
+    ),
+    (
+        "accelerator parameter of another method",
+        "[render]\naccel = \"grid:leaf=2\"\n",
+        2,
+        "unknown parameter 'leaf' for grid",
     ),
     (
         "vector of the wrong length",
@@ -522,6 +534,21 @@ fn sampling_keys_fill_the_render_options() {
     assert_eq!(plain.options.sampler, prism::sampling::SamplerKind::Grid);
     assert_eq!(plain.options.filter, prism::render::FilterKind::Box);
     assert_eq!(plain.options.min_weight, 1.0 / 255.0);
+}
+
+#[test]
+fn the_accel_key_takes_a_method_and_its_parameters() {
+    use prism::accel::{AccelSpec, KdTreeOptions};
+    let scene = parse("[render]\naccel = \"kdtree:isect=80,depth=20\"\n").unwrap();
+    let expected = AccelSpec::KdTree(KdTreeOptions {
+        intersection_cost: 80.0,
+        max_depth: 20,
+        ..KdTreeOptions::default()
+    });
+    assert_eq!(scene.options.accel, expected);
+    let plain = parse("[render]\naccel = \"grid\"\n").unwrap();
+    assert_eq!(plain.options.accel, prism::accel::AccelKind::Grid.into());
+    assert_eq!(parse("").unwrap().options.accel, AccelSpec::default());
 }
 
 #[test]

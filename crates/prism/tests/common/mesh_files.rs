@@ -193,7 +193,7 @@ pub fn render_at(scene: &Scene, width: u32, height: u32) -> Film {
     let mut options = scene.options.clone();
     options.width = width;
     options.height = height;
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     render(&prepared, &options, &|_| {}, &AtomicBool::new(false))
         .expect("the scene renders")
         .film

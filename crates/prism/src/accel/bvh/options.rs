@@ -68,7 +68,7 @@ impl FromStr for BvhBuilder {
     }
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct BvhOptions {
     pub builder: BvhBuilder,
     /// Bins per axis for the binned SAH sweep.

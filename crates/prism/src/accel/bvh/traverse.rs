@@ -2,7 +2,7 @@
 //! Nearest-hit queries shrink `t_max` as hits are found, so far subtrees get culled.
 
 use super::{Bvh, Node, MAX_DEPTH};
-use crate::accel::{Accel, AccelInfo, Hit};
+use crate::accel::Hit;
 use crate::geometry::Geometry;
 use crate::math::robust::gamma;
 use crate::math::{Aabb, TraceRay};
@@ -96,22 +96,4 @@ impl Bvh {
     }
 }
 
-impl Accel for Bvh {
-    fn intersect(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
-        self.traverse(geometry, ray, t_max, stats, false)
-    }
-
-    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
-        self.traverse(geometry, ray, t_max, stats, true).is_some()
-    }
-
-    fn info(&self) -> AccelInfo {
-        self.info()
-    }
-}
+crate::accel::accel_from_traverse!(Bvh);
