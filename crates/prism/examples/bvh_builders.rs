@@ -40,6 +40,7 @@ fn measure(name: &str, scene: &Scene) {
         "{:<28} {:>10} {:>9} {:>7} {:>10} {:>11}",
         "builder", "build ms", "SAH", "depth", "nodes", "Mrays/s"
     );
+    let mut variants: Vec<(String, BvhOptions)> = Vec::new();
     for builder in BvhBuilder::ALL {
         for reinsert in [false, true] {
             let options = BvhOptions {
@@ -47,6 +48,21 @@ fn measure(name: &str, scene: &Scene) {
                 reinsert,
                 ..BvhOptions::default()
             };
+            let name = format!("{builder}{}", if reinsert { " + reinsert" } else { "" });
+            variants.push((name, options));
+        }
+    }
+    // What the parallel build buys: the same trees on one thread.
+    for builder in BvhBuilder::ALL {
+        let options = BvhOptions {
+            builder,
+            parallel_threshold: usize::MAX,
+            ..BvhOptions::default()
+        };
+        variants.push((format!("{builder}, serial build"), options));
+    }
+    {
+        for (name, options) in variants {
             let mut times = Vec::new();
             let mut bvh = None;
             for _ in 0..BUILDS {
@@ -74,11 +90,7 @@ fn measure(name: &str, scene: &Scene) {
             }
             println!(
                 "{:<28} {:>10.1} {:>9.2} {:>7} {:>10} {:>11.2}   ({hits} hits)",
-                format!(
-                    "{}{}",
-                    builder.name(),
-                    if reinsert { " + reinsert" } else { "" }
-                ),
+                name,
                 median(times),
                 info.sah_cost.unwrap_or(f64::NAN),
                 info.depth,

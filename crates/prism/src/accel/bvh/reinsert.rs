@@ -19,9 +19,9 @@ const DEPTH_LIMIT: u32 = MAX_DEPTH as u32 - 1;
 /// Rounds of (rank, reinsert a batch); the first few give nearly all of the gain.
 const MAX_ROUNDS: usize = 64;
 /// Stop once a round gains less than this fraction of the interior area.
-const MIN_GAIN: f64 = 2e-4;
+const MIN_GAIN: f64 = 5e-4;
 /// The fraction of the nodes reinserted per round.
-const BATCH_FRACTION: usize = 20;
+const BATCH_FRACTION: usize = 50;
 const NONE: u32 = u32::MAX;
 
 /// The tree with the same leaves and a total interior area no larger than the input's.

@@ -1,7 +1,9 @@
 //! Linear BVH (Lauterbach et al. 2009): centroids quantised to 21 bits per axis in their
 //! bounds, interleaved into 63-bit Morton codes and sorted; every node then splits its run
-//! of codes where the highest differing bit flips, and boxes are fitted bottom-up. Fast
-//! and parallel, but blind to surface area.
+//! of codes where the highest differing bit flips, down to single primitives, and boxes
+//! are fitted bottom-up. On the way up, a subtree of at most `max_leaf_size` primitives
+//! becomes one leaf where the SAH says a leaf is cheaper (the usual LBVH leaf collapse).
+//! Fast and parallel, but the splits themselves are blind to surface area.
 
 use super::stitch::NodeBlock;
 use super::BuildPrims;
@@ -16,6 +18,7 @@ pub(super) fn build(
     prims: &BuildPrims,
     order: &mut [u32],
     max_leaf_size: usize,
+    traversal_cost: f32,
     parallel_threshold: usize,
 ) -> Vec<Node> {
     let centroid_bounds = prims
@@ -40,7 +43,8 @@ pub(super) fn build(
         order,
         codes: &codes,
         max_leaf_size: max_leaf_size.max(1),
-        parallel_threshold,
+        traversal_cost,
+        parallel_threshold: parallel_threshold.max(max_leaf_size),
     };
     hierarchy.block(0, codes.len(), 1).into_nodes()
 }
@@ -79,6 +83,8 @@ struct Hierarchy<'a> {
     order: &'a [u32],
     codes: &'a [u64],
     max_leaf_size: usize,
+    traversal_cost: f32,
+    /// At least `max_leaf_size`, so collapsing never crosses a parallel split.
     parallel_threshold: usize,
 }
 
@@ -86,7 +92,7 @@ impl Hierarchy<'_> {
     /// Where the run `codes[lo..hi]` splits, or `None` for a leaf.
     fn split(&self, lo: usize, hi: usize, depth: usize) -> Option<usize> {
         let n = hi - lo;
-        if n <= self.max_leaf_size || depth >= MAX_DEPTH - 1 {
+        if n == 1 || depth >= MAX_DEPTH - 1 {
             return None;
         }
         let (first, last) = (self.codes[lo], self.codes[hi - 1]);
@@ -112,6 +118,7 @@ impl Hierarchy<'_> {
             let mut nodes = Vec::with_capacity(2 * (hi - lo));
             nodes.push(Node::leaf(Aabb::EMPTY, 0, 0));
             self.subdivide(&mut nodes, 0, lo, hi, depth);
+            nodes.shrink_to_fit();
             return NodeBlock::Serial(nodes);
         }
         let Some(mid) = self.split(lo, hi, depth) else {
@@ -125,7 +132,8 @@ impl Hierarchy<'_> {
         NodeBlock::split(Node::interior(bounds, 0), left, right)
     }
 
-    /// Fills `nodes[index]` for `lo..hi`, children first, and returns its box.
+    /// Fills `nodes[index]` for `lo..hi`, children first, and returns its box and SAH cost
+    /// (unnormalised: area-weighted, in units of one primitive test).
     fn subdivide(
         &self,
         nodes: &mut Vec<Node>,
@@ -133,19 +141,30 @@ impl Hierarchy<'_> {
         lo: usize,
         hi: usize,
         depth: usize,
-    ) -> Aabb {
-        let Some(mid) = self.split(lo, hi, depth) else {
+    ) -> (Aabb, f32) {
+        let leaf = |nodes: &mut Vec<Node>| {
             nodes[index] = self.leaf(lo, hi);
-            return nodes[index].bounds();
+            let bounds = nodes[index].bounds();
+            (bounds, bounds.surface_area() * (hi - lo) as f32)
+        };
+        let Some(mid) = self.split(lo, hi, depth) else {
+            return leaf(nodes);
         };
         let left = nodes.len();
         let placeholder = Node::leaf(Aabb::EMPTY, 0, 0);
         nodes.extend([placeholder, placeholder]);
-        let bl = self.subdivide(nodes, left, lo, mid, depth + 1);
-        let br = self.subdivide(nodes, left + 1, mid, hi, depth + 1);
+        let (bl, cl) = self.subdivide(nodes, left, lo, mid, depth + 1);
+        let (br, cr) = self.subdivide(nodes, left + 1, mid, hi, depth + 1);
         let bounds = bl.union(&br);
+        let area = bounds.surface_area();
+        let cost = self.traversal_cost * area + cl + cr;
+        if hi - lo <= self.max_leaf_size && area * (hi - lo) as f32 <= cost {
+            // The subtree is everything appended since its children: drop it for one leaf.
+            nodes.truncate(left);
+            return leaf(nodes);
+        }
         nodes[index] = Node::interior(bounds, left as u32);
-        bounds
+        (bounds, cost)
     }
 }
 

@@ -52,7 +52,13 @@ impl Bvh {
                     };
                     topdown::build(&rule, &input, &mut order, threshold)
                 }
-                BvhBuilder::Lbvh => lbvh::build(&input, &mut order, max_leaf_size, threshold),
+                BvhBuilder::Lbvh => lbvh::build(
+                    &input,
+                    &mut order,
+                    max_leaf_size,
+                    options.traversal_cost,
+                    threshold,
+                ),
             }
         };
         if options.reinsert {
