@@ -1,6 +1,6 @@
 //! Side-by-side figures for the BVH builders, with and without reinsertion, on the
 //! 1M-triangle torus knot and the sphereflake: build time (median of several builds), SAH
-//! cost, and primary-ray throughput (median of several passes over a 512² camera image on
+//! cost, node visits and primitive tests per primary ray, and primary-ray throughput (median of several passes over a 512² camera image on
 //! all threads). Run with `cargo run --release --example bvh_builders [scene...]`.
 
 use prism::accel::{Accel, Bvh, BvhBuilder, BvhOptions};
@@ -37,8 +37,8 @@ fn measure(name: &str, scene: &Scene) {
         rayon::current_num_threads()
     );
     println!(
-        "{:<28} {:>10} {:>9} {:>7} {:>10} {:>11}",
-        "builder", "build ms", "SAH", "depth", "nodes", "Mrays/s"
+        "{:<28} {:>10} {:>9} {:>7} {:>10} {:>8} {:>8} {:>9}",
+        "builder", "build ms", "SAH", "depth", "nodes", "nodes/r", "prims/r", "Mrays/s"
     );
     let mut variants: Vec<(String, BvhOptions)> = Vec::new();
     for builder in BvhBuilder::ALL {
@@ -73,6 +73,13 @@ fn measure(name: &str, scene: &Scene) {
             }
             let bvh = bvh.expect("built at least once");
             let info = bvh.info();
+            // Work per ray is deterministic, so it shows what the tree buys even on a
+            // machine too busy for steady timings.
+            let mut work = Stats::default();
+            for r in &rays {
+                bvh.intersect(g, r, f32::INFINITY, &mut work);
+            }
+            let per_ray = |count: u64| count as f64 / rays.len() as f64;
             let mut rates = Vec::new();
             let mut hits = 0;
             for _ in 0..PASSES {
@@ -89,12 +96,14 @@ fn measure(name: &str, scene: &Scene) {
                 rates.push(rays.len() as f64 / start.elapsed().as_secs_f64() / 1e6);
             }
             println!(
-                "{:<28} {:>10.1} {:>9.2} {:>7} {:>10} {:>11.2}   ({hits} hits)",
+                "{:<28} {:>10.1} {:>9.2} {:>7} {:>10} {:>8.1} {:>8.1} {:>9.2}   ({hits} hits)",
                 name,
                 median(times),
                 info.sah_cost.unwrap_or(f64::NAN),
                 info.depth,
                 info.nodes,
+                per_ray(work.node_visits),
+                per_ray(work.primitive_tests),
                 median(rates),
             );
         }
