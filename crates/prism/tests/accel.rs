@@ -11,8 +11,8 @@ mod common;
 
 use common::{icosphere, lattice_cube, rotate, trace_ray, Rng};
 use prism::accel::{
-    Accel, AccelKind, BruteForce, Bvh, BvhOptions, Grid, GridOptions, Hit, KdTree, KdTreeOptions,
-    Octree, OctreeOptions, SceneIntersector,
+    Accel, AccelKind, BruteForce, Bvh, BvhBuilder, BvhOptions, Grid, GridOptions, Hit, KdTree,
+    KdTreeOptions, Octree, OctreeOptions, SceneIntersector,
 };
 use prism::geometry::{generate, AaBox, Cone, Geometry, Plane, Shape, Sphere, TriangleMesh};
 use prism::math::{Aabb, Ray, TraceRay, Vec3};
@@ -301,25 +301,56 @@ fn same_nearest(geometry: &Geometry, ray: &TraceRay, a: Option<Hit>, b: Option<H
     }
 }
 
-fn bvh_settings() -> Vec<(&'static str, BvhOptions)> {
-    vec![
-        ("default", BvhOptions::default()),
+fn bvh_settings() -> Vec<(String, BvhOptions)> {
+    let mut settings = vec![
+        ("default".to_string(), BvhOptions::default()),
         (
-            "one primitive per leaf",
+            "one primitive per leaf".to_string(),
             BvhOptions {
                 max_leaf_size: 1,
                 ..BvhOptions::default()
             },
         ),
         (
-            "two bins, big leaves",
+            "two bins, big leaves".to_string(),
             BvhOptions {
                 bins: 2,
                 max_leaf_size: 32,
                 traversal_cost: 4.0,
+                ..BvhOptions::default()
             },
         ),
-    ]
+    ];
+    // Every builder with and without reinsertion, with subtrees of more than 16 primitives
+    // built in parallel so the stitching of subtrees is exercised too; and LBVH, whose
+    // trees reinsertion changes most, also with one primitive per leaf.
+    for builder in BvhBuilder::ALL {
+        for reinsert in [false, true] {
+            let options = BvhOptions {
+                builder,
+                reinsert,
+                parallel_threshold: 16,
+                ..BvhOptions::default()
+            };
+            let name = format!(
+                "{}{}",
+                builder.name(),
+                if reinsert { " + reinsert" } else { "" }
+            );
+            settings.push((name, options));
+        }
+    }
+    let fine_lbvh = BvhOptions {
+        builder: BvhBuilder::Lbvh,
+        reinsert: true,
+        max_leaf_size: 1,
+        ..BvhOptions::default()
+    };
+    settings.push((
+        "lbvh + reinsert, one primitive per leaf".to_string(),
+        fine_lbvh,
+    ));
+    settings
 }
 
 fn check_against_brute_force(name: &str, s: &TestScene, seed: u64) {

@@ -47,7 +47,7 @@ pub mod octree;
 mod spec;
 
 pub use brute::BruteForce;
-pub use bvh::{Bvh, BvhOptions};
+pub use bvh::{Bvh, BvhBuilder, BvhOptions};
 pub use grid::{Grid, GridOptions};
 pub use info::AccelInfo;
 pub use kdtree::{KdTree, KdTreeOptions};

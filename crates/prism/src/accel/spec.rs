@@ -88,6 +88,10 @@ impl AccelSpec {
                     o.traversal_cost.to_string(),
                     d.traversal_cost.to_string(),
                 );
+                put("build", o.builder.to_string(), d.builder.to_string());
+                if o.reinsert {
+                    out.push("reinsert".to_string());
+                }
             }
             AccelSpec::Grid(o) => {
                 let d = GridOptions::default();
@@ -204,6 +208,25 @@ impl Param<'_> {
         }
     }
 
+    /// A switch: given alone or as `true` means on, `false` off.
+    fn switch(&self) -> Result<bool, String> {
+        match self.value {
+            None | Some("true") => Ok(true),
+            Some("false") => Ok(false),
+            Some(text) => Err(format!(
+                "bad value '{text}' for '{}': expected true or false (or the key alone)",
+                self.key
+            )),
+        }
+    }
+
+    /// A name its type parses (whose error lists the choices).
+    fn choice<T: FromStr<Err = String>>(&self) -> Result<T, String> {
+        self.text("a name")?
+            .parse()
+            .map_err(|e| format!("bad value for '{}': {e}", self.key))
+    }
+
     /// A finite number in `lo..=hi`.
     fn number(&self, lo: f32, hi: f32) -> Result<f32, String> {
         let expected = format!("a number from {lo} to {hi}");
@@ -223,7 +246,7 @@ impl AccelSpec {
     pub fn keys(kind: AccelKind) -> &'static [&'static str] {
         match kind {
             AccelKind::BruteForce => &[],
-            AccelKind::Bvh => &["bins", "leaf", "trav"],
+            AccelKind::Bvh => &["bins", "leaf", "trav", "build", "reinsert"],
             AccelKind::Grid => &["lambda", "cells"],
             AccelKind::KdTree => &["trav", "isect", "empty-bonus", "depth"],
             AccelKind::Octree => &["leaf", "depth"],
@@ -235,6 +258,8 @@ impl AccelSpec {
             (AccelSpec::Bvh(o), "bins") => o.bins = p.int(2, 256)?,
             (AccelSpec::Bvh(o), "leaf") => o.max_leaf_size = p.int(1, 1024)?,
             (AccelSpec::Bvh(o), "trav") => o.traversal_cost = p.number(0.0, 1000.0)?,
+            (AccelSpec::Bvh(o), "build") => o.builder = p.choice()?,
+            (AccelSpec::Bvh(o), "reinsert") => o.reinsert = p.switch()?,
             (AccelSpec::Grid(o), "lambda") => o.lambda = p.number(0.01, 100.0)?,
             (AccelSpec::Grid(o), "cells") => o.max_cells = p.int(1, 1 << 28)?,
             (AccelSpec::KdTree(o), "trav") => o.traversal_cost = p.number(0.0, 1000.0)?,
@@ -264,6 +289,7 @@ impl AccelSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::BvhBuilder;
 
     #[test]
     fn plain_names_give_the_defaults() {
@@ -279,6 +305,9 @@ mod tests {
         for text in [
             "bvh:bins=32,leaf=4",
             "bvh:trav=2.5",
+            "bvh:build=sweep,reinsert,leaf=4",
+            "bvh:build=lbvh,reinsert=false",
+            "bvh:build=median,reinsert=true",
             "grid:lambda=2,cells=1000",
             "kdtree:trav=1,isect=80,empty-bonus=0.5,depth=20",
             "octree:leaf=2,depth=6",
@@ -291,6 +320,17 @@ mod tests {
             panic!("not a bvh");
         };
         assert_eq!((o.max_leaf_size, o.bins), (4, 32));
+        let AccelSpec::Bvh(o) = "bvh:build=sweep,reinsert,leaf=4".parse().unwrap() else {
+            panic!("not a bvh");
+        };
+        assert_eq!(
+            (o.builder, o.reinsert, o.max_leaf_size),
+            (BvhBuilder::Sweep, true, 4)
+        );
+        assert_eq!(
+            AccelSpec::Bvh(o).to_string(),
+            "bvh:leaf=4,build=sweep,reinsert"
+        );
         // A default value is not printed.
         assert_eq!(
             "bvh:bins=16".parse::<AccelSpec>().unwrap().to_string(),
@@ -305,6 +345,12 @@ mod tests {
             ("bvh:leaf=0", "expected an integer from 1 to 1024"),
             ("bvh:leaf=x", "bad value 'x' for 'leaf'"),
             ("bvh:leaf", "'leaf' needs a value"),
+            (
+                "bvh:build=octopus",
+                "unknown BVH builder 'octopus', expected one of: median, binned, sweep, lbvh",
+            ),
+            ("bvh:build", "'build' needs a value"),
+            ("bvh:reinsert=yes", "expected true or false"),
             (
                 "bvh:lambda=2",
                 "unknown parameter 'lambda' for bvh, expected one of: bins",

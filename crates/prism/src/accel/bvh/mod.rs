@@ -1,20 +1,22 @@
-//! Bounding volume hierarchy over axis-aligned boxes: a binned SAH build (`build.rs`) into
-//! a flat array of 32-byte nodes, and a stack traversal that visits the nearer child first
-//! (`traverse.rs`).
+//! Bounding volume hierarchy over axis-aligned boxes: several builders (`build/`) into a
+//! flat array of 32-byte nodes, an optional reinsertion pass (`reinsert.rs`), and a stack
+//! traversal that visits the nearer child first (`traverse.rs`).
 
 mod build;
+mod options;
 mod pair;
+mod reinsert;
 mod traverse;
 
 use crate::accel::AccelInfo;
 use crate::math::{Aabb, Vec3};
 use pair::PairNode;
 
-pub use build::BvhOptions;
+pub use options::{BvhBuilder, BvhOptions};
 
 /// A node is 32 bytes, two to a cache line. Interior nodes have `count == 0` and their
 /// children at `first` and `first + 1`; leaves hold `prims[first .. first + count]`.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C)]
 struct Node {
     min: Vec3,
@@ -27,8 +29,48 @@ impl Node {
     fn is_leaf(&self) -> bool {
         self.count > 0
     }
+
+    fn leaf(bounds: Aabb, first: u32, count: usize) -> Node {
+        Node {
+            min: bounds.min,
+            first,
+            max: bounds.max,
+            count: count as u32,
+        }
+    }
+
+    fn interior(bounds: Aabb, first: u32) -> Node {
+        Node {
+            min: bounds.min,
+            first,
+            max: bounds.max,
+            count: 0,
+        }
+    }
+
+    fn bounds(&self) -> Aabb {
+        Aabb {
+            min: self.min,
+            max: self.max,
+        }
+    }
+
+    /// The same node with its children `shift` places further on (leaves unchanged).
+    fn relocated(self, shift: u32) -> Node {
+        if self.is_leaf() {
+            self
+        } else {
+            Node {
+                first: self.first + shift,
+                ..self
+            }
+        }
+    }
 }
 
+/// Two trees are equal when their nodes and primitive orders are (how the tests check that
+/// a parallel build is the serial one).
+#[derive(PartialEq)]
 pub struct Bvh {
     /// The tree as built: binary nodes, the root at 0.
     nodes: Vec<Node>,
@@ -36,6 +78,8 @@ pub struct Bvh {
     pairs: Vec<PairNode>,
     /// Primitive indices (into `Geometry::primitives`) in leaf order.
     prims: Vec<u32>,
+    builder: BvhBuilder,
+    reinserted: bool,
 }
 
 /// Depth the build never exceeds, so traversal can use a fixed stack.
@@ -44,12 +88,14 @@ const MAX_DEPTH: usize = 64;
 impl Bvh {
     /// Takes a built tree (root at 0, interior nodes' children at `first`, `first + 1`)
     /// and derives the traversal layout.
-    fn from_tree(nodes: Vec<Node>, prims: Vec<u32>) -> Bvh {
+    fn from_tree(nodes: Vec<Node>, prims: Vec<u32>, builder: BvhBuilder, reinserted: bool) -> Bvh {
         let pairs = PairNode::from_tree(&nodes);
         Bvh {
             nodes,
             pairs,
             prims,
+            builder,
+            reinserted,
         }
     }
 
@@ -69,7 +115,15 @@ impl Bvh {
     /// Shape statistics and the SAH cost of the built tree.
     pub fn info(&self) -> AccelInfo {
         let mut info = AccelInfo {
-            method: "bvh (binned SAH)".into(),
+            method: format!(
+                "bvh ({}{})",
+                self.builder.description(),
+                if self.reinserted {
+                    " + reinsertion"
+                } else {
+                    ""
+                }
+            ),
             primitives: self.prims.len(),
             nodes: self.nodes.len(),
             memory_bytes: self.memory_bytes(),

@@ -12,7 +12,7 @@ use glam::{BVec4A, Vec4, Vec4Swizzles};
 
 /// Both children of an interior node. Per axis, lanes hold
 /// `[min of child 0, min of child 1, max of child 0, max of child 1]`.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 pub(super) struct PairNode {
     x: Vec4,

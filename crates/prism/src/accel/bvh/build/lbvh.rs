@@ -1,0 +1,200 @@
+//! Linear BVH (Lauterbach et al. 2009): centroids quantised to 21 bits per axis in their
+//! bounds, interleaved into 63-bit Morton codes and sorted; every node then splits its run
+//! of codes where the highest differing bit flips, down to single primitives, and boxes
+//! are fitted bottom-up. On the way up, a subtree of at most `max_leaf_size` primitives
+//! becomes one leaf where the SAH says a leaf is cheaper (the usual LBVH leaf collapse).
+//! Fast and parallel, but the splits themselves are blind to surface area.
+
+use super::stitch::NodeBlock;
+use super::BuildPrims;
+use crate::accel::bvh::{Node, MAX_DEPTH};
+use crate::math::{Aabb, Vec3};
+use rayon::prelude::*;
+
+const BITS_PER_AXIS: u32 = 21;
+
+/// Builds over all of `prims`, writing the leaf order into `order`.
+pub(super) fn build(
+    prims: &BuildPrims,
+    order: &mut [u32],
+    max_leaf_size: usize,
+    traversal_cost: f32,
+    parallel_threshold: usize,
+) -> Vec<Node> {
+    let centroid_bounds = prims
+        .centroids
+        .par_iter()
+        .fold(|| Aabb::EMPTY, |b, &c| b.union_point(c))
+        .reduce(|| Aabb::EMPTY, |a, b| a.union(&b));
+    let mut keyed: Vec<(u64, u32)> = prims
+        .centroids
+        .par_iter()
+        .zip(order.par_iter())
+        .map(|(&c, &i)| (morton_code(c, &centroid_bounds), i))
+        .collect();
+    // (code, position) pairs are unique, so the sorted order does not depend on threads.
+    keyed.par_sort_unstable();
+    let codes: Vec<u64> = keyed.iter().map(|k| k.0).collect();
+    for (slot, k) in order.iter_mut().zip(&keyed) {
+        *slot = k.1;
+    }
+    let hierarchy = Hierarchy {
+        prims,
+        order,
+        codes: &codes,
+        max_leaf_size: max_leaf_size.max(1),
+        traversal_cost,
+        parallel_threshold: parallel_threshold.max(max_leaf_size),
+    };
+    hierarchy.block(0, codes.len(), 1).into_nodes()
+}
+
+/// The Morton code of `p`'s cell in a 2²¹-per-axis grid over `bounds`.
+fn morton_code(p: Vec3, bounds: &Aabb) -> u64 {
+    let cells = (1u32 << BITS_PER_AXIS) as f32;
+    let extent = bounds.extent();
+    let mut code = 0;
+    for axis in 0..3 {
+        let t = if extent[axis] > 0.0 {
+            (p[axis] - bounds.min[axis]) / extent[axis]
+        } else {
+            0.0
+        };
+        // The float-to-int cast saturates (and maps NaN to 0), so every cell is in range.
+        let q = ((t * cells) as u32).min((1 << BITS_PER_AXIS) - 1);
+        code |= spread_bits(q) << (2 - axis);
+    }
+    code
+}
+
+/// Moves bit i of the 21-bit `x` to bit 3i.
+fn spread_bits(x: u32) -> u64 {
+    let mut x = x as u64 & 0x1f_ffff;
+    x = (x | x << 32) & 0x001f_0000_0000_ffff;
+    x = (x | x << 16) & 0x001f_0000_ff00_00ff;
+    x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
+    x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
+    x = (x | x << 2) & 0x1249_2492_4924_9249;
+    x
+}
+
+struct Hierarchy<'a> {
+    prims: &'a BuildPrims,
+    order: &'a [u32],
+    codes: &'a [u64],
+    max_leaf_size: usize,
+    traversal_cost: f32,
+    /// At least `max_leaf_size`, so collapsing never crosses a parallel split.
+    parallel_threshold: usize,
+}
+
+impl Hierarchy<'_> {
+    /// Where the run `codes[lo..hi]` splits, or `None` for a leaf.
+    fn split(&self, lo: usize, hi: usize, depth: usize) -> Option<usize> {
+        let n = hi - lo;
+        if n == 1 || depth >= MAX_DEPTH - 1 {
+            return None;
+        }
+        let (first, last) = (self.codes[lo], self.codes[hi - 1]);
+        if first == last {
+            // One cell: no bit tells them apart, so halve the run.
+            return Some(lo + n / 2);
+        }
+        // The codes share every bit above the highest differing one, and are sorted, so
+        // those with that bit clear come first.
+        let bit = 63 - (first ^ last).leading_zeros();
+        Some(lo + self.codes[lo..hi].partition_point(|c| c >> bit & 1 == 0))
+    }
+
+    fn leaf(&self, lo: usize, hi: usize) -> Node {
+        let bounds = self.order[lo..hi]
+            .iter()
+            .fold(Aabb::EMPTY, |b, &i| b.union(&self.prims.bounds[i as usize]));
+        Node::leaf(bounds, lo as u32, hi - lo)
+    }
+
+    fn block(&self, lo: usize, hi: usize, depth: usize) -> NodeBlock {
+        if hi - lo <= self.parallel_threshold {
+            let mut nodes = Vec::with_capacity(2 * (hi - lo));
+            nodes.push(Node::leaf(Aabb::EMPTY, 0, 0));
+            self.subdivide(&mut nodes, 0, lo, hi, depth);
+            nodes.shrink_to_fit();
+            return NodeBlock::Serial(nodes);
+        }
+        let Some(mid) = self.split(lo, hi, depth) else {
+            return NodeBlock::leaf(self.leaf(lo, hi));
+        };
+        let (left, right) = rayon::join(
+            || self.block(lo, mid, depth + 1),
+            || self.block(mid, hi, depth + 1),
+        );
+        let bounds = left.root().bounds().union(&right.root().bounds());
+        NodeBlock::split(Node::interior(bounds, 0), left, right)
+    }
+
+    /// Fills `nodes[index]` for `lo..hi`, children first, and returns its box and SAH cost
+    /// (unnormalised: area-weighted, in units of one primitive test).
+    fn subdivide(
+        &self,
+        nodes: &mut Vec<Node>,
+        index: usize,
+        lo: usize,
+        hi: usize,
+        depth: usize,
+    ) -> (Aabb, f32) {
+        let leaf = |nodes: &mut Vec<Node>| {
+            nodes[index] = self.leaf(lo, hi);
+            let bounds = nodes[index].bounds();
+            (bounds, bounds.surface_area() * (hi - lo) as f32)
+        };
+        let Some(mid) = self.split(lo, hi, depth) else {
+            return leaf(nodes);
+        };
+        let left = nodes.len();
+        let placeholder = Node::leaf(Aabb::EMPTY, 0, 0);
+        nodes.extend([placeholder, placeholder]);
+        let (bl, cl) = self.subdivide(nodes, left, lo, mid, depth + 1);
+        let (br, cr) = self.subdivide(nodes, left + 1, mid, hi, depth + 1);
+        let bounds = bl.union(&br);
+        let area = bounds.surface_area();
+        let cost = self.traversal_cost * area + cl + cr;
+        if hi - lo <= self.max_leaf_size && area * (hi - lo) as f32 <= cost {
+            // The subtree is everything appended since its children: drop it for one leaf.
+            nodes.truncate(left);
+            return leaf(nodes);
+        }
+        nodes[index] = Node::interior(bounds, left as u32);
+        (bounds, cost)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spread_bits_interleaves() {
+        for x in [0u32, 1, 2, 0x15_5555, 0x1f_ffff, 12345] {
+            let spread = spread_bits(x);
+            for bit in 0..21 {
+                assert_eq!(
+                    spread >> (3 * bit) & 1,
+                    (x >> bit & 1) as u64,
+                    "{x:#x} bit {bit}"
+                );
+            }
+            assert_eq!(spread.count_ones(), x.count_ones());
+        }
+    }
+
+    #[test]
+    fn morton_codes_order_cells_along_a_z_curve() {
+        let b = Aabb::new(Vec3::ZERO, Vec3::ONE);
+        assert_eq!(morton_code(Vec3::ZERO, &b), 0);
+        assert_eq!(morton_code(Vec3::ONE, &b), (1 << 63) - 1);
+        // x is the highest bit of each triple.
+        assert!(
+            morton_code(Vec3::new(0.6, 0.0, 0.0), &b) > morton_code(Vec3::new(0.4, 0.9, 0.9), &b)
+        );
+    }
+}

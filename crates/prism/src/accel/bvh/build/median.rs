@@ -1,0 +1,40 @@
+//! Object median splits: halve the primitives by centroid along the longest axis of their
+//! centroid bounds. Cheap and balanced, but blind to surface area.
+
+use super::topdown::SplitRule;
+use super::BuildPrims;
+use crate::math::Aabb;
+
+pub(super) struct ObjectMedian {
+    pub max_leaf_size: usize,
+}
+
+impl SplitRule for ObjectMedian {
+    type Scratch = ();
+
+    fn scratch(&self) {}
+
+    fn split(
+        &self,
+        prims: &BuildPrims,
+        _: &mut (),
+        order: &mut [u32],
+        _bounds: &Aabb,
+        centroid_bounds: &Aabb,
+    ) -> Option<usize> {
+        if order.len() <= self.max_leaf_size {
+            return None;
+        }
+        let axis = centroid_bounds.longest_axis();
+        let mid = order.len() / 2;
+        // Ties broken by position, so equal centroids still split deterministically.
+        order.select_nth_unstable_by(mid, |&a, &b| {
+            let (ca, cb) = (
+                prims.centroids[a as usize][axis],
+                prims.centroids[b as usize][axis],
+            );
+            ca.total_cmp(&cb).then(a.cmp(&b))
+        });
+        Some(mid)
+    }
+}

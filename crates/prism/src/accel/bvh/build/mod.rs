@@ -1,0 +1,74 @@
+//! BVH construction: per-primitive boxes and centroids, the chosen builder (one file each),
+//! the optional reinsertion pass, and the mapping from build positions to primitive ids.
+
+mod binned;
+mod lbvh;
+mod median;
+mod stitch;
+mod sweep;
+mod topdown;
+
+use super::{reinsert, Bvh, BvhBuilder, BvhOptions};
+use crate::geometry::Geometry;
+use crate::math::{Aabb, Vec3};
+use rayon::prelude::*;
+
+/// What the builders see of the primitives, indexed by build position (0..n).
+pub(super) struct BuildPrims {
+    pub bounds: Vec<Aabb>,
+    pub centroids: Vec<Vec3>,
+}
+
+impl Bvh {
+    /// Builds over `prims`, which must all be bounded.
+    pub fn build(geometry: &Geometry, prims: Vec<u32>, options: &BvhOptions) -> Bvh {
+        let bounds: Vec<Aabb> = prims
+            .par_iter()
+            .map(|&p| geometry.bounds(p).expect("BVH primitives must be bounded"))
+            .collect();
+        let centroids = bounds.par_iter().map(Aabb::center).collect();
+        let input = BuildPrims { bounds, centroids };
+        // Work on positions 0..n; map back to primitive ids at the end.
+        let mut order: Vec<u32> = (0..prims.len() as u32).collect();
+        let threshold = options.parallel_threshold.max(1);
+        let max_leaf_size = options.max_leaf_size.max(1);
+        let mut nodes = if order.is_empty() {
+            Vec::new()
+        } else {
+            match options.builder {
+                BvhBuilder::Median => {
+                    let rule = median::ObjectMedian { max_leaf_size };
+                    topdown::build(&rule, &input, &mut order, threshold)
+                }
+                BvhBuilder::Binned => {
+                    let rule = binned::BinnedSah::new(options);
+                    topdown::build(&rule, &input, &mut order, threshold)
+                }
+                BvhBuilder::Sweep => {
+                    let rule = sweep::FullSweepSah {
+                        max_leaf_size,
+                        traversal_cost: options.traversal_cost,
+                        parallel_threshold: threshold,
+                    };
+                    topdown::build(&rule, &input, &mut order, threshold)
+                }
+                BvhBuilder::Lbvh => lbvh::build(
+                    &input,
+                    &mut order,
+                    max_leaf_size,
+                    options.traversal_cost,
+                    threshold,
+                ),
+            }
+        };
+        if options.reinsert {
+            nodes = reinsert::optimize(nodes);
+        }
+        Bvh::from_tree(
+            nodes,
+            order.iter().map(|&i| prims[i as usize]).collect(),
+            options.builder,
+            options.reinsert,
+        )
+    }
+}

@@ -1,0 +1,219 @@
+//! The shape of the trees each BVH builder makes (correct answers are tests/accel.rs's
+//! job): a parallel build is the serial one node for node, leaves and depth stay within
+//! their limits, reinsertion never raises the SAH cost and lowers it where the input tree
+//! is poor, and empty or one-primitive inputs work.
+
+mod common;
+
+use common::{trace_ray, Rng};
+use prism::accel::{Accel, Bvh, BvhBuilder, BvhOptions};
+use prism::geometry::{generate, Geometry, Shape, Sphere};
+use prism::math::Vec3;
+use prism::Stats;
+
+fn all_prims(g: &Geometry) -> Vec<u32> {
+    (0..g.primitives.len() as u32).collect()
+}
+
+/// A dense knot, random spheres of all sizes around it, and a far cluster of tiny ones:
+/// centroids spread very unevenly.
+fn skewed_scene(knot_triangles: u32) -> Geometry {
+    let mut g = Geometry::default();
+    g.add_mesh(generate::torus_knot(knot_triangles), 0);
+    let mut rng = Rng::new(5);
+    for _ in 0..400 {
+        let c = rng.point_in(Vec3::splat(-3.0), Vec3::splat(3.0));
+        g.add(Shape::Sphere(Sphere::new(c, rng.range(0.001, 0.5))), 0);
+    }
+    for _ in 0..400 {
+        let c = Vec3::new(40.0, 0.0, 0.0) + rng.point_in(Vec3::splat(-0.1), Vec3::splat(0.1));
+        g.add(Shape::Sphere(Sphere::new(c, 0.002)), 0);
+    }
+    g
+}
+
+/// Spheres whose positions grow geometrically: a split rule that peels off one primitive
+/// at a time would build a chain, and quantised Morton codes collapse most of them.
+fn geometric_scene() -> Geometry {
+    let mut g = Geometry::default();
+    let mut x = 1e-3f32;
+    for i in 0..3000 {
+        g.add(
+            Shape::Sphere(Sphere::new(
+                Vec3::new(x, (i % 7) as f32 * 1e-4, 0.0),
+                1e-5 * x,
+            )),
+            0,
+        );
+        x *= 1.01;
+    }
+    g
+}
+
+fn options(builder: BvhBuilder, reinsert: bool) -> BvhOptions {
+    BvhOptions {
+        builder,
+        reinsert,
+        ..BvhOptions::default()
+    }
+}
+
+fn variants() -> Vec<BvhOptions> {
+    BvhBuilder::ALL
+        .into_iter()
+        .flat_map(|b| [options(b, false), options(b, true)])
+        .collect()
+}
+
+#[test]
+fn builder_names_round_trip_and_unknown_names_list_the_choices() {
+    for b in BvhBuilder::ALL {
+        assert_eq!(b.name().parse::<BvhBuilder>(), Ok(b));
+    }
+    let err = "octopus".parse::<BvhBuilder>().unwrap_err();
+    assert!(
+        err.contains("octopus") && err.contains("median, binned, sweep, lbvh"),
+        "{err}"
+    );
+    assert_eq!(BvhOptions::default().builder, BvhBuilder::Binned);
+    assert!(!BvhOptions::default().reinsert);
+}
+
+#[test]
+fn method_names_the_builder() {
+    let g = skewed_scene(2000);
+    let bvh = Bvh::build(&g, all_prims(&g), &BvhOptions::default());
+    assert_eq!(bvh.info().method, "bvh (binned SAH)");
+    let bvh = Bvh::build(&g, all_prims(&g), &options(BvhBuilder::Sweep, true));
+    assert_eq!(bvh.info().method, "bvh (full-sweep SAH + reinsertion)");
+}
+
+#[test]
+fn parallel_builds_equal_serial_builds_node_for_node() {
+    let g = skewed_scene(60_000);
+    for base in variants() {
+        let serial = BvhOptions {
+            parallel_threshold: usize::MAX,
+            ..base.clone()
+        };
+        let reference = Bvh::build(&g, all_prims(&g), &serial);
+        for (threshold, threads) in [(4096, 2), (64, 2), (64, 1), (1, 3)] {
+            let parallel = BvhOptions {
+                parallel_threshold: threshold,
+                ..base.clone()
+            };
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let bvh = pool.install(|| Bvh::build(&g, all_prims(&g), &parallel));
+            assert!(
+                bvh == reference,
+                "{} (reinsert {}): threshold {threshold} on {threads} threads differs from serial",
+                base.builder.name(),
+                base.reinsert
+            );
+        }
+    }
+}
+
+#[test]
+fn every_builder_keeps_leaves_and_depth_bounded() {
+    for (name, g) in [
+        ("skewed", skewed_scene(20_000)),
+        ("geometric", geometric_scene()),
+    ] {
+        for max_leaf_size in [1, 4, 8] {
+            for base in variants() {
+                let o = BvhOptions {
+                    max_leaf_size,
+                    ..base
+                };
+                let info = Bvh::build(&g, all_prims(&g), &o).info();
+                let what = format!("{name}: {}, leaf size {max_leaf_size}", info.method);
+                assert_eq!(info.primitives, g.primitives.len(), "{what}");
+                assert!(info.depth <= 64, "{what}: depth {}", info.depth);
+                assert!(
+                    info.max_leaf_size <= max_leaf_size,
+                    "{what}: leaf of {}",
+                    info.max_leaf_size
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn coincident_centroids_still_get_bounded_leaves() {
+    let mut g = Geometry::default();
+    for _ in 0..300 {
+        g.add(Shape::Sphere(Sphere::new(Vec3::splat(1.0), 0.5)), 0);
+    }
+    for o in variants() {
+        let info = Bvh::build(&g, all_prims(&g), &o).info();
+        assert!(
+            info.max_leaf_size <= 8,
+            "{}: leaf of {}",
+            info.method,
+            info.max_leaf_size
+        );
+    }
+}
+
+#[test]
+fn reinsertion_never_raises_the_sah_cost() {
+    for g in [skewed_scene(20_000), geometric_scene()] {
+        for builder in BvhBuilder::ALL {
+            let cost = |reinsert| {
+                Bvh::build(&g, all_prims(&g), &options(builder, reinsert))
+                    .info()
+                    .sah_cost
+                    .unwrap()
+            };
+            let (before, after) = (cost(false), cost(true));
+            assert!(after <= before, "{}: {before} -> {after}", builder.name());
+        }
+    }
+}
+
+#[test]
+fn reinsertion_improves_poor_trees() {
+    let g = skewed_scene(50_000);
+    for builder in [BvhBuilder::Lbvh, BvhBuilder::Median] {
+        let cost = |reinsert| {
+            Bvh::build(&g, all_prims(&g), &options(builder, reinsert))
+                .info()
+                .sah_cost
+                .unwrap()
+        };
+        let (before, after) = (cost(false), cost(true));
+        assert!(
+            after < 0.97 * before,
+            "{}: {before} -> {after}",
+            builder.name()
+        );
+    }
+}
+
+#[test]
+fn empty_and_single_primitive_inputs() {
+    let mut g = Geometry::default();
+    let ray = trace_ray(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+    let mut stats = Stats::default();
+    for o in variants() {
+        let empty = Bvh::build(&g, Vec::new(), &o);
+        assert_eq!(empty.node_count(), 0);
+        assert!(empty
+            .intersect(&g, &ray, f32::INFINITY, &mut stats)
+            .is_none());
+        assert!(!empty.occluded(&g, &ray, f32::INFINITY, &mut stats));
+    }
+    g.add(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)), 0);
+    for o in variants() {
+        let one = Bvh::build(&g, vec![0], &o);
+        assert_eq!((one.node_count(), one.depth()), (1, 1));
+        let h = one.intersect(&g, &ray, f32::INFINITY, &mut stats).unwrap();
+        assert_eq!((h.prim, h.t), (0, 4.0));
+        assert!(one.occluded(&g, &ray, 4.5, &mut stats));
+    }
+}
