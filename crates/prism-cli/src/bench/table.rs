@@ -2,7 +2,20 @@
 //! primary rays (nearest hit), "S" shadow rays (any hit).
 
 use super::results::SceneResult;
+use prism::bench::RayKindResult;
 use std::fmt::Write;
+
+/// Nodes and tests per ray and Mrays/s, or dashes when a scene has no rays of the kind
+/// (no lights, so no shadow rays).
+fn kind_cells(r: &RayKindResult) -> String {
+    if r.rays == 0 {
+        return format!("{:>8} {:>8} {:>8}", "-", "-", "-");
+    }
+    format!(
+        "{:>8.1} {:>8.1} {:>8.2}",
+        r.node_visits_per_ray, r.primitive_tests_per_ray, r.mrays_per_s
+    )
+}
 
 pub fn header() -> String {
     let mut s = String::new();
@@ -50,15 +63,11 @@ pub fn scene_block(scene: &SceneResult) -> String {
                     .map_or(String::from("-"), |v| format!("{:.2}", v));
                 let _ = write!(
                     s,
-                    " {:>9.1} {:>8.2} {:>8.1} {:>8.1} {:>8.2} {:>8.1} {:>8.1} {:>8.2} {:>8}",
+                    " {:>9.1} {:>8.2} {} {} {:>8}",
                     m.build_ms,
                     m.accel.memory_bytes as f64 / (1024.0 * 1024.0),
-                    m.primary.node_visits_per_ray,
-                    m.primary.primitive_tests_per_ray,
-                    m.primary.mrays_per_s,
-                    m.shadow.node_visits_per_ray,
-                    m.shadow.primitive_tests_per_ray,
-                    m.shadow.mrays_per_s,
+                    kind_cells(&m.primary),
+                    kind_cells(&m.shadow),
                     vs
                 );
                 if row.mismatch {
