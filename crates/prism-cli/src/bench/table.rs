@@ -12,9 +12,23 @@ fn kind_cells(r: &RayKindResult) -> String {
         return format!("{:>8} {:>8} {:>8}", "-", "-", "-");
     }
     format!(
-        "{:>8.1} {:>8.1} {:>8.2}",
-        r.node_visits_per_ray, r.primitive_tests_per_ray, r.mrays_per_s
+        "{:>8.1} {:>8.1} {:>8}",
+        r.node_visits_per_ray,
+        r.primitive_tests_per_ray,
+        rate(r.mrays_per_s)
     )
+}
+
+/// Mrays/s with three significant digits down to 0.001, so that a collapsed method does
+/// not read as zero.
+fn rate(v: f64) -> String {
+    match v {
+        v if v >= 100.0 => format!("{v:.0}"),
+        v if v >= 10.0 => format!("{v:.1}"),
+        v if v >= 1.0 => format!("{v:.2}"),
+        v if v >= 0.1 => format!("{v:.3}"),
+        v => format!("{v:.4}"),
+    }
 }
 
 pub fn header() -> String {
@@ -81,4 +95,18 @@ pub fn scene_block(scene: &SceneResult) -> String {
         s.push('\n');
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rate;
+
+    #[test]
+    fn rates_keep_three_digits_down_to_a_thousandth() {
+        assert_eq!(rate(115.04), "115");
+        assert_eq!(rate(23.96), "24.0");
+        assert_eq!(rate(1.594), "1.59");
+        assert_eq!(rate(0.2345), "0.234");
+        assert_eq!(rate(0.00123), "0.0012");
+    }
 }
