@@ -4,13 +4,13 @@
 
 mod build;
 mod options;
-mod pair;
 mod reinsert;
 mod traverse;
+mod wide;
 
 use crate::accel::AccelInfo;
 use crate::math::{Aabb, Vec3};
-use pair::PairNode;
+use wide::WideNode;
 
 pub use options::{BvhBuilder, BvhOptions};
 
@@ -74,8 +74,8 @@ impl Node {
 pub struct Bvh {
     /// The tree as built: binary nodes, the root at 0.
     nodes: Vec<Node>,
-    /// The same tree as traversed: both children of an interior node in one cache line.
-    pairs: Vec<PairNode>,
+    /// The same tree as traversed: 4-wide nodes (`wide.rs`).
+    wide: Vec<WideNode>,
     /// Primitive indices (into `Geometry::primitives`) in leaf order.
     prims: Vec<u32>,
     builder: BvhBuilder,
@@ -89,10 +89,10 @@ impl Bvh {
     /// Takes a built tree (root at 0, interior nodes' children at `first`, `first + 1`)
     /// and derives the traversal layout.
     fn from_tree(nodes: Vec<Node>, prims: Vec<u32>, builder: BvhBuilder, reinserted: bool) -> Bvh {
-        let pairs = PairNode::from_tree(&nodes);
+        let wide = WideNode::from_tree(&nodes);
         Bvh {
             nodes,
-            pairs,
+            wide,
             prims,
             builder,
             reinserted,
@@ -160,7 +160,7 @@ impl Bvh {
     /// Both layouts of the tree and the primitive list.
     pub fn memory_bytes(&self) -> usize {
         self.nodes.len() * std::mem::size_of::<Node>()
-            + self.pairs.len() * std::mem::size_of::<PairNode>()
+            + self.wide.len() * std::mem::size_of::<WideNode>()
             + self.prims.len() * 4
     }
 }

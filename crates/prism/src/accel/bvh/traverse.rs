@@ -1,13 +1,15 @@
-//! Stack traversal: test both children's boxes, descend into the nearer, push the farther.
+//! Stack traversal of the 4-wide layout: test a node's child boxes at once, descend into
+//! the nearest hit, push the others farthest first.
 //! Nearest-hit queries shrink `t_max` as hits are found, so far subtrees get culled.
 
-use super::pair::PairRay;
+use super::wide::WideRay;
 use super::{Bvh, Node, MAX_DEPTH};
 use crate::accel::Hit;
 use crate::geometry::Geometry;
 use crate::math::robust::{gamma, next_up};
 use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
+use std::mem::MaybeUninit;
 
 #[inline(always)]
 fn node_hit(node: &Node, ray: &TraceRay, t_max: f32) -> Option<f32> {
@@ -30,6 +32,7 @@ impl Bvh {
         any: bool,
     ) -> Option<Hit> {
         let root = self.nodes.first()?;
+        // The root box first: a cheap way out for rays that miss the scene.
         stats.node_visits += 1;
         node_hit(root, ray, t_max)?;
         let mut best = None;
@@ -47,12 +50,13 @@ impl Bvh {
         }
 
         let leaf = LeafQuery { geometry, ray, any };
-        let pair_ray = PairRay::new(ray);
+        let wide_ray = WideRay::new(ray);
         // Entry distances are compared against t_max with the same slack the box test
         // gives exits, so a child pushed before a hit is not culled by rounding.
         let slack = 1.0 + 2.0 * gamma(3);
         // Deferred children: (child, primitive count or 0 for interior, entry distance).
-        let mut stack = [(0u32, 0u32, 0.0f32); MAX_DEPTH];
+        // A visit defers at most three, and the wide tree is no deeper than the binary one.
+        let mut stack = DeferredStack::new();
         let mut sp = 0;
         let (mut child, mut count) = (0u32, 0u32);
         loop {
@@ -61,26 +65,32 @@ impl Bvh {
                     return best;
                 }
             } else {
-                let pair = &self.pairs[child as usize];
-                stats.node_visits += 2;
-                match pair.hit(&pair_ray, t_max) {
-                    [Some(ta), Some(tb)] => {
-                        // Visit the nearer child now, the farther one later.
-                        let (near, far, t_far) = if tb < ta { (1, 0, ta) } else { (0, 1, tb) };
-                        stack[sp] = (pair.child[far], pair.count[far], t_far);
+                let node = &self.wide[child as usize];
+                stats.node_visits += u64::from(node.children());
+                let t = node.hit(&wide_ray, t_max);
+                // The children hit, nearest first (ties keep lane order).
+                let mut hits = [(0.0f32, 0usize); 4];
+                let mut n = 0;
+                for k in 0..4 {
+                    if t[k] < f32::INFINITY {
+                        let mut j = n;
+                        while j > 0 && hits[j - 1].0 > t[k] {
+                            hits[j] = hits[j - 1];
+                            j -= 1;
+                        }
+                        hits[j] = (t[k], k);
+                        n += 1;
+                    }
+                }
+                if n > 0 {
+                    // Farthest first onto the stack, so the nearer ones come off first.
+                    for &(t_enter, k) in hits[1..n].iter().rev() {
+                        stack.push(sp, (node.child[k], node.count[k], t_enter));
                         sp += 1;
-                        (child, count) = (pair.child[near], pair.count[near]);
-                        continue;
                     }
-                    [Some(_), None] => {
-                        (child, count) = (pair.child[0], pair.count[0]);
-                        continue;
-                    }
-                    [None, Some(_)] => {
-                        (child, count) = (pair.child[1], pair.count[1]);
-                        continue;
-                    }
-                    [None, None] => {}
+                    let k = hits[0].1;
+                    (child, count) = (node.child[k], node.count[k]);
+                    continue;
                 }
             }
             // Pop the next deferred child, skipping those whose entry lies beyond a hit
@@ -90,13 +100,38 @@ impl Bvh {
                     return best;
                 }
                 sp -= 1;
-                let (c, n, t_enter) = stack[sp];
+                let (c, n, t_enter) = stack.get(sp);
                 if t_enter <= t_max * slack {
                     (child, count) = (c, n);
                     break;
                 }
             }
         }
+    }
+}
+
+/// The traversal stack. Left uninitialised: zeroing its 2 KiB for every ray costs as much
+/// as a whole traversal of a small scene.
+struct DeferredStack([MaybeUninit<(u32, u32, f32)>; 3 * MAX_DEPTH]);
+
+impl DeferredStack {
+    #[inline(always)]
+    fn new() -> Self {
+        DeferredStack([MaybeUninit::uninit(); 3 * MAX_DEPTH])
+    }
+
+    /// Writes slot `i` (the caller keeps the top-of-stack count).
+    #[inline(always)]
+    fn push(&mut self, i: usize, entry: (u32, u32, f32)) {
+        self.0[i] = MaybeUninit::new(entry);
+    }
+
+    /// Reads slot `i`, which must have been written by `push`.
+    #[inline(always)]
+    fn get(&self, i: usize) -> (u32, u32, f32) {
+        // SAFETY: the traversal only reads slots below its stack pointer, each written by
+        // `push` since this stack was made (`i` is bounds-checked by the indexing).
+        unsafe { self.0[i].assume_init() }
     }
 }
 
