@@ -4,7 +4,7 @@
 use super::{Bvh, Node, MAX_DEPTH};
 use crate::accel::Hit;
 use crate::geometry::Geometry;
-use crate::math::robust::gamma;
+use crate::math::robust::{gamma, next_up};
 use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
 
@@ -42,7 +42,12 @@ impl Bvh {
             if node.is_leaf() {
                 let range = node.first as usize..(node.first + node.count) as usize;
                 for &prim in &self.prims[range] {
-                    if let Some(h) = geometry.intersect_counted(prim, ray, t_max, stats) {
+                    // Exact ties go to the lower primitive id, as in the brute-force list,
+                    // so the answer (and the image) does not depend on how the tree was
+                    // built: a lower id is tested against a bound one ulp farther.
+                    let lower = best.is_some_and(|b: Hit| prim < b.prim);
+                    let bound = if lower { next_up(t_max) } else { t_max };
+                    if let Some(h) = geometry.intersect_counted(prim, ray, bound, stats) {
                         t_max = h.t;
                         best = Some(Hit {
                             t: h.t,
