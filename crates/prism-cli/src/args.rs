@@ -32,6 +32,10 @@ pub enum Command {
     /// Describe a scene without rendering it: shapes, materials, lights, bounds, memory
     /// and the acceleration structure built for it.
     Info(InfoArgs),
+    /// Measure acceleration methods on scenes: build time, memory, node visits and
+    /// primitive tests per ray, primary and shadow rays per second; a table, CSV, JSON and
+    /// an SVG chart.
+    Bench(crate::bench::BenchArgs),
     /// Compare two images: RMSE, PSNR, SSIM and FLIP of TEST against REFERENCE.
     Compare(crate::compare::CompareArgs),
     /// Write the exact box-filtered image of the checkerboard scene (no sampling).
@@ -173,6 +177,16 @@ pub struct RenderArgs {
     /// `camera`.
     #[arg(long, value_name = "KIND", default_value = "all")]
     pub density_rays: DensityRays,
+
+    /// Also write the cost view: node visits (or primitive tests, see --cost-metric) per
+    /// camera ray of each pixel, counting every ray the pixel spawned, as a heat map with a
+    /// colour bar (PNG).
+    #[arg(long, value_name = "FILE")]
+    pub cost: Option<PathBuf>,
+
+    /// What the cost view counts: `nodes` (node visits) or `prims` (primitive tests).
+    #[arg(long, value_name = "KIND", default_value = "nodes")]
+    pub cost_metric: crate::cost::CostMetric,
 
     /// Print a table of ray counts, tests and times after rendering.
     #[arg(long)]

@@ -4,7 +4,9 @@
 //! written with the finished tiles).
 
 mod args;
+mod bench;
 mod compare;
+mod cost;
 mod density;
 mod info;
 mod patterns;
@@ -31,6 +33,7 @@ fn main() -> ExitCode {
     {
         Command::Render(args) => render(&args),
         Command::Info(args) => info(&args),
+        Command::Bench(args) => bench::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::Reference(args) => reference::run(&args),
         Command::Sweep(args) => sweep::run(&args),
@@ -90,6 +93,9 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     if let Some(path) = &args.density {
         density::check(path)?;
     }
+    if let Some(path) = &args.cost {
+        cost::check(path)?;
+    }
     let prepared = scene.prepare(&options.accel);
 
     let cancel = Arc::new(AtomicBool::new(false));
@@ -110,6 +116,10 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     prism::output::write_image_as(&args.output, &result.film, format)?;
     if let Some(path) = &args.density {
         density::write(path, &result.rays, args.density_rays)?;
+    }
+    if let Some(path) = &args.cost {
+        let accel = options.accel.to_string();
+        cost::write(path, &result.rays, args.cost_metric, &accel)?;
     }
     let report = report::Report::new(
         &scene_name,

@@ -2,6 +2,9 @@
 //! is the built-in Whitted scene, malformed files give errors that point at the right line
 //! with a useful phrase, and no mutation of a valid file makes the loader panic.
 
+mod common;
+
+use common::scratch::ScratchDir;
 use prism::geometry::ShapeHit;
 use prism::math::{Color, Vec3};
 use prism::render::{render, Film};
@@ -561,17 +564,17 @@ fn column_points_at_the_offending_value() {
     assert_eq!((line, column), (4, 10));
 }
 
-fn temp_file(name: &str, bytes: &[u8]) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("prism-scene-toml-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+/// A file in a scratch folder that lives as long as the returned guard.
+fn temp_file(name: &str, bytes: &[u8]) -> (ScratchDir, PathBuf) {
+    let dir = ScratchDir::new("scene-toml", name);
     let path = dir.join(name);
     std::fs::write(&path, bytes).expect("temp file");
-    path
+    (dir, path)
 }
 
 #[test]
 fn a_file_that_is_not_utf8_is_located() {
-    let path = temp_file("latin1.toml", b"[world]\nambient = 0.2 # caf\xe9\n");
+    let (_dir, path) = temp_file("latin1.toml", b"[world]\nambient = 0.2 # caf\xe9\n");
     match load(&path) {
         Err(LoadError::Syntax {
             line,

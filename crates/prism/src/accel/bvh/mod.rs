@@ -4,11 +4,13 @@
 
 mod build;
 mod options;
+mod pair;
 mod reinsert;
 mod traverse;
 
 use crate::accel::AccelInfo;
 use crate::math::{Aabb, Vec3};
+use pair::PairNode;
 
 pub use options::{BvhBuilder, BvhOptions};
 
@@ -70,7 +72,10 @@ impl Node {
 /// a parallel build is the serial one).
 #[derive(PartialEq)]
 pub struct Bvh {
+    /// The tree as built: binary nodes, the root at 0.
     nodes: Vec<Node>,
+    /// The same tree as traversed: both children of an interior node in one cache line.
+    pairs: Vec<PairNode>,
     /// Primitive indices (into `Geometry::primitives`) in leaf order.
     prims: Vec<u32>,
     builder: BvhBuilder,
@@ -81,6 +86,19 @@ pub struct Bvh {
 const MAX_DEPTH: usize = 64;
 
 impl Bvh {
+    /// Takes a built tree (root at 0, interior nodes' children at `first`, `first + 1`)
+    /// and derives the traversal layout.
+    fn from_tree(nodes: Vec<Node>, prims: Vec<u32>, builder: BvhBuilder, reinserted: bool) -> Bvh {
+        let pairs = PairNode::from_tree(&nodes);
+        Bvh {
+            nodes,
+            pairs,
+            prims,
+            builder,
+            reinserted,
+        }
+    }
+
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
@@ -139,7 +157,10 @@ impl Bvh {
         info
     }
 
+    /// Both layouts of the tree and the primitive list.
     pub fn memory_bytes(&self) -> usize {
-        self.nodes.len() * std::mem::size_of::<Node>() + self.prims.len() * 4
+        self.nodes.len() * std::mem::size_of::<Node>()
+            + self.pairs.len() * std::mem::size_of::<PairNode>()
+            + self.prims.len() * 4
     }
 }

@@ -64,11 +64,11 @@ impl Bvh {
         if options.reinsert {
             nodes = reinsert::optimize(nodes);
         }
-        Bvh {
+        Bvh::from_tree(
             nodes,
-            prims: order.iter().map(|&i| prims[i as usize]).collect(),
-            builder: options.builder,
-            reinserted: options.reinsert,
-        }
+            order.iter().map(|&i| prims[i as usize]).collect(),
+            options.builder,
+            options.reinsert,
+        )
     }
 }
