@@ -48,14 +48,15 @@ pub fn per_camera_ray(rays: &RayCounts, metric: CostMetric) -> Vec<f32> {
 
 pub fn write(path: &Path, rays: &RayCounts, metric: CostMetric, accel: &str) -> Result<()> {
     let values = per_camera_ray(rays, metric);
+    // Short enough to fit under a 256-pixel view.
     let what = match metric {
         CostMetric::Nodes => "NODE VISITS",
-        CostMetric::Prims => "PRIMITIVE TESTS",
+        CostMetric::Prims => "TESTS",
     };
     let mean = values.iter().map(|&v| v as f64).sum::<f64>() / values.len().max(1) as f64;
     let max = values.iter().copied().fold(0.0, f32::max);
     let caption = format!(
-        "{what} PER CAMERA RAY ({}): MEAN {mean:.1}, MAX {max:.0}",
+        "{what}/CAMERA RAY, {}: MEAN {mean:.1}, MAX {max:.0}",
         accel.to_uppercase()
     );
     let image = heatmap(&values, rays.width, rays.height, None, &caption);

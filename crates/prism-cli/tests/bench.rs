@@ -155,35 +155,33 @@ fn bad_bench_input_fails_at_once_and_writes_nothing() {
 #[test]
 fn the_cost_view_is_the_same_for_any_thread_count() {
     let dir = work_dir("cost");
-    let render = |threads: &str, metric: &str, out: &str| {
-        run(
-            &dir,
-            &[
-                "render",
-                "-b",
-                "sphereflake:2",
-                "-q",
-                "-W",
-                "24",
-                "-H",
-                "18",
-                "-o",
-                "img.png",
-                "-t",
-                threads,
-                "--cost",
-                out,
-                "--cost-metric",
-                metric,
-            ],
-            0,
-        );
+    let render = |threads: &str, metric: &str, sampler: &str, out: &str| {
+        let args = [
+            "render",
+            "-b",
+            "sphereflake:2",
+            "-q",
+            "-W",
+            "24",
+            "-H",
+            "18",
+            "-o",
+            "img.png",
+        ];
+        let mut args = args.to_vec();
+        args.extend(["-t", threads, "--cost", out, "--cost-metric", metric]);
+        args.extend(["--sampler", sampler]);
+        run(&dir, &args, 0);
         fs::read(dir.join(out)).unwrap()
     };
-    for metric in ["nodes", "prims"] {
-        let one = render("1", metric, "one.png");
-        let two = render("2", metric, "two.png");
-        assert!(one == two, "{metric}: the view depends on the thread count");
+    // Per-pixel tiles (grid) and row passes over a shared lattice (adaptive).
+    for (metric, sampler) in [("nodes", "grid"), ("prims", "grid"), ("nodes", "adaptive")] {
+        let one = render("1", metric, sampler, "one.png");
+        let two = render("2", metric, sampler, "two.png");
+        assert!(
+            one == two,
+            "{metric}, {sampler}: the view depends on the thread count"
+        );
         let image = image::load_from_memory(&one).unwrap();
         // The heat map enlarges small renders by a whole factor and adds a colour bar to the
         // right and a caption below.
@@ -194,7 +192,10 @@ fn the_cost_view_is_the_same_for_any_thread_count() {
             .flat_map(|x| (0..18 * zoom).map(move |y| (x, y)))
             .map(|(x, y)| rgb.get_pixel(x, y).0)
             .collect();
-        assert!(colours.len() > 4, "{metric}: the view is nearly flat");
+        assert!(
+            colours.len() > 4,
+            "{metric}, {sampler}: the view is nearly flat"
+        );
     }
     let (_, err) = run(
         &dir,

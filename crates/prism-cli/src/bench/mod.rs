@@ -50,13 +50,14 @@ pub struct BenchArgs {
     #[arg(long, value_name = "PIXELS")]
     pub size: Option<u32>,
 
-    /// Timed passes over the rays per method and ray kind; the median counts. Passes stop
-    /// early after 3 s [default: 5, or 1 with --quick].
+    /// Timed samples per method and ray kind, each as many passes over the rays as last
+    /// 30 ms; the median counts. Sampling stops early after 3 s [default: 5, or 1 with
+    /// --quick].
     #[arg(long, value_name = "N")]
     pub repeat: Option<usize>,
 
     /// Worker threads for building and tracing; 0 uses every core. One keeps the noise
-    /// down [default: 1].
+    /// down.
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub threads: usize,
 
@@ -194,9 +195,9 @@ pub fn run(args: &BenchArgs) -> Result<ExitCode> {
     };
     println!(
         "prism bench: {size} px (longer side), 1 camera ray per pixel plus shadow rays to each \
-         light; {threads} thread{}, median of {repeat} pass{} timed by {}",
+         light; {threads} thread{}, median of {repeat} sample{} timed by {}",
         if threads == 1 { "" } else { "s" },
-        if repeat == 1 { "" } else { "es" },
+        if repeat == 1 { "" } else { "s" },
         options.clock.describe()
     );
     println!("P = primary rays (nearest hit), S = shadow rays (any hit); nodes and tests per ray; * = fastest for P");

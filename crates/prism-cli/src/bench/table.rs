@@ -2,7 +2,34 @@
 //! primary rays (nearest hit), "S" shadow rays (any hit).
 
 use super::results::SceneResult;
+use prism::bench::RayKindResult;
 use std::fmt::Write;
+
+/// Nodes and tests per ray and Mrays/s, or dashes when a scene has no rays of the kind
+/// (no lights, so no shadow rays).
+fn kind_cells(r: &RayKindResult) -> String {
+    if r.rays == 0 {
+        return format!("{:>8} {:>8} {:>8}", "-", "-", "-");
+    }
+    format!(
+        "{:>8.1} {:>8.1} {:>8}",
+        r.node_visits_per_ray,
+        r.primitive_tests_per_ray,
+        rate(r.mrays_per_s)
+    )
+}
+
+/// Mrays/s with three significant digits down to 0.001, so that a collapsed method does
+/// not read as zero.
+fn rate(v: f64) -> String {
+    match v {
+        v if v >= 100.0 => format!("{v:.0}"),
+        v if v >= 10.0 => format!("{v:.1}"),
+        v if v >= 1.0 => format!("{v:.2}"),
+        v if v >= 0.1 => format!("{v:.3}"),
+        v => format!("{v:.4}"),
+    }
+}
 
 pub fn header() -> String {
     let mut s = String::new();
@@ -50,15 +77,11 @@ pub fn scene_block(scene: &SceneResult) -> String {
                     .map_or(String::from("-"), |v| format!("{:.2}", v));
                 let _ = write!(
                     s,
-                    " {:>9.1} {:>8.2} {:>8.1} {:>8.1} {:>8.2} {:>8.1} {:>8.1} {:>8.2} {:>8}",
+                    " {:>9.1} {:>8.2} {} {} {:>8}",
                     m.build_ms,
                     m.accel.memory_bytes as f64 / (1024.0 * 1024.0),
-                    m.primary.node_visits_per_ray,
-                    m.primary.primitive_tests_per_ray,
-                    m.primary.mrays_per_s,
-                    m.shadow.node_visits_per_ray,
-                    m.shadow.primitive_tests_per_ray,
-                    m.shadow.mrays_per_s,
+                    kind_cells(&m.primary),
+                    kind_cells(&m.shadow),
                     vs
                 );
                 if row.mismatch {
@@ -72,4 +95,18 @@ pub fn scene_block(scene: &SceneResult) -> String {
         s.push('\n');
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rate;
+
+    #[test]
+    fn rates_keep_three_digits_down_to_a_thousandth() {
+        assert_eq!(rate(115.04), "115");
+        assert_eq!(rate(23.96), "24.0");
+        assert_eq!(rate(1.594), "1.59");
+        assert_eq!(rate(0.2345), "0.234");
+        assert_eq!(rate(0.00123), "0.0012");
+    }
 }
