@@ -11,8 +11,8 @@ mod common;
 
 use common::{icosphere, lattice_cube, rotate, trace_ray, Rng};
 use prism::accel::{
-    Accel, AccelKind, BruteForce, Bvh, BvhBuilder, BvhOptions, Grid, GridOptions, Hit, KdTree,
-    KdTreeOptions, Octree, OctreeOptions, SceneIntersector,
+    Accel, AccelKind, AccelSpec, BruteForce, Bvh, BvhBuilder, BvhOptions, Grid, GridOptions, Hit,
+    KdTree, KdTreeOptions, Octree, OctreeOptions, SceneIntersector,
 };
 use prism::geometry::{generate, AaBox, Cone, Geometry, Plane, Shape, Sphere, TriangleMesh};
 use prism::math::{Aabb, Ray, TraceRay, Vec3};
@@ -609,8 +609,8 @@ fn built_in_scenes_render_identically_with_every_accelerator() {
             samples: 1,
             ..scene.options.clone()
         };
-        let image = |kind: AccelKind| {
-            let prepared = scene.prepare(&kind.into());
+        let image = |spec: AccelSpec| {
+            let prepared = scene.prepare(&spec);
             let r = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
             r.film
                 .pixels
@@ -618,12 +618,21 @@ fn built_in_scenes_render_identically_with_every_accelerator() {
                 .flat_map(|c| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()])
                 .collect::<Vec<u32>>()
         };
-        let reference = image(AccelKind::BruteForce);
-        for kind in &AccelKind::ALL[1..] {
+        let reference = image(AccelKind::BruteForce.into());
+        let mut specs: Vec<AccelSpec> = AccelKind::ALL[1..].iter().map(|&k| k.into()).collect();
+        for builder in BvhBuilder::ALL {
+            for reinsert in [false, true] {
+                specs.push(AccelSpec::Bvh(BvhOptions {
+                    builder,
+                    reinsert,
+                    ..BvhOptions::default()
+                }));
+            }
+        }
+        for spec in specs {
             assert!(
-                image(*kind) == reference,
-                "{name}: image with {} differs from brute force",
-                kind.name()
+                image(spec.clone()) == reference,
+                "{name}: image with {spec} differs from brute force"
             );
         }
     }
