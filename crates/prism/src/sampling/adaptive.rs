@@ -45,10 +45,6 @@ const TEXTURE_SEED_SALT: u64 = 0xA5A5_7E27_0000_0001;
 /// Largest accepted `texture_n`: 32×32 samples per textured pixel.
 pub const MAX_TEXTURE_N: u32 = 32;
 
-/// Colour changes between adjacent corners of a 4×4 block that a straight edge can cause at
-/// most: it crosses each of the four rows and four columns once.
-const STRAIGHT_EDGE_CHANGES: usize = 8;
-
 /// When a pixel splits.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -223,7 +219,15 @@ impl Refinement {
                 right as usize + down as usize
             })
             .sum::<usize>();
-        (busy, changes > STRAIGHT_EDGE_CHANGES)
+        // A straight edge crosses each row and each column of the block at most once, so it
+        // changes colour at most once per row and column (8 inside the image, fewer along
+        // its borders, where the block is cut).
+        let line =
+            |a: usize, step: usize| (0..4).filter(|&k| block[a + k * step].is_some()).count();
+        let straight_edge_changes = (0..4)
+            .map(|i| (line(i * 4, 1) >= 2) as usize + (line(i, 4) >= 2) as usize)
+            .sum::<usize>();
+        (busy, changes > straight_edge_changes)
     }
 }
 
