@@ -206,10 +206,13 @@ impl Refinement {
                 }
             }
         }
-        let present: Vec<Color> = block.iter().flatten().copied().collect();
-        let busy = spread(&present) > self.threshold;
+        // Encoded once: the 24 comparisons below would otherwise encode each colour up to
+        // four times, and the encoding (a power) dominates the sampler's own cost.
+        let block = block.map(|c| c.map(encode));
+        let present: Vec<[f32; 3]> = block.iter().flatten().copied().collect();
+        let busy = spread_encoded(&present) > self.threshold;
         let differ = |i: usize, j: usize| match (block[i], block[j]) {
-            (Some(a), Some(b)) => spread(&[a, b]) > self.threshold,
+            (Some(a), Some(b)) => spread_encoded(&[a, b]) > self.threshold,
             _ => false,
         };
         let changes = (0..16)
@@ -307,16 +310,26 @@ impl Square {
 
 /// The largest per-channel spread of any set of colours, in display-encoded units.
 pub fn spread(colours: &[Color]) -> f32 {
+    let encoded: Vec<[f32; 3]> = colours.iter().map(|&c| encode(c)).collect();
+    spread_encoded(&encoded)
+}
+
+/// `spread` of colours already display-encoded.
+fn spread_encoded(colours: &[[f32; 3]]) -> f32 {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
     for c in colours {
-        for (k, v) in c.to_array().into_iter().enumerate() {
-            let e = display(v);
+        for (k, &e) in c.iter().enumerate() {
             lo[k] = lo[k].min(e);
             hi[k] = hi[k].max(e);
         }
     }
     (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max)
+}
+
+/// A colour's channels display-encoded.
+fn encode(c: Color) -> [f32; 3] {
+    c.to_array().map(display)
 }
 
 /// The largest per-channel spread of the corners, in display-encoded units.
