@@ -140,6 +140,11 @@ pub struct RenderArgs {
     #[arg(long, value_name = "X")]
     pub adaptive_jitter: Option<f32>,
 
+    /// Adaptive sampling: samples (a square number) that a textured pixel takes in a
+    /// stratified pass instead of being subdivided; 0 subdivides it [default: 25].
+    #[arg(long, value_name = "N")]
+    pub adaptive_texture_spp: Option<u32>,
+
     /// Adaptive depth control: stop a reflected or refracted branch whose weight in the
     /// pixel is below this; 0 traces every branch to the depth limit [default: 1/255].
     #[arg(long, value_name = "W")]
@@ -169,7 +174,7 @@ pub struct RenderArgs {
     pub preset: Option<Preset>,
 
     /// Also write the sample-density view: rays per pixel as a heat map with a colour
-    /// bar (PNG).
+    /// bar (PNG), or the raw counts as grey values (PFM or EXR).
     #[arg(long, value_name = "FILE")]
     pub density: Option<PathBuf>,
 
@@ -246,7 +251,8 @@ impl RenderArgs {
                 "the {} sampler chooses its own sample count; leave out --spp and --samples{}",
                 o.sampler,
                 if o.sampler == SamplerKind::Adaptive {
-                    " (--adaptive-depth and --adaptive-threshold set its effort)"
+                    " (--adaptive-depth, --adaptive-threshold and --adaptive-texture-spp set \
+                     its effort)"
                 } else {
                     ""
                 }
@@ -269,6 +275,9 @@ impl RenderArgs {
         }
         if let Some(v) = self.adaptive_jitter {
             o.adaptive_jitter = v;
+        }
+        if let Some(v) = self.adaptive_texture_spp {
+            o.adaptive_texture_spp = v;
         }
         if let Some(v) = self.min_weight {
             o.min_weight = v;

@@ -1,6 +1,7 @@
 //! `prism patterns`: a picture of every sampling pattern's points over a few pixels (SVG),
-//! drawn with the library's own patterns. The adaptive panel refines the edge of a disk
-//! (white inside, black outside) with the library's refinement rule.
+//! drawn with the library's own patterns. The adaptive panels refine the edge of a disk
+//! (white inside, black outside) and a checker finer than the pixels (which takes the
+//! stratified pass) with the library's refinement rule.
 
 use crate::args::per_axis;
 use crate::plot::escape;
@@ -46,6 +47,8 @@ struct Panel {
     points: Vec<(Vec2, bool)>,
     /// A circle to outline (centre, radius), for the adaptive panel.
     circle: Option<(Vec2, f32)>,
+    /// Checker squares to shade (side in pixels), for the textured adaptive panel.
+    checker: Option<f32>,
 }
 
 pub fn run(args: &PatternsArgs) -> Result<ExitCode> {
@@ -62,6 +65,14 @@ pub fn run(args: &PatternsArgs) -> Result<ExitCode> {
         &PixelPattern::Relaxed(tile),
     );
     wide.lines.clear();
+    let options = prism::RenderOptions {
+        sampler: SamplerKind::Adaptive,
+        seed: args.seed,
+        ..Default::default()
+    };
+    if let Sampler::Adaptive(rule) = Sampler::new(&options) {
+        panels.push(adaptive_panel(rule, Motif::Checker(CHECKER)));
+    }
     panels.push(wide);
 
     let cols = 4;
@@ -118,9 +129,10 @@ fn panel(kind: SamplerKind, n: u32, seed: u64) -> Panel {
                 lines: Vec::new(),
                 points,
                 circle: None,
+                checker: None,
             }
         }
-        Sampler::Adaptive(rule) => adaptive_panel(rule),
+        Sampler::Adaptive(rule) => adaptive_panel(rule, Motif::Disk(DISK.0, DISK.1)),
     }
 }
 
@@ -156,23 +168,50 @@ fn pixel_panel(title: String, pixels: u32, pattern: &PixelPattern) -> Panel {
         lines,
         points,
         circle: None,
+        checker: None,
     }
 }
 
-/// Adaptive refinement of a disk's edge: the points traced (each once) and the squares.
-fn adaptive_panel(rule: Refinement) -> Panel {
-    let (centre, radius) = (Vec2::new(-0.4, 3.3), 2.9f32);
+/// The disk of the adaptive panel (centre, radius) and the side of the textured panel's
+/// checker squares, in pixels.
+const DISK: (Vec2, f32) = (Vec2::new(-0.4, 3.3), 2.9);
+const CHECKER: f32 = 0.3;
+
+/// What the adaptive panels refine: white inside, black outside.
+#[derive(Clone, Copy)]
+enum Motif {
+    Disk(Vec2, f32),
+    Checker(f32),
+}
+
+impl Motif {
+    fn white(self, p: Vec2) -> bool {
+        match self {
+            Motif::Disk(centre, radius) => p.distance(centre) < radius,
+            Motif::Checker(side) => {
+                let q = p / side;
+                (q.x.floor() + q.y.floor()).rem_euclid(2.0) < 1.0
+            }
+        }
+    }
+}
+
+/// Adaptive refinement of a motif: the points traced (each once), the squares, and the
+/// stratified pass's points in textured pixels.
+fn adaptive_panel(rule: Refinement, motif: Motif) -> Panel {
     let steps = rule.steps();
     let lookup = |x: u32, y: u32| {
         let (fx, fy) = rule.position(x, y);
         let p = Vec2::new(fx, fy) / steps as f32;
-        Some(if p.distance(centre) < radius {
+        Some(if motif.white(p) {
             Color::ONE
         } else {
             Color::ZERO
         })
     };
     let mut keys = std::collections::BTreeSet::new();
+    let mut stratified = Vec::new();
+    let mut offsets = Vec::new();
     let mut lines = Vec::new();
     for py in 0..PIXELS {
         for px in 0..PIXELS {
@@ -184,6 +223,15 @@ fn adaptive_panel(rule: Refinement) -> Panel {
                     for c in sq.corners() {
                         keys.insert(c);
                     }
+                    if matches!(v, Visit::Stratified(_)) {
+                        offsets.clear();
+                        rule.texture_offsets(px, py, &mut offsets);
+                        stratified.extend(
+                            offsets
+                                .iter()
+                                .map(|o| (Vec2::new(px as f32 + o.x, py as f32 + o.y), false)),
+                        );
+                    }
                     if matches!(v, Visit::Split) {
                         let s = steps as f32;
                         let (x, y, h) = (sq.x as f32 / s, sq.y as f32 / s, sq.size as f32 / s);
@@ -194,7 +242,7 @@ fn adaptive_panel(rule: Refinement) -> Panel {
             );
         }
     }
-    let points: Vec<(Vec2, bool)> = keys
+    let mut points: Vec<(Vec2, bool)> = keys
         .iter()
         .map(|&(x, y)| {
             let on_border = x % steps == 0 || y % steps == 0;
@@ -202,17 +250,29 @@ fn adaptive_panel(rule: Refinement) -> Panel {
             (Vec2::new(fx, fy) / steps as f32, on_border)
         })
         .collect();
-    Panel {
-        title: format!(
-            "adaptive: {} rays (t {}, depth {})",
-            points.len(),
-            rule.threshold,
-            rule.depth
+    points.extend(stratified);
+    let (title, circle, checker) = match motif {
+        Motif::Disk(c, r) => (
+            format!("adaptive: {} rays, depth {}", points.len(), rule.depth),
+            Some((c, r)),
+            None,
         ),
+        Motif::Checker(side) => (
+            format!(
+                "adaptive, texture: {} per pixel",
+                rule.texture_n * rule.texture_n
+            ),
+            None,
+            Some(side),
+        ),
+    };
+    Panel {
+        title,
         pixels: PIXELS,
         lines,
         points,
-        circle: Some((centre, radius)),
+        circle,
+        checker,
     }
 }
 
@@ -233,6 +293,26 @@ fn draw(s: &mut String, p: &Panel, x0: f64, y0: f64) {
             r##"<clipPath id="clip{x0}{y0}"><rect x="{x0}" y="{y0}" width="{PANEL}" height="{PANEL}"/></clipPath><circle cx="{cx:.1}" cy="{cy:.1}" r="{:.1}" fill="#fde9c8" stroke="#e69f00" clip-path="url(#clip{x0}{y0})"/>"##,
             r as f64 * unit
         );
+    }
+    if let Some(side) = p.checker {
+        // The white squares of the motif, cut at the panel's edge.
+        let end = p.pixels as f32;
+        let squares = (end / side).ceil() as u32;
+        for j in 0..squares {
+            for i in 0..squares {
+                if (i + j) % 2 == 1 {
+                    continue;
+                }
+                let lo = Vec2::new(i as f32, j as f32) * side;
+                let hi = (lo + side).min(Vec2::splat(end));
+                let (x, y) = at(lo);
+                let (w, h) = ((hi - lo).as_dvec2() * unit).into();
+                let _ = writeln!(
+                    s,
+                    r##"<rect x="{x:.1}" y="{y:.1}" width="{w:.2}" height="{h:.2}" fill="#fde9c8"/>"##
+                );
+            }
+        }
     }
     for &(a, b) in &p.lines {
         let ((xa, ya), (xb, yb)) = (at(a), at(b));

@@ -59,6 +59,7 @@ impl Report {
             },
             "sampling": options.sampling_summary(),
             "adaptive_splits": s.adaptive_splits,
+            "adaptive_stratified_pixels": s.adaptive_stratified,
             "total_internal_reflections": s.total_internal_reflections,
             "primitive_tests": s.primitive_tests,
             "primitive_tests_by_kind": ShapeKind::ALL
@@ -113,6 +114,12 @@ impl Report {
         );
         if s.adaptive_splits > 0 {
             println!("{:<18} {:>14}", "adaptive splits", s.adaptive_splits);
+        }
+        if s.adaptive_stratified > 0 {
+            println!(
+                "{:<18} {:>14}   (textured pixels given the stratified pass)",
+                "stratified pixels", s.adaptive_stratified
+            );
         }
         println!("{:<18} {:>14}", "TIR events", s.total_internal_reflections);
         println!(

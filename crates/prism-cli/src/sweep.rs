@@ -75,8 +75,10 @@ pub struct SweepArgs {
     )]
     pub adaptive_thresholds: Vec<f32>,
 
-    /// Adaptive variants to render, comma-separated RULE:JITTER pairs, e.g.
-    /// `neighbourhood:1,corners:0` (the default adaptive sampler and POV-Ray's +AM2).
+    /// Adaptive variants to render, comma-separated RULE:JITTER[:TEXTURE_SPP], e.g.
+    /// `neighbourhood:1,corners:0` (the default adaptive sampler and POV-Ray's +AM2);
+    /// TEXTURE_SPP is the stratified pass's samples (0: subdivide textured pixels too)
+    /// [default: the default sampler's].
     #[arg(
         long,
         value_name = "LIST",
@@ -115,27 +117,48 @@ pub struct SweepArgs {
     pub quiet: bool,
 }
 
-/// An adaptive rule with a jitter amount.
+/// An adaptive rule with a jitter amount and a stratified pass.
 #[derive(Clone, Copy, Debug)]
 pub struct Variant {
     rule: AdaptiveRule,
     jitter: f32,
+    texture_spp: u32,
 }
 
 impl std::str::FromStr for Variant {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        let (rule, jitter) = s
-            .split_once(':')
-            .ok_or_else(|| format!("expected RULE:JITTER such as corners:0, got '{s}'"))?;
+        let mut parts = s.split(':');
+        let (Some(rule), Some(jitter)) = (parts.next(), parts.next()) else {
+            return Err(format!(
+                "expected RULE:JITTER[:TEXTURE_SPP] such as corners:0, got '{s}'"
+            ));
+        };
         let jitter: f32 = jitter
             .parse()
             .ok()
             .filter(|j| (0.0..=1.0).contains(j))
             .ok_or_else(|| format!("the jitter in '{s}' must be a number from 0 to 1"))?;
+        let texture_spp = match parts.next() {
+            None => prism::options::DEFAULT_ADAPTIVE_TEXTURE_SPP,
+            Some(t) => t
+                .parse()
+                .ok()
+                .filter(|&n: &u32| {
+                    let r = prism::sampling::floor_sqrt(n);
+                    r * r == n && r <= prism::sampling::adaptive::MAX_TEXTURE_N
+                })
+                .ok_or_else(|| {
+                    format!("the texture spp in '{s}' must be 0 or a square number up to 1024")
+                })?,
+        };
+        if parts.next().is_some() {
+            return Err(format!("expected at most three parts, got '{s}'"));
+        }
         Ok(Variant {
             rule: rule.parse()?,
             jitter,
+            texture_spp,
         })
     }
 }
@@ -150,6 +173,7 @@ struct Run {
     depth: u32,
     rule: AdaptiveRule,
     jitter: f32,
+    texture_spp: u32,
     /// Name the rule and jitter in labels (several were asked for).
     variant: bool,
 }
@@ -158,7 +182,7 @@ impl Run {
     /// The adaptive variant, when the sweep has several.
     fn variant(&self) -> String {
         if self.variant {
-            format!(" {} j{}", self.rule, self.jitter)
+            format!(" {} j{} s{}", self.rule, self.jitter, self.texture_spp)
         } else {
             String::new()
         }
@@ -278,6 +302,7 @@ pub fn run(args: &SweepArgs) -> Result<ExitCode> {
             adaptive_depth: run.depth,
             adaptive_rule: run.rule,
             adaptive_jitter: run.jitter,
+            adaptive_texture_spp: run.texture_spp,
             ..base.clone()
         };
         let start = Instant::now();
@@ -364,32 +389,37 @@ fn plan(args: &SweepArgs) -> Result<Vec<Run>> {
     let variant = args.adaptive_variants.len() > 1;
     let mut runs = Vec::new();
     for &sampler in &args.samplers {
-        let run = |spp, threshold, depth, rule, jitter| Run {
+        let run = |spp, threshold, depth, v: Variant| Run {
             sampler,
             spp,
             threshold,
             depth,
-            rule,
-            jitter,
+            rule: v.rule,
+            jitter: v.jitter,
+            texture_spp: v.texture_spp,
             variant,
         };
-        let (rule, jitter) = (AdaptiveRule::default(), 0.0);
+        let none = Variant {
+            rule: AdaptiveRule::default(),
+            jitter: 0.0,
+            texture_spp: 0,
+        };
         match sampler {
             SamplerKind::Adaptive => {
                 for v in &args.adaptive_variants {
                     for &t in &args.adaptive_thresholds {
                         for &d in &args.adaptive_depths {
-                            runs.push(run(0, t, d, v.rule, v.jitter));
+                            runs.push(run(0, t, d, *v));
                         }
                     }
                 }
             }
             k if k.uses_sample_count() => {
                 for &spp in &args.spp {
-                    runs.push(run(spp, 0.0, 0, rule, jitter));
+                    runs.push(run(spp, 0.0, 0, none));
                 }
             }
-            _ => runs.push(run(0, 0.0, 0, rule, jitter)),
+            _ => runs.push(run(0, 0.0, 0, none)),
         }
     }
     if runs.is_empty() {
@@ -408,7 +438,7 @@ fn render_film(
 
 fn write_csv(path: &Path, scene: &str, results: &[Measured]) -> Result<()> {
     let mut s = String::from(
-        "scene,sampler,label,spp,threshold,depth,rule,jitter,camera_rays_per_pixel,rays_per_pixel,\
+        "scene,sampler,label,spp,threshold,depth,rule,jitter,texture_spp,camera_rays_per_pixel,rays_per_pixel,\
          rmse,psnr,ssim,flip,far_rays_per_pixel,far_rmse,far_ssim,far_flip,seconds\n",
     );
     for m in results {
@@ -420,7 +450,7 @@ fn write_csv(path: &Path, scene: &str, results: &[Measured]) -> Result<()> {
         };
         let _ = writeln!(
             s,
-            "{scene},{},{},{},{},{},{},{},{:.4},{:.4},{:.6},{:.3},{:.5},{:.5},{},{},{},{},{:.3}",
+            "{scene},{},{},{},{},{},{},{},{},{:.4},{:.4},{:.6},{:.3},{:.5},{:.5},{},{},{},{},{:.3}",
             m.run.sampler,
             m.run.label(),
             m.run.spp,
@@ -428,6 +458,7 @@ fn write_csv(path: &Path, scene: &str, results: &[Measured]) -> Result<()> {
             m.run.depth,
             m.run.rule,
             m.run.jitter,
+            m.run.texture_spp,
             m.camera_per_pixel,
             m.rays_per_pixel,
             m.all.rmse,

@@ -124,11 +124,30 @@ fn the_density_view_is_a_png_with_a_colour_bar() {
     // A wrong format fails before rendering: no image is written.
     let (_, err) = run(
         &dir,
-        &render_args(&["-o", "b.png", "--density", "d.exr"]),
+        &render_args(&["-o", "b.png", "--density", "d.jpg"]),
         1,
     );
     assert!(err.contains("written as PNG"), "{err}");
     assert!(!dir.join("b.png").exists());
+    // PFM keeps the raw counts: the corners pattern's (21·15 + 20·14) camera rays.
+    run(
+        &dir,
+        &render_args(&[
+            "--sampler",
+            "corners",
+            "-o",
+            "c.png",
+            "--density",
+            "c.pfm",
+            "--density-rays",
+            "camera",
+        ]),
+        0,
+    );
+    let counts = prism::output::read_image(&dir.join("c.pfm")).unwrap();
+    assert_eq!((counts.width, counts.height), (20, 14));
+    let sum: f32 = counts.pixels.iter().map(|c| c.x).sum();
+    assert_eq!(sum, (21 * 15 + 20 * 14) as f32);
 }
 
 #[test]

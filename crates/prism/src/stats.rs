@@ -24,6 +24,8 @@ pub struct Stats {
     pub pruned_rays: u64,
     /// Squares split by adaptive sampling.
     pub adaptive_splits: u64,
+    /// Textured pixels that adaptive sampling gave the stratified pass.
+    pub adaptive_stratified: u64,
     /// Refractions that turned into reflection because sin²θt > 1.
     pub total_internal_reflections: u64,
     /// Ray–primitive intersection tests.
@@ -64,6 +66,7 @@ impl AddAssign for Stats {
         self.refracted_rays += o.refracted_rays;
         self.pruned_rays += o.pruned_rays;
         self.adaptive_splits += o.adaptive_splits;
+        self.adaptive_stratified += o.adaptive_stratified;
         self.total_internal_reflections += o.total_internal_reflections;
         self.primitive_tests += o.primitive_tests;
         self.node_visits += o.node_visits;

@@ -94,8 +94,10 @@ fn corners_are_shared_so_a_pixel_costs_about_two_camera_rays() {
 }
 
 /// Adaptive sampling replayed independently: every pixel's quadtree walked in full, with a
-/// cache that traces a lattice point the first time any pixel asks for it.
-fn replay_adaptive(scene: &Scene, options: &RenderOptions) -> (usize, u64, usize) {
+/// cache that traces a lattice point the first time any pixel asks for it. Returns the
+/// lattice points traced, the splits, the points the pixels would trace without sharing,
+/// and the pixels that took the stratified pass.
+fn replay_adaptive(scene: &Scene, options: &RenderOptions) -> (usize, u64, usize, u64) {
     let Sampler::Adaptive(rule) = Sampler::new(options) else {
         panic!("adaptive options")
     };
@@ -117,7 +119,7 @@ fn replay_adaptive(scene: &Scene, options: &RenderOptions) -> (usize, u64, usize
             integrator.trace_camera_ray(&ray, &mut stats.borrow_mut())
         }))
     };
-    let (mut splits, mut unshared) = (0u64, 0usize);
+    let (mut splits, mut unshared, mut stratified) = (0u64, 0usize, 0u64);
     for py in 0..options.height {
         for px in 0..options.width {
             let mut own = HashSet::new();
@@ -127,8 +129,10 @@ fn replay_adaptive(scene: &Scene, options: &RenderOptions) -> (usize, u64, usize
                 &lookup,
                 &mut |sq, v| {
                     own.extend(sq.corners());
-                    if v == Visit::Split {
-                        splits += 1;
+                    match v {
+                        Visit::Split => splits += 1,
+                        Visit::Stratified(_) => stratified += 1,
+                        _ => {}
                     }
                 },
             );
@@ -136,21 +140,36 @@ fn replay_adaptive(scene: &Scene, options: &RenderOptions) -> (usize, u64, usize
         }
     }
     let traced = cache.borrow().len();
-    (traced, splits, unshared)
+    (traced, splits, unshared, stratified)
 }
 
 #[test]
 fn adaptive_sampling_traces_each_lattice_point_once() {
-    for (name, w, h, depth) in [("whitted", 30, 22, 2), ("checkerboard", 32, 18, 3)] {
+    for (name, w, h, depth, texture_spp) in [
+        ("whitted", 30, 22, 2, 25),
+        ("checkerboard", 32, 18, 3, 25),
+        ("checkerboard", 32, 18, 3, 0),
+    ] {
         let scene = builtin::find(name).unwrap();
         let options = RenderOptions {
             sampler: SamplerKind::Adaptive,
             adaptive_depth: depth,
+            adaptive_texture_spp: texture_spp,
             ..small(&scene, w, h)
         };
         let r = run(&scene, &options);
-        let (traced, splits, unshared) = replay_adaptive(&scene, &options);
-        assert_eq!(r.stats.primary_rays, traced as u64, "{name}: camera rays");
+        let (traced, splits, unshared, stratified) = replay_adaptive(&scene, &options);
+        let name = format!("{name}, texture spp {texture_spp}");
+        // Stratified samples belong to one pixel: texture_spp each, on top of the lattice.
+        assert_eq!(r.stats.adaptive_stratified, stratified, "{name}: textured");
+        assert_eq!(
+            r.stats.primary_rays,
+            traced as u64 + stratified * texture_spp as u64,
+            "{name}: camera rays"
+        );
+        if name.starts_with("checkerboard") {
+            assert_eq!(stratified > 0, texture_spp > 0, "{name}: the far field");
+        }
         assert_eq!(r.stats.adaptive_splits, splits, "{name}: splits");
         assert!(splits > 0, "{name}: something was refined");
         let corners = ((w + 1) * (h + 1)) as u64;
@@ -160,9 +179,8 @@ fn adaptive_sampling_traces_each_lattice_point_once() {
         );
         // Without sharing, every pixel would trace its own corners and edge points.
         assert!(
-            (unshared as u64) > r.stats.primary_rays + corners,
-            "{name}: sharing saves rays ({unshared} unshared, {} traced)",
-            r.stats.primary_rays
+            unshared > traced + corners as usize,
+            "{name}: sharing saves rays ({unshared} unshared, {traced} traced)"
         );
     }
 }
@@ -211,6 +229,30 @@ fn every_sampler_and_filter_is_bit_identical_for_any_threads_and_tiles() {
                     "{sampler} / {filter}: rays per pixel"
                 );
             }
+        }
+    }
+}
+
+#[test]
+fn the_stratified_pass_is_bit_identical_for_any_threads_and_tiles() {
+    // The checkerboard's far field is textured: its pixels take the stratified pass.
+    let scene = builtin::find("checkerboard").unwrap();
+    for filter in [FilterKind::Box, FilterKind::Mitchell] {
+        let options = |threads, tile_size| RenderOptions {
+            sampler: SamplerKind::Adaptive,
+            filter,
+            threads,
+            tile_size,
+            seed: 4,
+            ..small(&scene, 48, 27)
+        };
+        let reference = run(&scene, &options(1, 16));
+        assert!(reference.stats.adaptive_stratified > 0);
+        for (threads, tile) in [(2, 7), (2, 1)] {
+            let r = run(&scene, &options(threads, tile));
+            assert!(bits(&r) == bits(&reference), "{filter}: image");
+            assert_eq!(r.stats, reference.stats, "{filter}: statistics");
+            assert_eq!(r.rays, reference.rays, "{filter}: rays per pixel");
         }
     }
 }

@@ -139,6 +139,12 @@ const MALFORMED: &[(&str, &str, usize, &str)] = &[
         "adaptive_depth must be between 0 and 6",
     ),
     (
+        "adaptive texture spp not a square",
+        "\n[render]\nadaptive_texture_spp = 8\n",
+        2,
+        "adaptive_texture_spp must be 0 or a square number up to 1024, got 8",
+    ),
+    (
         "adaptive rule",
         "[render]\nadaptive_rule = \"edges\"\n",
         2,
@@ -522,7 +528,7 @@ fn sampling_keys_fill_the_render_options() {
     let scene = parse(
         "[render]\nsampler = \"adaptive\"\nfilter = \"gaussian\"\nfilter_radius = 2\n\
          adaptive_threshold = 0.2\nadaptive_depth = 2\nadaptive_rule = \"corners\"\n\
-         adaptive_jitter = 0\nmin_weight = 0.01\n",
+         adaptive_jitter = 0\nadaptive_texture_spp = 9\nmin_weight = 0.01\n",
     )
     .unwrap_or_else(|e| panic!("{e}"));
     let o = &scene.options;
@@ -532,6 +538,7 @@ fn sampling_keys_fill_the_render_options() {
     assert_eq!((o.adaptive_threshold, o.adaptive_depth), (0.2, 2));
     assert_eq!(o.adaptive_rule, prism::sampling::AdaptiveRule::Corners);
     assert_eq!((o.adaptive_jitter, o.min_weight), (0.0, 0.01));
+    assert_eq!(o.adaptive_texture_spp, 9);
     // Left out, the defaults: the grid, the box, adaptive depth control at 1/255.
     let plain = parse("[render]\nwidth = 8\n").unwrap();
     assert_eq!(plain.options.sampler, prism::sampling::SamplerKind::Grid);

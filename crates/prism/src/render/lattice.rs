@@ -7,8 +7,9 @@
 //! The work runs in passes over pixel rows, each pass reading only what earlier passes
 //! stored: the corners; then, per level, the points of the squares that split at that
 //! level (a pixel also traces the midpoints on its left and top edges when the neighbour
-//! across the edge splits there); then the reconstruction, which splats each pixel's
-//! samples through the filter.
+//! across the edge splits there; a textured pixel traces its stratified samples, which
+//! are its own, in the first of these passes); then the reconstruction, which splats each
+//! pixel's samples through the filter.
 
 use super::rays::PixelRays;
 use super::splat::{FilmSums, SplatBuffer};
@@ -36,6 +37,8 @@ struct Lattice {
     corners: Vec<Option<Color>>,
     /// Per pixel, its finer points sorted by local key.
     points: Vec<PixelPoints>,
+    /// Per pixel, the colours of its stratified samples in sample order (textured pixels).
+    stratified: Vec<Vec<Color>>,
 }
 
 impl Lattice {
@@ -46,6 +49,7 @@ impl Lattice {
             steps,
             corners: vec![None; (width as usize + 1) * (height as usize + 1)],
             points: vec![Vec::new(); width as usize * height as usize],
+            stratified: vec![Vec::new(); width as usize * height as usize],
         }
     }
 
@@ -90,6 +94,9 @@ impl Lattice {
 
 /// The points one pixel traced in a pass: (local key, colour).
 type PixelPoints = Vec<(u32, Color)>;
+
+/// What one pixel traced in a refinement pass: lattice points and stratified samples.
+type PixelRefinement = (PixelPoints, Vec<Color>);
 
 /// One row's output of a tracing pass.
 struct RowTrace<T> {
@@ -142,20 +149,34 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Traced {
     let steps = rule.steps();
     let film = reconstruct(job, |buffer, x, y| {
         let lookup = |lx: u32, ly: u32| lattice.lookup(lx, ly);
+        let stratified = &lattice.stratified[(y * job.width + x) as usize];
+        let mut offsets = Vec::new();
         rule.walk(
             Square::pixel(x, y, steps),
             rule.depth,
             &lookup,
             &mut |sq, visit| {
-                // A square that does not split (or whose split was never traced) is worth
-                // the mean of its corners over its area.
-                if let Visit::Leaf(c) | Visit::Frontier(c) = visit {
-                    let mean = (c[0] + c[1] + c[2] + c[3]) * 0.25;
-                    let half = sq.size as f32 * 0.5;
-                    let o = lattice.offset(sq.x as f32 + half, sq.y as f32 + half, x, y);
-                    let side = sq.size as f32 / steps as f32;
-                    buffer.add(&job.filter, x, y, o, side * side, mean);
-                }
+                let c = match visit {
+                    Visit::Stratified(_) if !stratified.is_empty() => {
+                        // Each sample stands for its stratum: an equal share of the pixel.
+                        offsets.clear();
+                        rule.texture_offsets(x, y, &mut offsets);
+                        let weight = 1.0 / stratified.len() as f32;
+                        for (&o, &c) in offsets.iter().zip(stratified) {
+                            buffer.add(&job.filter, x, y, o, weight, c);
+                        }
+                        return;
+                    }
+                    Visit::Leaf(c) | Visit::Frontier(c) | Visit::Stratified(c) => c,
+                    Visit::Split | Visit::Missing => return,
+                };
+                // A square that does not split (or whose split or stratified pass was never
+                // traced) is worth the mean of its corners over its area.
+                let mean = (c[0] + c[1] + c[2] + c[3]) * 0.25;
+                let half = sq.size as f32 * 0.5;
+                let o = lattice.offset(sq.x as f32 + half, sq.y as f32 + half, x, y);
+                let side = sq.size as f32 / steps as f32;
+                buffer.add(&job.filter, x, y, o, side * side, mean);
             },
         );
     });
@@ -260,8 +281,8 @@ fn trace_centres(job: &Job, centres: &mut [Option<Color>], out: &mut Traced) {
     }
 }
 
-/// One refinement pass: traces the new points of every square that splits at `level`;
-/// false if cancelled.
+/// One refinement pass: traces the new points of every square that splits at `level`
+/// and, in the first pass, the samples of every textured pixel; false if cancelled.
 fn refine(
     job: &Job,
     rule: &Refinement,
@@ -272,7 +293,7 @@ fn refine(
     let (w, steps) = (job.width, lattice.steps);
     let shared = &*lattice;
     let lookup = |x: u32, y: u32| shared.lookup(x, y);
-    let rows: Vec<Option<RowTrace<Vec<PixelPoints>>>> = (0..job.height)
+    let rows: Vec<Option<RowTrace<Vec<PixelRefinement>>>> = (0..job.height)
         .into_par_iter()
         .map(|y| {
             if job.cancelled() {
@@ -282,14 +303,17 @@ fn refine(
             let mut values = Vec::with_capacity(w as usize);
             let mut rays = Vec::with_capacity(w as usize);
             let mut wanted: Vec<(u32, u32)> = Vec::new();
+            let mut offsets: Vec<Vec2> = Vec::new();
             for x in 0..w {
                 wanted.clear();
                 let mut splits = 0u64;
+                let mut textured = false;
                 rule.walk(Square::pixel(x, y, steps), level, &lookup, &mut |sq, v| {
                     if matches!(v, Visit::Frontier(_)) && sq.level == level {
                         splits += 1;
                         wanted.extend(sq.new_points());
                     }
+                    textured |= matches!(v, Visit::Stratified(_));
                 });
                 stats.adaptive_splits += splits;
                 // Midpoints on this pixel's left and top edges are its own; the neighbour
@@ -337,7 +361,16 @@ fn refine(
                         (shared.local_key(px, py, (x, y)), c)
                     })
                     .collect();
-                values.push(traced);
+                offsets.clear();
+                if textured && level == 0 {
+                    stats.adaptive_stratified += 1;
+                    rule.texture_offsets(x, y, &mut offsets);
+                }
+                let samples: Vec<Color> = offsets
+                    .iter()
+                    .map(|o| job.trace(x as f32 + o.x, y as f32 + o.y, &mut stats))
+                    .collect();
+                values.push((traced, samples));
                 rays.push(PixelRays::between(&before, &stats));
             }
             (job.on_tile)(TileDone {
@@ -357,11 +390,15 @@ fn refine(
             complete = false;
             continue;
         };
-        for (x, new) in row.values.into_iter().enumerate() {
+        for (x, (new, samples)) in row.values.into_iter().enumerate() {
+            let i = y * w as usize + x;
             if !new.is_empty() {
-                let list = &mut lattice.points[y * w as usize + x];
+                let list = &mut lattice.points[i];
                 list.extend(new);
                 list.sort_unstable_by_key(|&(k, _)| k);
+            }
+            if !samples.is_empty() {
+                lattice.stratified[i] = samples;
             }
         }
         out.add_row(y as u32, row.stats, &row.rays);

@@ -19,10 +19,16 @@
 //! - the neighbourhood rule: a pixel splits when any of the 16 corners around it (its own
 //!   and its eight neighbours') differ, and a pixel whose 4×4 corners change colour more
 //!   often than any single straight edge can make them (texture finer than the pixels) is
-//!   refined to at least depth − 1 everywhere.
+//!   textured.
+//!
+//! A textured pixel has no edge for the quadtree to find: subdividing it spends 4× the rays
+//! per level on a nearly regular lattice, which aliases. So by default it takes n×n
+//! jittered samples of its own instead (the stratified pass, `texture_n`), which turn the
+//! pattern into noise at a fixed cost; with `texture_n` = 0 it is refined to depth − 1
+//! everywhere and one level further where it differs, as before.
 
 use super::hash::uniform;
-use crate::math::Color;
+use crate::math::{Color, Vec2};
 use serde::{Deserialize, Serialize};
 
 /// Largest accepted depth: 64×64 squares per pixel.
@@ -32,9 +38,12 @@ pub const MAX_DEPTH: u32 = 6;
 const DIM_JITTER_X: u32 = 7;
 const DIM_JITTER_Y: u32 = 8;
 
-/// Colour changes between adjacent corners of a 4×4 block that a straight edge can cause at
-/// most: it crosses each of the four rows and four columns once.
-const STRAIGHT_EDGE_CHANGES: usize = 8;
+/// Mixed into the seed of the stratified pass, so that its points are not those of the
+/// jittered sampler with the same seed (sweeps compare the two).
+const TEXTURE_SEED_SALT: u64 = 0xA5A5_7E27_0000_0001;
+
+/// Largest accepted `texture_n`: 32×32 samples per textured pixel.
+pub const MAX_TEXTURE_N: u32 = 32;
 
 /// When a pixel splits.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -92,6 +101,9 @@ pub struct Refinement {
     pub rule: AdaptiveRule,
     /// 0: points exactly on the lattice; 1: anywhere in their cell (see the module notes).
     pub jitter: f32,
+    /// Samples per axis of the stratified pass that textured pixels take (neighbourhood
+    /// rule only); 0 refines them with the quadtree instead.
+    pub texture_n: u32,
     pub seed: u64,
 }
 
@@ -99,6 +111,12 @@ impl Refinement {
     /// Lattice steps along a pixel side.
     pub fn steps(&self) -> u32 {
         1 << self.depth
+    }
+
+    /// Appends the offsets in (0, 1)² of the stratified pass's samples in pixel (px, py),
+    /// in sample order: one jittered point in each of texture_n × texture_n strata.
+    pub fn texture_offsets(&self, px: u32, py: u32, out: &mut Vec<Vec2>) {
+        super::jittered::jittered(px, py, self.texture_n, self.seed ^ TEXTURE_SEED_SALT, out);
     }
 
     /// Where lattice point (x, y) is traced, in lattice units.
@@ -145,6 +163,10 @@ impl Refinement {
         } else {
             (contrast(&corners) > self.threshold, textured)
         };
+        if textured && self.texture_n > 0 && self.depth > 0 {
+            visit(square, Visit::Stratified(corners));
+            return;
+        }
         // Texture is refined to depth − 1 regardless, and one level further where it differs.
         let split =
             square.level < self.depth && (busy || (textured && square.level + 1 < self.depth));
@@ -184,10 +206,13 @@ impl Refinement {
                 }
             }
         }
-        let present: Vec<Color> = block.iter().flatten().copied().collect();
-        let busy = spread(&present) > self.threshold;
+        // Encoded once: the 24 comparisons below would otherwise encode each colour up to
+        // four times, and the encoding (a power) dominates the sampler's own cost.
+        let block = block.map(|c| c.map(encode));
+        let present: Vec<[f32; 3]> = block.iter().flatten().copied().collect();
+        let busy = spread_encoded(&present) > self.threshold;
         let differ = |i: usize, j: usize| match (block[i], block[j]) {
-            (Some(a), Some(b)) => spread(&[a, b]) > self.threshold,
+            (Some(a), Some(b)) => spread_encoded(&[a, b]) > self.threshold,
             _ => false,
         };
         let changes = (0..16)
@@ -197,7 +222,15 @@ impl Refinement {
                 right as usize + down as usize
             })
             .sum::<usize>();
-        (busy, changes > STRAIGHT_EDGE_CHANGES)
+        // A straight edge crosses each row and each column of the block at most once, so it
+        // changes colour at most once per row and column (8 inside the image, fewer along
+        // its borders, where the block is cut).
+        let line =
+            |a: usize, step: usize| (0..4).filter(|&k| block[a + k * step].is_some()).count();
+        let straight_edge_changes = (0..4)
+            .map(|i| (line(i * 4, 1) >= 2) as usize + (line(i, 4) >= 2) as usize)
+            .sum::<usize>();
+        (busy, changes > straight_edge_changes)
     }
 }
 
@@ -213,6 +246,9 @@ pub enum Visit {
     /// The square splits, but the walk stops here: it is at the level asked for, or its new
     /// points are not traced.
     Frontier([Color; 4]),
+    /// The pixel is textured and takes the stratified pass instead of splitting; its
+    /// corners' colours (worth their mean if the pass was not traced).
+    Stratified([Color; 4]),
 }
 
 /// A square of the quadtree in lattice coordinates: top-left corner and side.
@@ -274,16 +310,26 @@ impl Square {
 
 /// The largest per-channel spread of any set of colours, in display-encoded units.
 pub fn spread(colours: &[Color]) -> f32 {
+    let encoded: Vec<[f32; 3]> = colours.iter().map(|&c| encode(c)).collect();
+    spread_encoded(&encoded)
+}
+
+/// `spread` of colours already display-encoded.
+fn spread_encoded(colours: &[[f32; 3]]) -> f32 {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
     for c in colours {
-        for (k, v) in c.to_array().into_iter().enumerate() {
-            let e = display(v);
+        for (k, &e) in c.iter().enumerate() {
             lo[k] = lo[k].min(e);
             hi[k] = hi[k].max(e);
         }
     }
     (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max)
+}
+
+/// A colour's channels display-encoded.
+fn encode(c: Color) -> [f32; 3] {
+    c.to_array().map(display)
 }
 
 /// The largest per-channel spread of the corners, in display-encoded units.
@@ -323,6 +369,7 @@ mod tests {
             depth: 2,
             rule: AdaptiveRule::Corners,
             jitter: 0.0,
+            texture_n: 0,
             seed: 0,
         };
         // White left of x = 1 lattice step, black elsewhere: only squares touching x <= 1
@@ -335,9 +382,71 @@ mod tests {
             Visit::Leaf(_) => leaves += 1,
             Visit::Frontier(_) => panic!("depth-2 squares never split: {sq:?}"),
             Visit::Missing => panic!("all points exist"),
+            Visit::Stratified(_) => panic!("the corners rule sees no texture"),
         });
         // The pixel and its two left quarters split; the quarters' 8 children are leaves,
         // plus the two right quarters.
         assert_eq!((splits, leaves), (3, 10));
+    }
+
+    #[test]
+    fn a_textured_neighbourhood_takes_the_stratified_pass_or_splits_without_it() {
+        // Corners alternating like a checker one pixel wide: 24 changes in the 4×4 block,
+        // more than any straight edge makes.
+        let lookup = |x: u32, y: u32| {
+            Some(if (x / 4 + y / 4) % 2 == 0 {
+                Color::ONE
+            } else {
+                Color::ZERO
+            })
+        };
+        let visits = |texture_n| {
+            let rule = Refinement {
+                threshold: 0.1,
+                depth: 2,
+                rule: AdaptiveRule::Neighbourhood,
+                jitter: 0.0,
+                texture_n,
+                seed: 0,
+            };
+            let mut seen = Vec::new();
+            rule.walk(Square::pixel(1, 1, 4), 2, &lookup, &mut |_, v| seen.push(v));
+            seen
+        };
+        assert!(matches!(visits(3)[..], [Visit::Stratified(_)]));
+        assert!(visits(0).contains(&Visit::Split));
+        // The corners rule never sees texture.
+        let corners = Refinement {
+            threshold: 0.1,
+            depth: 2,
+            rule: AdaptiveRule::Corners,
+            jitter: 0.0,
+            texture_n: 3,
+            seed: 0,
+        };
+        corners.walk(Square::pixel(1, 1, 4), 2, &lookup, &mut |_, v| {
+            assert!(!matches!(v, Visit::Stratified(_)))
+        });
+    }
+
+    #[test]
+    fn stratified_offsets_put_one_point_in_each_stratum_inside_the_pixel() {
+        let rule = Refinement {
+            threshold: 0.1,
+            depth: 3,
+            rule: AdaptiveRule::Neighbourhood,
+            jitter: 1.0,
+            texture_n: 5,
+            seed: 7,
+        };
+        let mut out = Vec::new();
+        rule.texture_offsets(12, 34, &mut out);
+        assert_eq!(out.len(), 25);
+        let mut seen = [false; 25];
+        for o in &out {
+            assert!(o.x > 0.0 && o.x < 1.0 && o.y > 0.0 && o.y < 1.0, "{o}");
+            seen[(o.y * 5.0) as usize * 5 + (o.x * 5.0) as usize] = true;
+        }
+        assert!(seen.iter().all(|&s| s));
     }
 }

@@ -127,6 +127,18 @@ impl PixelPattern {
     }
 }
 
+/// The largest n with n² ≤ `count`: samples per axis of a square count.
+pub fn floor_sqrt(count: u32) -> u32 {
+    let mut n = (count as f64).sqrt() as u32;
+    while n * n > count {
+        n -= 1;
+    }
+    while (n + 1) * (n + 1) <= count {
+        n += 1;
+    }
+    n
+}
+
 /// A sampler ready for one render.
 #[derive(Clone, Debug)]
 pub enum Sampler {
@@ -155,6 +167,7 @@ impl Sampler {
                 depth: options.adaptive_depth,
                 rule: options.adaptive_rule,
                 jitter: options.adaptive_jitter,
+                texture_n: floor_sqrt(options.adaptive_texture_spp),
                 seed,
             }),
         }
