@@ -13,7 +13,7 @@ use prism::RenderOptions;
 use std::sync::atomic::AtomicBool;
 
 fn run(scene: &prism::Scene, options: &RenderOptions) -> RenderResult {
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     render(&prepared, options, &|_| {}, &AtomicBool::new(false)).unwrap()
 }
 
