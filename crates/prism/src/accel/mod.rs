@@ -10,6 +10,7 @@ mod info;
 pub mod kdtree;
 mod mailbox;
 pub mod octree;
+pub mod volumes;
 
 pub use brute::BruteForce;
 pub use bvh::{Bvh, BvhOptions};

@@ -57,11 +57,21 @@ impl Bin {
 
 impl Bvh {
     /// Builds over `prims`, which must all be bounded.
-    pub fn build(geometry: &Geometry, mut prims: Vec<u32>, options: &BvhOptions) -> Bvh {
+    pub fn build(geometry: &Geometry, prims: Vec<u32>, options: &BvhOptions) -> Bvh {
         let bounds: Vec<Aabb> = prims
             .iter()
             .map(|&p| geometry.bounds(p).expect("BVH primitives must be bounded"))
             .collect();
+        Bvh::build_over_bounds(prims, bounds, options)
+    }
+
+    /// Builds over items known only by their boxes (`bounds[i]` bounds `prims[i]`), for
+    /// hierarchies whose leaves are not single primitives.
+    pub(crate) fn build_over_bounds(
+        mut prims: Vec<u32>,
+        bounds: Vec<Aabb>,
+        options: &BvhOptions,
+    ) -> Bvh {
         let centroids = bounds.iter().map(Aabb::center).collect();
         let mut builder = Builder {
             options,
