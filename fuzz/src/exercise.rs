@@ -2,7 +2,7 @@
 //! must be valid and must survive what rendering does with it (accelerator build, camera
 //! setup, a few traced rays), since a loaded scene is handed to the renderer as it is.
 
-use prism::accel::AccelKind;
+use prism::accel::AccelSpec;
 use prism::integrator::Whitted;
 use prism::scene::LoadError;
 use prism::{Scene, Stats};
@@ -68,7 +68,7 @@ fn render(scene: &Scene) {
     options.samples = 1;
     options.threads = 1;
     options.max_depth = options.max_depth.min(MAX_DEPTH);
-    let prepared = scene.prepare(AccelKind::Bvh);
+    let prepared = scene.prepare(&AccelSpec::default());
     let camera = match scene.camera.setup(options.width, options.height) {
         Ok(camera) => camera,
         Err(e) => panic!("a parser returned a scene whose camera cannot be set up: {e}"),

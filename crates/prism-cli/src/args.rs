@@ -3,7 +3,7 @@
 
 use anyhow::{bail, Result};
 use clap::{Args, Parser, Subcommand};
-use prism::accel::AccelKind;
+use prism::accel::AccelSpec;
 use prism::render::FilterKind;
 use prism::sampling::SamplerKind;
 use prism::scene::builtin;
@@ -32,6 +32,10 @@ pub enum Command {
     /// Describe a scene without rendering it: shapes, materials, lights, bounds, memory
     /// and the acceleration structure built for it.
     Info(InfoArgs),
+    /// Measure acceleration methods on scenes: build time, memory, node visits and
+    /// primitive tests per ray, primary and shadow rays per second; a table, CSV, JSON and
+    /// an SVG chart.
+    Bench(crate::bench::BenchArgs),
     /// Compare two images: RMSE, PSNR, SSIM and FLIP of TEST against REFERENCE.
     Compare(crate::compare::CompareArgs),
     /// Write the exact box-filtered image of the checkerboard scene (no sampling).
@@ -49,9 +53,10 @@ pub struct InfoArgs {
     /// a built-in scene.
     pub scene: String,
 
-    /// Acceleration structure to build and describe.
-    #[arg(long, value_name = "NAME", default_value = "bvh")]
-    pub accel: AccelKind,
+    /// Acceleration structure to build and describe, as for `render --accel`; the scene
+    /// file's own `accel` setting when not given.
+    #[arg(long, value_name = "SPEC")]
+    pub accel: Option<AccelSpec>,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -152,9 +157,11 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
 
-    /// Acceleration structure: bvh (the default), grid, kdtree, octree or brute-force.
-    #[arg(long, value_name = "NAME")]
-    pub accel: Option<AccelKind>,
+    /// Acceleration structure and its parameters, METHOD[:KEY=VALUE,...]: bvh (the
+    /// default; keys bins, leaf, trav), grid (lambda, cells), kdtree (trav, isect,
+    /// empty-bonus, depth), octree (leaf, depth) or brute-force. Example: bvh:leaf=4.
+    #[arg(long, value_name = "SPEC")]
+    pub accel: Option<AccelSpec>,
 
     /// Apply a published testing procedure: `spd` = Haines' SPD rules (corner rays, depth
     /// 5, a reflection ray at every reflective or transmitting surface).
@@ -170,6 +177,16 @@ pub struct RenderArgs {
     /// `camera`.
     #[arg(long, value_name = "KIND", default_value = "all")]
     pub density_rays: DensityRays,
+
+    /// Also write the cost view: node visits (or primitive tests, see --cost-metric) per
+    /// camera ray of each pixel, counting every ray the pixel spawned, as a heat map with a
+    /// colour bar (PNG).
+    #[arg(long, value_name = "FILE")]
+    pub cost: Option<PathBuf>,
+
+    /// What the cost view counts: `nodes` (node visits) or `prims` (primitive tests).
+    #[arg(long, value_name = "KIND", default_value = "nodes")]
+    pub cost_metric: crate::cost::CostMetric,
 
     /// Print a table of ray counts, tests and times after rendering.
     #[arg(long)]
@@ -265,8 +282,8 @@ impl RenderArgs {
         if let Some(v) = self.seed {
             o.seed = v;
         }
-        if let Some(v) = self.accel {
-            o.accel = v;
+        if let Some(v) = &self.accel {
+            o.accel = v.clone();
         }
         Ok(o)
     }

@@ -2,12 +2,12 @@
 //! rendering: counts by shape type, materials, lights, bounds, camera, memory.
 
 use anyhow::Result;
-use prism::accel::AccelKind;
+use prism::accel::AccelSpec;
 use prism::geometry::ShapeKind;
 use prism::Scene;
 use std::time::Instant;
 
-pub fn print(scene: &Scene, name: &str, accel: AccelKind) -> Result<()> {
+pub fn print(scene: &Scene, name: &str, accel: &AccelSpec) -> Result<()> {
     let g = &scene.geometry;
     println!("scene              {name}");
     println!("primitives         {}", g.primitives.len());

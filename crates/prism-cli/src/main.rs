@@ -4,7 +4,9 @@
 //! written with the finished tiles).
 
 mod args;
+mod bench;
 mod compare;
+mod cost;
 mod density;
 mod info;
 mod patterns;
@@ -31,6 +33,7 @@ fn main() -> ExitCode {
     {
         Command::Render(args) => render(&args),
         Command::Info(args) => info(&args),
+        Command::Bench(args) => bench::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::Reference(args) => reference::run(&args),
         Command::Sweep(args) => sweep::run(&args),
@@ -54,7 +57,8 @@ fn info(args: &args::InfoArgs) -> Result<ExitCode> {
         Some(name) => args::find_builtin(name)?,
         None => prism::scene::load(std::path::Path::new(&args.scene))?,
     };
-    info::print(&scene, &args.scene, args.accel)?;
+    let accel = args.accel.as_ref().unwrap_or(&scene.options.accel);
+    info::print(&scene, &args.scene, accel)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -89,7 +93,10 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     if let Some(path) = &args.density {
         density::check(path)?;
     }
-    let prepared = scene.prepare(options.accel);
+    if let Some(path) = &args.cost {
+        cost::check(path)?;
+    }
+    let prepared = scene.prepare(&options.accel);
 
     let cancel = Arc::new(AtomicBool::new(false));
     {
@@ -109,6 +116,10 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     prism::output::write_image_as(&args.output, &result.film, format)?;
     if let Some(path) = &args.density {
         density::write(path, &result.rays, args.density_rays)?;
+    }
+    if let Some(path) = &args.cost {
+        let accel = options.accel.to_string();
+        cost::write(path, &result.rays, args.cost_metric, &accel)?;
     }
     let report = report::Report::new(
         &scene_name,

@@ -41,7 +41,7 @@ pub fn escape(s: &str) -> String {
 
 /// A log axis from `lo` to `hi` (positive): the range with a little room on both sides,
 /// as powers of ten, and its labelled ticks (1, 2, 5 or 1, 3 times powers of ten).
-fn axis(lo: f64, hi: f64) -> (f64, f64, Vec<f64>) {
+pub fn axis(lo: f64, hi: f64) -> (f64, f64, Vec<f64>) {
     let (mut a, mut b) = (lo.log10(), hi.log10());
     if b - a < 0.5 {
         let mid = 0.5 * (a + b);

@@ -223,7 +223,7 @@ pub fn run(args: &SweepArgs) -> Result<ExitCode> {
     let runs = plan(args)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
-    let prepared = scene.prepare(base.accel);
+    let prepared = scene.prepare(&base.accel);
     let say = |msg: String| {
         if !args.quiet {
             eprintln!("{msg}");

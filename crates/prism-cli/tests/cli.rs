@@ -91,6 +91,10 @@ fn bad_usage_exits_2_with_usage_text() {
             &["render", "--accel", "octree-of-doom"],
             &["'octree-of-doom'", "bvh"],
         ),
+        (
+            &["render", "--accel", "kdtree:isect=-1"],
+            &["'kdtree:isect=-1'", "expected a number from 0.001"],
+        ),
     ] {
         let err = expect_exit(&prism(&dir, args), 2, args);
         for name in names {

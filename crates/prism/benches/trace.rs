@@ -7,7 +7,7 @@
 //! work per ray), which is deterministic and so needs no statistics.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use prism::accel::{AccelKind, SceneIntersector};
+use prism::accel::{AccelSpec, SceneIntersector};
 use prism::camera::Camera;
 use prism::geometry::generate;
 use prism::math::{Ray, Vec3};
@@ -131,7 +131,7 @@ fn primary_rays(c: &mut Criterion) {
             PRIMARY_SIZE as u64 * PRIMARY_SIZE as u64,
         ));
     for (name, scene) in [("knot_1m", &knot), ("sphereflake_4", &flake)] {
-        let intersector = SceneIntersector::build(&scene.geometry, AccelKind::Bvh);
+        let intersector = SceneIntersector::build(&scene.geometry, &AccelSpec::default());
         let rays = camera_rays(scene, PRIMARY_SIZE);
         let (stats, hits) = trace_primary(scene, &intersector, &rays, &pool(1));
         print_context(name, "primary rays", &intersector, &stats);
@@ -169,7 +169,7 @@ fn whitted_renders(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(5));
     let cancel = AtomicBool::new(false);
     for (name, scene, width, height) in cases {
-        let prepared = scene.prepare(AccelKind::Bvh);
+        let prepared = scene.prepare(&AccelSpec::default());
         let mut options = RenderOptions {
             width,
             height,
@@ -208,7 +208,7 @@ fn bvh_build(c: &mut Criterion) {
     for (name, scene) in [("knot_1m", &knot), ("sphereflake_4", &flake)] {
         group.throughput(Throughput::Elements(scene.geometry.primitives.len() as u64));
         group.bench_function(name, |b| {
-            b.iter(|| SceneIntersector::build(black_box(&scene.geometry), AccelKind::Bvh))
+            b.iter(|| SceneIntersector::build(black_box(&scene.geometry), &AccelSpec::default()))
         });
     }
     group.finish();

@@ -7,6 +7,7 @@
 //! [`output::write_image`] encodes it. ARCHITECTURE.md maps the modules.
 
 pub mod accel;
+pub mod bench;
 pub mod camera;
 pub mod geometry;
 pub mod integrator;

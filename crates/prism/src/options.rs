@@ -1,7 +1,7 @@
 //! Render options: the one home of every setting. The scene file, the CLI and the library
 //! API all fill this struct; anything they leave out keeps the default documented here.
 
-use crate::accel::AccelKind;
+use crate::accel::AccelSpec;
 use crate::render::FilterKind;
 use crate::sampling::{adaptive, AdaptiveRule, SamplerKind};
 use serde::{Deserialize, Serialize};
@@ -62,7 +62,7 @@ pub struct RenderOptions {
     /// render is a pure function of scene, options and seed.
     pub seed: u64,
     /// The acceleration structure for ray queries.
-    pub accel: AccelKind,
+    pub accel: AccelSpec,
     /// Edge length of the square tiles handed to worker threads.
     pub tile_size: u32,
 }
@@ -85,7 +85,7 @@ impl Default for RenderOptions {
             spd_rules: false,
             threads: 0,
             seed: 0,
-            accel: AccelKind::Bvh,
+            accel: AccelSpec::default(),
             tile_size: 16,
         }
     }

@@ -468,10 +468,10 @@ fn scene_intersector_agrees_across_accelerators_with_planes() {
         Shape::from(Plane::new(Vec3::new(0.3, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.2)).unwrap()),
         0,
     );
-    let brute = SceneIntersector::build(&s.geometry, AccelKind::BruteForce);
+    let brute = SceneIntersector::build(&s.geometry, &AccelKind::BruteForce.into());
     let others: Vec<_> = AccelKind::ALL[1..]
         .iter()
-        .map(|&k| (k, SceneIntersector::build(&s.geometry, k)))
+        .map(|&k| (k, SceneIntersector::build(&s.geometry, &k.into())))
         .collect();
     let bounds = s.geometry.world_bounds();
     let mut rng = Rng::new(106);
@@ -579,7 +579,7 @@ fn built_in_scenes_render_identically_with_every_accelerator() {
             ..scene.options.clone()
         };
         let image = |kind: AccelKind| {
-            let prepared = scene.prepare(kind);
+            let prepared = scene.prepare(&kind.into());
             let r = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
             r.film
                 .pixels

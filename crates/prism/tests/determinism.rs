@@ -16,7 +16,7 @@ fn render_with(name: &str, threads: usize, tile_size: u32) -> RenderResult {
         tile_size,
         ..scene.options.clone()
     };
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap()
 }
 

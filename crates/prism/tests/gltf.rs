@@ -12,6 +12,9 @@ use prism::render::{render, Film};
 use prism::scene::{load, LoadError};
 use prism::shading::{FresnelMode, Highlight, Texture};
 use prism::Scene;
+mod common;
+
+use common::scratch::ScratchDir;
 use proptest::prelude::*;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -19,10 +22,8 @@ use std::sync::atomic::AtomicBool;
 
 // ---- building test files ----------------------------------------------------------------
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("prism-gltf-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+fn temp_dir(name: &str) -> ScratchDir {
+    ScratchDir::new("gltf", name)
 }
 
 fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
@@ -188,7 +189,7 @@ fn render_at(scene: &Scene, width: u32, height: u32) -> Film {
     let mut options = scene.options.clone();
     options.width = width;
     options.height = height;
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     render(&prepared, &options, &|_| {}, &AtomicBool::new(false))
         .expect("the scene renders")
         .film
@@ -652,7 +653,8 @@ fn invalid_message(result: Result<Scene, LoadError>) -> String {
 #[test]
 fn bad_json_is_located_by_line_and_column() {
     let text = "{\n  \"asset\": {\"version\": \"2.0\"},\n  \"scenes\": [{\"nodes\": []}]\n  \"nodes\": []\n}\n";
-    let path = write(&temp_dir("syntax"), "broken.gltf", text.as_bytes());
+    let dir = temp_dir("syntax");
+    let path = write(&dir, "broken.gltf", text.as_bytes());
     match load(&path) {
         Err(LoadError::Syntax {
             path: p,
@@ -868,7 +870,8 @@ proptest! {
                 ("mutated.gltf", json)
             }
         };
-        let path = write(&temp_dir("proptest"), name, &bytes);
+        let dir = temp_dir("proptest");
+        let path = write(&dir, name, &bytes);
         match load(&path) {
             Ok(scene) => prop_assert!(scene.validate().is_ok()),
             Err(LoadError::Syntax { line, column, message, .. }) => {

@@ -41,7 +41,7 @@ fn check_scene(name: &str, scene: prism::Scene, width: u32, height: u32, samples
     options.width = width;
     options.height = height;
     options.samples = samples;
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     let result = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
     let actual = to_srgb8(&result.film);
     let path = golden_path(name);

@@ -6,6 +6,7 @@
 mod common;
 
 use common::mesh_files::{apply, render_at, temp_dir, write, Mutation, TestMesh};
+use common::scratch::ScratchDir;
 use prism::math::{Color, Vec3};
 use prism::scene::mesh_file::{load_mesh_file, Materials, MeshFile};
 use prism::scene::{load, obj, parse_toml, LoadError};
@@ -614,21 +615,17 @@ fn texture_maps_resolve_against_the_library_and_keep_their_scale() {
 }
 
 /// A folder laid out like scenes/ (meshes/ beside textures/), so that a mutated copy of
-/// gems.mtl still finds its image.
-fn mtl_fuzz_dir() -> PathBuf {
-    static DIR: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
-    DIR.get_or_init(|| {
-        let root = temp_dir("mtl-fuzz");
-        std::fs::create_dir_all(root.join("meshes")).expect("dir");
-        std::fs::create_dir_all(root.join("textures")).expect("dir");
-        std::fs::copy(
-            repo().join("scenes/textures/testcard.png"),
-            root.join("textures/testcard.png"),
-        )
-        .expect("copy");
-        root.join("meshes")
-    })
-    .clone()
+/// gems.mtl still finds its image; the .mtl goes into `meshes/`.
+fn mtl_fuzz_dir() -> ScratchDir {
+    let root = temp_dir("mtl-fuzz");
+    std::fs::create_dir_all(root.join("meshes")).expect("dir");
+    std::fs::create_dir_all(root.join("textures")).expect("dir");
+    std::fs::copy(
+        repo().join("scenes/textures/testcard.png"),
+        root.join("textures/testcard.png"),
+    )
+    .expect("copy");
+    root
 }
 
 const MUTATION_BYTES: &[u8] = b"vtnfgo/#-. \n\t0123456789e";
@@ -714,7 +711,8 @@ proptest! {
         for m in &mutations {
             apply(&mut bytes, m);
         }
-        let dir = mtl_fuzz_dir();
+        let root = mtl_fuzz_dir();
+        let dir = root.join("meshes");
         std::fs::write(dir.join("fuzz.mtl"), &bytes).expect("write");
         let obj = format!("mtllib fuzz.mtl\n{TRIANGLE}usemtl ruby\nf 1 2 3\n");
         let result = obj::parse(&obj, &dir.join("fuzz.obj"), Materials::Read);

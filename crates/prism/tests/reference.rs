@@ -87,7 +87,7 @@ fn the_exact_reference_agrees_with_a_very_high_sample_render() {
         sampler: SamplerKind::Jittered,
         ..scene.options.clone()
     };
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     let film = render(&prepared, &options, &|_| {}, &AtomicBool::new(false))
         .unwrap()
         .film;

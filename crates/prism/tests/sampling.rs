@@ -15,7 +15,7 @@ use std::collections::{HashMap, HashSet};
 use std::sync::atomic::AtomicBool;
 
 fn run(scene: &Scene, options: &RenderOptions) -> RenderResult {
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     render(&prepared, options, &|_| {}, &AtomicBool::new(false)).unwrap()
 }
 
@@ -44,7 +44,7 @@ fn the_grid_with_the_pixel_box_keeps_the_original_arithmetic() {
     };
     let result = run(&scene, &options);
     // The loop the renderer had before sampling patterns existed.
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     let camera = scene.camera.setup(40, 30).unwrap();
     let integrator = Whitted::new(&prepared, &options);
     let (n, inv_n) = (3u32, 1.0 / 3.0f32);
@@ -99,7 +99,7 @@ fn replay_adaptive(scene: &Scene, options: &RenderOptions) -> (usize, u64, usize
     let Sampler::Adaptive(rule) = Sampler::new(options) else {
         panic!("adaptive options")
     };
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     let camera = scene.camera.setup(options.width, options.height).unwrap();
     let integrator = Whitted::new(&prepared, options);
     let steps = rule.steps();

@@ -37,7 +37,7 @@ fn render_srgb(scene: &Scene, width: u32, height: u32) -> Vec<u8> {
     options.height = height;
     options.samples = 1;
     options.threads = 0;
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     let result = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
     to_srgb8(&result.film)
 }
@@ -279,7 +279,7 @@ fn concave_edges_cast_no_shadow_acne() {
                 position: v(0.5 * x, 0.93, 0.45),
                 color: Color::ONE,
             }];
-            let prepared = scene.prepare(prism::accel::AccelKind::Bvh);
+            let prepared = scene.prepare(&prism::accel::AccelSpec::default());
             let options = prism::RenderOptions {
                 max_depth: 1,
                 ..Default::default()

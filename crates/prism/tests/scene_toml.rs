@@ -2,6 +2,9 @@
 //! is the built-in Whitted scene, malformed files give errors that point at the right line
 //! with a useful phrase, and no mutation of a valid file makes the loader panic.
 
+mod common;
+
+use common::scratch::ScratchDir;
 use prism::geometry::ShapeHit;
 use prism::math::{Color, Vec3};
 use prism::render::{render, Film};
@@ -30,7 +33,7 @@ fn render_at(scene: &Scene, width: u32, height: u32) -> Film {
     let mut options = scene.options.clone();
     options.width = width;
     options.height = height;
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     render(&prepared, &options, &|_| {}, &AtomicBool::new(false))
         .expect("the scene renders")
         .film
@@ -187,7 +190,19 @@ const MALFORMED: &[(&str, &str, usize, &str)] = &[
         "unknown accelerator",
         "[render]\naccel = \"kd-tree\"\n",
         2,
-        "expected one of `brute-force`, `bvh`, `grid`, `kdtree`, `octree`",
+        "expected one of: brute-force, bvh, grid, kdtree, octree",
+    ),
+    (
+        "accelerator parameter out of range",
+        "[render]\n\naccel = \"bvh:leaf=0\"\n",
+        3,
+        "bad value '0' for 'leaf': expected an integer from 1 to 1024",
+    ),
+    (
+        "accelerator parameter of another method",
+        "[render]\naccel = \"grid:leaf=2\"\n",
+        2,
+        "unknown parameter 'leaf' for grid",
     ),
     (
         "vector of the wrong length",
@@ -525,6 +540,21 @@ fn sampling_keys_fill_the_render_options() {
 }
 
 #[test]
+fn the_accel_key_takes_a_method_and_its_parameters() {
+    use prism::accel::{AccelSpec, KdTreeOptions};
+    let scene = parse("[render]\naccel = \"kdtree:isect=80,depth=20\"\n").unwrap();
+    let expected = AccelSpec::KdTree(KdTreeOptions {
+        intersection_cost: 80.0,
+        max_depth: 20,
+        ..KdTreeOptions::default()
+    });
+    assert_eq!(scene.options.accel, expected);
+    let plain = parse("[render]\naccel = \"grid\"\n").unwrap();
+    assert_eq!(plain.options.accel, prism::accel::AccelKind::Grid.into());
+    assert_eq!(parse("").unwrap().options.accel, AccelSpec::default());
+}
+
+#[test]
 fn column_points_at_the_offending_value() {
     let error = parse("[[objects]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = -1\n")
         .expect_err("negative radius");
@@ -534,17 +564,17 @@ fn column_points_at_the_offending_value() {
     assert_eq!((line, column), (4, 10));
 }
 
-fn temp_file(name: &str, bytes: &[u8]) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("prism-scene-toml-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+/// A file in a scratch folder that lives as long as the returned guard.
+fn temp_file(name: &str, bytes: &[u8]) -> (ScratchDir, PathBuf) {
+    let dir = ScratchDir::new("scene-toml", name);
     let path = dir.join(name);
     std::fs::write(&path, bytes).expect("temp file");
-    path
+    (dir, path)
 }
 
 #[test]
 fn a_file_that_is_not_utf8_is_located() {
-    let path = temp_file("latin1.toml", b"[world]\nambient = 0.2 # caf\xe9\n");
+    let (_dir, path) = temp_file("latin1.toml", b"[world]\nambient = 0.2 # caf\xe9\n");
     match load(&path) {
         Err(LoadError::Syntax {
             line,

@@ -101,7 +101,7 @@ fn spd_procedure_ray_counts_match_the_reference() {
         let mut options = scene.options.clone();
         prism::preset::apply_spd(&mut scene, &mut options);
         assert_eq!((options.width, options.height), (513, 513));
-        let prepared = scene.prepare(options.accel);
+        let prepared = scene.prepare(&options.accel);
         let s = render(&prepared, &options, &|_| {}, &AtomicBool::new(false))
             .unwrap()
             .stats;

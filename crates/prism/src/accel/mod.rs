@@ -2,6 +2,40 @@
 //! hit, over the bounded primitives of a `Geometry`; the brute-force list is the oracle the
 //! tests hold the others to.
 
+/// Implements `Accel` for a structure whose two queries are one inherent walk,
+/// `traverse(geometry, ray, t_max, stats, any)`, that stops at the first hit when `any`
+/// is set, and which describes itself with an inherent `info()`.
+macro_rules! accel_from_traverse {
+    ($structure:ty) => {
+        impl $crate::accel::Accel for $structure {
+            fn intersect(
+                &self,
+                geometry: &$crate::geometry::Geometry,
+                ray: &$crate::math::TraceRay,
+                t_max: f32,
+                stats: &mut $crate::stats::Stats,
+            ) -> Option<$crate::accel::Hit> {
+                self.traverse(geometry, ray, t_max, stats, false)
+            }
+
+            fn occluded(
+                &self,
+                geometry: &$crate::geometry::Geometry,
+                ray: &$crate::math::TraceRay,
+                t_max: f32,
+                stats: &mut $crate::stats::Stats,
+            ) -> bool {
+                self.traverse(geometry, ray, t_max, stats, true).is_some()
+            }
+
+            fn info(&self) -> $crate::accel::AccelInfo {
+                self.info()
+            }
+        }
+    };
+}
+pub(crate) use accel_from_traverse;
+
 mod brute;
 pub mod bvh;
 mod cells;
@@ -10,6 +44,7 @@ mod info;
 pub mod kdtree;
 mod mailbox;
 pub mod octree;
+mod spec;
 pub mod volumes;
 
 pub use brute::BruteForce;
@@ -18,6 +53,7 @@ pub use grid::{Grid, GridOptions};
 pub use info::AccelInfo;
 pub use kdtree::{KdTree, KdTreeOptions};
 pub use octree::{Octree, OctreeOptions};
+pub use spec::AccelSpec;
 
 use crate::geometry::Geometry;
 use crate::math::{Ray, TraceRay};
@@ -103,19 +139,9 @@ impl AccelKind {
         }
     }
 
-    /// Builds over the given (bounded) primitive indices.
+    /// Builds over the given (bounded) primitive indices, with default parameters.
     pub fn build(self, geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
-        match self {
-            AccelKind::BruteForce => Box::new(BruteForce::new(prims)),
-            AccelKind::Bvh => Box::new(Bvh::build(geometry, prims, &BvhOptions::default())),
-            AccelKind::Grid => Box::new(Grid::build(geometry, prims, &GridOptions::default())),
-            AccelKind::KdTree => {
-                Box::new(KdTree::build(geometry, prims, &KdTreeOptions::default()))
-            }
-            AccelKind::Octree => {
-                Box::new(Octree::build(geometry, prims, &OctreeOptions::default()))
-            }
-        }
+        AccelSpec::from(self).build(geometry, prims)
     }
 }
 
@@ -143,11 +169,11 @@ pub struct SceneIntersector {
 }
 
 impl SceneIntersector {
-    pub fn build(geometry: &Geometry, kind: AccelKind) -> Self {
+    pub fn build(geometry: &Geometry, spec: &AccelSpec) -> Self {
         let (bounded, unbounded): (Vec<u32>, Vec<u32>) =
             (0..geometry.primitives.len() as u32).partition(|&i| geometry.bounds(i).is_some());
         SceneIntersector {
-            accel: kind.build(geometry, bounded),
+            accel: spec.build(geometry, bounded),
             unbounded,
         }
     }

@@ -1,5 +1,6 @@
 //! Rays per pixel: how many camera rays and how many rays in all each pixel cost, for the
-//! sample-density view. Rays shared by several pixels count in the pixel that traced them.
+//! sample-density view, and the node visits and primitive tests those rays made, for the
+//! cost view. Rays shared by several pixels count in the pixel that traced them.
 
 use crate::stats::Stats;
 
@@ -11,6 +12,10 @@ pub struct RayCounts {
     pub camera: Vec<u32>,
     /// Every ray (camera, shadow, reflected, refracted) per pixel.
     pub total: Vec<u32>,
+    /// Acceleration-structure node visits of all of a pixel's rays.
+    pub node_visits: Vec<u64>,
+    /// Ray–primitive tests of all of a pixel's rays.
+    pub primitive_tests: Vec<u64>,
 }
 
 impl RayCounts {
@@ -21,6 +26,8 @@ impl RayCounts {
             height,
             camera: vec![0; n],
             total: vec![0; n],
+            node_visits: vec![0; n],
+            primitive_tests: vec![0; n],
         }
     }
 
@@ -29,6 +36,8 @@ impl RayCounts {
         let i = y as usize * self.width as usize + x as usize;
         self.camera[i] = self.camera[i].saturating_add(rays.camera);
         self.total[i] = self.total[i].saturating_add(rays.total);
+        self.node_visits[i] += rays.node_visits;
+        self.primitive_tests[i] += rays.primitive_tests;
     }
 
     /// Mean camera rays per pixel.
@@ -37,11 +46,13 @@ impl RayCounts {
     }
 }
 
-/// Camera rays and all rays of one piece of work.
+/// Camera rays and all rays of one piece of work, and the traversal work they did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PixelRays {
     pub camera: u32,
     pub total: u32,
+    pub node_visits: u64,
+    pub primitive_tests: u64,
 }
 
 impl PixelRays {
@@ -51,6 +62,8 @@ impl PixelRays {
         PixelRays {
             camera: clamp(after.primary_rays - before.primary_rays),
             total: clamp(after.total_rays() - before.total_rays()),
+            node_visits: after.node_visits - before.node_visits,
+            primitive_tests: after.primitive_tests - before.primitive_tests,
         }
     }
 }
@@ -59,5 +72,7 @@ impl std::ops::AddAssign for PixelRays {
     fn add_assign(&mut self, o: PixelRays) {
         self.camera = self.camera.saturating_add(o.camera);
         self.total = self.total.saturating_add(o.total);
+        self.node_visits += o.node_visits;
+        self.primitive_tests += o.primitive_tests;
     }
 }

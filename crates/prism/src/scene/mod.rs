@@ -21,7 +21,7 @@ pub use self::toml::parse as parse_toml;
 pub use load::{load, LoadError};
 pub use mesh_file::{load_mesh_file, mesh_scene, MeshFile, MeshPart};
 
-use crate::accel::{AccelKind, SceneIntersector};
+use crate::accel::{AccelSpec, SceneIntersector};
 use crate::camera::Camera;
 use crate::geometry::Geometry;
 use crate::light::Light;
@@ -102,7 +102,7 @@ impl Scene {
     }
 
     /// Builds the acceleration structure; the scene itself is not changed.
-    pub fn prepare(&self, accel: AccelKind) -> PreparedScene<'_> {
+    pub fn prepare(&self, accel: &AccelSpec) -> PreparedScene<'_> {
         let start = Instant::now();
         let intersector = SceneIntersector::build(&self.geometry, accel);
         PreparedScene {

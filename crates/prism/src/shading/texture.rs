@@ -77,10 +77,12 @@ fn srgb_to_linear(c: f32) -> f32 {
 impl ImageTexture {
     /// Loads a PNG or JPEG; 8-bit values are taken as sRGB-encoded.
     pub fn load(path: &Path) -> Result<Self, TextureError> {
-        let img = image::open(path).map_err(|e| TextureError::Read {
+        let read_error = |message: String| TextureError::Read {
             path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
+            message,
+        };
+        let bytes = std::fs::read(path).map_err(|e| read_error(e.to_string()))?;
+        let img = super::image_decode::decode(&bytes).map_err(read_error)?;
         Ok(Self::from_srgb(&img))
     }
 

@@ -175,12 +175,9 @@ impl TestMesh {
     }
 }
 
-/// A fresh folder for one test's files.
-pub fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("prism-mesh-tests-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+/// A fresh folder for one test's files, removed when the test ends.
+pub fn temp_dir(name: &str) -> super::scratch::ScratchDir {
+    super::scratch::ScratchDir::new("mesh-tests", name)
 }
 
 pub fn write(dir: &Path, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf {
@@ -193,7 +190,7 @@ pub fn render_at(scene: &Scene, width: u32, height: u32) -> Film {
     let mut options = scene.options.clone();
     options.width = width;
     options.height = height;
-    let prepared = scene.prepare(options.accel);
+    let prepared = scene.prepare(&options.accel);
     render(&prepared, &options, &|_| {}, &AtomicBool::new(false))
         .expect("the scene renders")
         .film

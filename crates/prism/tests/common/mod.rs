@@ -5,6 +5,7 @@
 #![allow(dead_code)]
 
 pub mod mesh_files;
+pub mod scratch;
 
 use prism::geometry::TriangleMesh;
 use prism::math::{Ray, TraceRay, Vec3};

@@ -6,7 +6,7 @@ use super::{Bvh, Node, MAX_DEPTH};
 use crate::geometry::Geometry;
 use crate::math::{Aabb, Vec3};
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct BvhOptions {
     /// Bins per axis for the SAH sweep.
     pub bins: usize,
@@ -96,10 +96,7 @@ impl Bvh {
             builder.subdivide(0, &mut order, 0, 1);
         }
         prims = order.iter().map(|&i| prims[i as usize]).collect();
-        Bvh {
-            nodes: builder.nodes,
-            prims,
-        }
+        Bvh::from_tree(builder.nodes, prims)
     }
 }
 

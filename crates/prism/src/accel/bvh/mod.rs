@@ -3,10 +3,12 @@
 //! (`traverse.rs`).
 
 mod build;
+mod pair;
 mod traverse;
 
 use crate::accel::AccelInfo;
 use crate::math::{Aabb, Vec3};
+use pair::PairNode;
 
 pub use build::BvhOptions;
 
@@ -28,7 +30,10 @@ impl Node {
 }
 
 pub struct Bvh {
+    /// The tree as built: binary nodes, the root at 0.
     nodes: Vec<Node>,
+    /// The same tree as traversed: both children of an interior node in one cache line.
+    pairs: Vec<PairNode>,
     /// Primitive indices (into `Geometry::primitives`) in leaf order.
     prims: Vec<u32>,
 }
@@ -37,6 +42,17 @@ pub struct Bvh {
 const MAX_DEPTH: usize = 64;
 
 impl Bvh {
+    /// Takes a built tree (root at 0, interior nodes' children at `first`, `first + 1`)
+    /// and derives the traversal layout.
+    fn from_tree(nodes: Vec<Node>, prims: Vec<u32>) -> Bvh {
+        let pairs = PairNode::from_tree(&nodes);
+        Bvh {
+            nodes,
+            pairs,
+            prims,
+        }
+    }
+
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
@@ -101,7 +117,10 @@ impl Bvh {
         &self.prims
     }
 
+    /// Both layouts of the tree and the primitive list.
     pub fn memory_bytes(&self) -> usize {
-        self.nodes.len() * std::mem::size_of::<Node>() + self.prims.len() * 4
+        self.nodes.len() * std::mem::size_of::<Node>()
+            + self.pairs.len() * std::mem::size_of::<PairNode>()
+            + self.prims.len() * 4
     }
 }

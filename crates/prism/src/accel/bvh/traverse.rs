@@ -1,10 +1,11 @@
 //! Stack traversal: test both children's boxes, descend into the nearer, push the farther.
 //! Nearest-hit queries shrink `t_max` as hits are found, so far subtrees get culled.
 
+use super::pair::PairRay;
 use super::{Bvh, Node, MAX_DEPTH};
-use crate::accel::{Accel, AccelInfo, Hit};
+use crate::accel::Hit;
 use crate::geometry::Geometry;
-use crate::math::robust::gamma;
+use crate::math::robust::{gamma, next_up};
 use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
 
@@ -28,67 +29,70 @@ impl Bvh {
         stats: &mut Stats,
         any: bool,
     ) -> Option<Hit> {
-        if self.nodes.is_empty() {
-            return None;
-        }
+        let root = self.nodes.first()?;
         stats.node_visits += 1;
-        node_hit(&self.nodes[0], ray, t_max)?;
+        node_hit(root, ray, t_max)?;
         let mut best = None;
-        let mut stack = [(0u32, 0.0f32); MAX_DEPTH];
+        if root.is_leaf() {
+            let leaf = LeafQuery { geometry, ray, any };
+            leaf.test(
+                &self.prims,
+                root.first,
+                root.count,
+                &mut t_max,
+                &mut best,
+                stats,
+            );
+            return best;
+        }
+
+        let leaf = LeafQuery { geometry, ray, any };
+        let pair_ray = PairRay::new(ray);
+        // Entry distances are compared against t_max with the same slack the box test
+        // gives exits, so a child pushed before a hit is not culled by rounding.
+        let slack = 1.0 + 2.0 * gamma(3);
+        // Deferred children: (child, primitive count or 0 for interior, entry distance).
+        let mut stack = [(0u32, 0u32, 0.0f32); MAX_DEPTH];
         let mut sp = 0;
-        let mut current = 0usize;
+        let (mut child, mut count) = (0u32, 0u32);
         loop {
-            let node = &self.nodes[current];
-            if node.is_leaf() {
-                let range = node.first as usize..(node.first + node.count) as usize;
-                for &prim in &self.prims[range] {
-                    if let Some(h) = geometry.intersect_counted(prim, ray, t_max, stats) {
-                        t_max = h.t;
-                        best = Some(Hit {
-                            t: h.t,
-                            prim,
-                            u: h.u,
-                            v: h.v,
-                        });
-                        if any {
-                            return best;
-                        }
-                    }
+            if count > 0 {
+                if leaf.test(&self.prims, child, count, &mut t_max, &mut best, stats) {
+                    return best;
                 }
             } else {
-                let (l, r) = (node.first as usize, node.first as usize + 1);
+                let pair = &self.pairs[child as usize];
                 stats.node_visits += 2;
-                let hl = node_hit(&self.nodes[l], ray, t_max);
-                let hr = node_hit(&self.nodes[r], ray, t_max);
-                match (hl, hr) {
-                    (Some(tl), Some(tr)) => {
-                        let (near, far) = if tl <= tr { (l, r) } else { (r, l) };
-                        stack[sp] = (far as u32, tl.max(tr));
+                match pair.hit(&pair_ray, t_max) {
+                    [Some(ta), Some(tb)] => {
+                        // Visit the nearer child now, the farther one later.
+                        let (near, far, t_far) = if tb < ta { (1, 0, ta) } else { (0, 1, tb) };
+                        stack[sp] = (pair.child[far], pair.count[far], t_far);
                         sp += 1;
-                        current = near;
+                        (child, count) = (pair.child[near], pair.count[near]);
                         continue;
                     }
-                    (Some(_), None) => {
-                        current = l;
+                    [Some(_), None] => {
+                        (child, count) = (pair.child[0], pair.count[0]);
                         continue;
                     }
-                    (None, Some(_)) => {
-                        current = r;
+                    [None, Some(_)] => {
+                        (child, count) = (pair.child[1], pair.count[1]);
                         continue;
                     }
-                    (None, None) => {}
+                    [None, None] => {}
                 }
             }
-            // Pop the next far child, skipping those whose entry lies beyond a hit found
-            // since they were pushed.
+            // Pop the next deferred child, skipping those whose entry lies beyond a hit
+            // found since they were pushed.
             loop {
                 if sp == 0 {
                     return best;
                 }
                 sp -= 1;
-                let (node, t_enter) = stack[sp];
-                if t_enter <= t_max * (1.0 + 2.0 * gamma(3)) {
-                    current = node as usize;
+                let (c, n, t_enter) = stack[sp];
+                if t_enter <= t_max * slack {
+                    (child, count) = (c, n);
                     break;
                 }
             }
@@ -96,22 +100,52 @@ impl Bvh {
     }
 }
 
-impl Accel for Bvh {
-    fn intersect(
+/// What a leaf's primitives are tested for.
+struct LeafQuery<'a> {
+    geometry: &'a Geometry,
+    ray: &'a TraceRay,
+    /// Stop at the first hit.
+    any: bool,
+}
+
+impl LeafQuery<'_> {
+    /// Tests `prims[first .. first + count]`, shrinking `t_max` to each hit; true when an
+    /// any-hit query may stop.
+    #[inline(always)]
+    fn test(
         &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
+        prims: &[u32],
+        first: u32,
+        count: u32,
+        t_max: &mut f32,
+        best: &mut Option<Hit>,
         stats: &mut Stats,
-    ) -> Option<Hit> {
-        self.traverse(geometry, ray, t_max, stats, false)
-    }
-
-    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
-        self.traverse(geometry, ray, t_max, stats, true).is_some()
-    }
-
-    fn info(&self) -> AccelInfo {
-        self.info()
+    ) -> bool {
+        for &prim in &prims[first as usize..(first + count) as usize] {
+            // Exact ties go to the lower primitive id, as in the brute-force list, so the
+            // answer does not depend on the order leaves are visited in.
+            let limit = match best {
+                Some(b) if prim < b.prim => next_up(*t_max),
+                _ => *t_max,
+            };
+            if let Some(h) = self
+                .geometry
+                .intersect_counted(prim, self.ray, limit, stats)
+            {
+                *t_max = h.t;
+                *best = Some(Hit {
+                    t: h.t,
+                    prim,
+                    u: h.u,
+                    v: h.v,
+                });
+                if self.any {
+                    return true;
+                }
+            }
+        }
+        false
     }
 }
+
+crate::accel::accel_from_traverse!(Bvh);

@@ -3,7 +3,7 @@
 
 use super::Grid;
 use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
-use crate::accel::{Accel, AccelInfo, Hit};
+use crate::accel::Hit;
 use crate::geometry::Geometry;
 use crate::math::TraceRay;
 use crate::stats::Stats;
@@ -72,22 +72,4 @@ impl Grid {
     }
 }
 
-impl Accel for Grid {
-    fn intersect(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
-        self.traverse(geometry, ray, t_max, stats, false)
-    }
-
-    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
-        self.traverse(geometry, ray, t_max, stats, true).is_some()
-    }
-
-    fn info(&self) -> AccelInfo {
-        self.info()
-    }
-}
+crate::accel::accel_from_traverse!(Grid);

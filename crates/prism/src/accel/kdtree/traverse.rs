@@ -4,7 +4,7 @@
 
 use super::{KdTree, MAX_DEPTH};
 use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
-use crate::accel::{Accel, AccelInfo, Hit};
+use crate::accel::Hit;
 use crate::geometry::Geometry;
 use crate::math::TraceRay;
 use crate::stats::Stats;
@@ -75,22 +75,4 @@ impl KdTree {
     }
 }
 
-impl Accel for KdTree {
-    fn intersect(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
-        self.traverse(geometry, ray, t_max, stats, false)
-    }
-
-    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
-        self.traverse(geometry, ray, t_max, stats, true).is_some()
-    }
-
-    fn info(&self) -> AccelInfo {
-        self.info()
-    }
-}
+crate::accel::accel_from_traverse!(KdTree);

@@ -7,6 +7,7 @@ use super::hierarchy::VolumeBvh;
 use super::volume::Volume;
 use crate::accel::{Accel, AccelInfo, Hit};
 use crate::geometry::Geometry;
+use crate::math::robust::next_up;
 use crate::math::TraceRay;
 use crate::stats::Stats;
 
@@ -22,8 +23,9 @@ const MAX_DEPTH: usize = 64;
 pub const CULL_SLACK: f32 = 1.0 + 1.0 / 1024.0;
 
 impl<V: Volume> VolumeBvh<V> {
-    /// The ordered walk; `visit(item, t_max, stats)` tests one leaf entry and returns a hit
-    /// nearer than `t_max`. `any` stops at the first hit.
+    /// The ordered walk; `visit(item, limit, stats)` tests one leaf entry and returns its
+    /// nearest hit before `limit` (for a sub-tree: its nearest, exact ties to the lowest
+    /// primitive id). `any` stops at the first hit.
     #[inline(always)]
     pub(super) fn walk(
         &self,
@@ -50,11 +52,21 @@ impl<V: Volume> VolumeBvh<V> {
             if node.is_leaf() {
                 let range = node.first as usize..(node.first + node.count) as usize;
                 for &item in &self.prims[range] {
-                    if let Some(h) = visit(item, t_max, stats) {
-                        t_max = h.t;
-                        best = Some(h);
-                        if any {
-                            return best;
+                    // Exact ties go to the lower primitive id, as in the brute-force list:
+                    // once something is hit, let ties at t_max through and decide here.
+                    let limit = if best.is_some() {
+                        next_up(t_max)
+                    } else {
+                        t_max
+                    };
+                    if let Some(h) = visit(item, limit, stats) {
+                        let wins = h.t < t_max || best.is_none_or(|b: Hit| h.prim < b.prim);
+                        if wins {
+                            t_max = h.t;
+                            best = Some(h);
+                            if any {
+                                return best;
+                            }
                         }
                     }
                 }

@@ -2,7 +2,12 @@
 
 mod checkerboard;
 mod cornell;
+mod pearls;
+mod random;
+mod shards;
+mod slivers;
 mod sphereflake;
+mod stadium;
 mod torusknot;
 mod whitted;
 
@@ -49,6 +54,27 @@ pub const BUILTINS: &[Builtin] = &[
         name: "torusknot",
         description: "a bumpy torus knot of one million triangles: the large-mesh benchmark",
         build: || torusknot(1_000_000),
+    },
+    // The bad cases: one scene that defeats each acceleration method.
+    Builtin {
+        name: "stadium",
+        description: "bad for the grid: a dense knot in a stadium 100× its size crams a few cells",
+        build: stadium::stadium,
+    },
+    Builtin {
+        name: "slivers",
+        description: "bad for bounding boxes: 10k long thin diagonal triangles, boxes mostly empty",
+        build: slivers::slivers,
+    },
+    Builtin {
+        name: "shards",
+        description: "bad for the kd-tree: 2k large overlapping triangles, references explode",
+        build: shards::shards,
+    },
+    Builtin {
+        name: "pearls",
+        description: "bad for the octree: 10k spheres on its centre planes, so it never splits",
+        build: pearls::pearls,
     },
 ];
 

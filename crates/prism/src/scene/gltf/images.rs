@@ -69,7 +69,7 @@ impl<'a> Images<'a> {
             ),
             (None, None) => return Err(format!("{what} has neither a uri nor a bufferView")),
         };
-        image::load_from_memory(&bytes).map_err(|e| {
+        crate::shading::decode_image(&bytes).map_err(|e| {
             format!("cannot decode {what} ({origin}): {e}; prism reads PNG and JPEG images")
         })
     }

@@ -1,0 +1,317 @@
+//! `prism bench`: a matrix of scenes × acceleration methods on a fixed workload (one camera
+//! ray per pixel and the shadow rays of their hits, the same for every method), printed as
+//! a table and written as CSV, JSON and an SVG chart from the same results.
+
+mod chart;
+mod csv;
+mod json;
+mod results;
+mod scenes;
+mod table;
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use prism::accel::{AccelKind, AccelSpec};
+use prism::bench::{measure, Clock, MeasureOptions, RaySet};
+use results::{Outcome, Row, SceneResult};
+use scenes::SceneSource;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Duration;
+
+/// The methods measured when none are given. Any spec `--accel` takes may be added.
+pub const DEFAULT_METHODS: &[&str] = &["bvh", "grid", "kdtree", "octree", "brute-force"];
+
+/// Brute force is skipped when primitives × rays exceeds this (about ten seconds a pass).
+const BRUTE_FORCE_BUDGET: u64 = 1_000_000_000;
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Scenes, comma separated: built-in names (see `prism list`), sphereflake:N, or scene
+    /// files [default: every built-in, the bad cases included].
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub scenes: Vec<String>,
+
+    /// Methods as `--accel` specs, separated by ';' (a ',' separates a spec's parameters),
+    /// e.g. "bvh;bvh:leaf=1;grid:lambda=2" [default: bvh;grid;kdtree;octree;brute-force].
+    #[arg(long, value_name = "LIST")]
+    pub methods: Option<String>,
+
+    /// One method as an `--accel` spec; may be repeated, and adds to --methods.
+    #[arg(long = "method", value_name = "SPEC")]
+    pub method: Vec<String>,
+
+    /// Also run every .nff file in DIR (e.g. ../shared/scenes/spd).
+    #[arg(long, value_name = "DIR")]
+    pub spd: Option<PathBuf>,
+
+    /// Longer image side in pixels; the scene's aspect ratio is kept. One camera ray per
+    /// pixel [default: 256, or 32 with --quick].
+    #[arg(long, value_name = "PIXELS")]
+    pub size: Option<u32>,
+
+    /// Timed passes over the rays per method and ray kind; the median counts. Passes stop
+    /// early after 3 s [default: 5, or 1 with --quick].
+    #[arg(long, value_name = "N")]
+    pub repeat: Option<usize>,
+
+    /// Worker threads for building and tracing; 0 uses every core. One keeps the noise
+    /// down [default: 1].
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub threads: usize,
+
+    /// Small images and a single pass and build: for tests and a first look.
+    #[arg(long)]
+    pub quick: bool,
+
+    /// Write the results as CSV.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+
+    /// Write the results as JSON.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+
+    /// Write a bar chart of primary-ray throughput (SVG).
+    #[arg(long, value_name = "FILE")]
+    pub chart: Option<PathBuf>,
+
+    /// No progress lines on standard error.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+impl BenchArgs {
+    /// The methods, each as written and parsed.
+    fn methods(&self) -> Result<Vec<(String, AccelSpec)>> {
+        let mut texts: Vec<String> = self
+            .methods
+            .iter()
+            .flat_map(|m| m.split(';'))
+            .chain(self.method.iter().map(String::as_str))
+            .map(|m| m.trim().to_string())
+            .filter(|m| !m.is_empty())
+            .collect();
+        if texts.is_empty() {
+            texts = DEFAULT_METHODS.iter().map(|m| m.to_string()).collect();
+        }
+        texts
+            .into_iter()
+            .map(|t| {
+                let spec = t
+                    .parse::<AccelSpec>()
+                    .map_err(|e| anyhow::anyhow!("bad method '{t}': {e}"))?;
+                Ok((t, spec))
+            })
+            .collect()
+    }
+
+    fn sources(&self) -> Result<Vec<SceneSource>> {
+        let mut sources: Vec<SceneSource> = if self.scenes.is_empty() {
+            prism::scene::builtin::names()
+                .into_iter()
+                .map(|n| SceneSource::Builtin(n.to_string()))
+                .collect()
+        } else {
+            self.scenes
+                .iter()
+                .map(|s| SceneSource::resolve(s))
+                .collect::<Result<_>>()?
+        };
+        if let Some(dir) = &self.spd {
+            sources.extend(scenes::spd_files(dir)?);
+        }
+        Ok(sources)
+    }
+}
+
+/// Fails before any work on an output that could not be written at the end.
+fn check_output(path: &Path, extension: Option<&str>) -> Result<()> {
+    if let Some(ext) = extension {
+        if !path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+        {
+            bail!("{}: expected a .{ext} file name", path.display());
+        }
+    }
+    if path.is_dir() {
+        bail!("{}: is a directory", path.display());
+    }
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !parent.is_dir() {
+        bail!(
+            "cannot write {}: the directory {} does not exist",
+            path.display(),
+            parent.display()
+        );
+    }
+    Ok(())
+}
+
+pub fn run(args: &BenchArgs) -> Result<ExitCode> {
+    let methods = args.methods()?;
+    let sources = args.sources()?;
+    for (path, ext) in [
+        (&args.csv, None),
+        (&args.json, None),
+        (&args.chart, Some("svg")),
+    ] {
+        if let Some(p) = path {
+            check_output(p, ext)?;
+        }
+    }
+    let size = args
+        .size
+        .unwrap_or(if args.quick { 32 } else { 256 })
+        .max(1);
+    let repeat = args.repeat.unwrap_or(if args.quick { 1 } else { 5 }).max(1);
+    let mut options = MeasureOptions {
+        repeat,
+        max_builds: if args.quick { 1 } else { 5 },
+        trace_budget: Duration::from_secs(3),
+        min_sample: if args.quick {
+            Duration::ZERO
+        } else {
+            Duration::from_millis(30)
+        },
+        ..MeasureOptions::default()
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads)
+        .build()
+        .context("cannot start the worker threads")?;
+    let threads = pool.current_num_threads();
+    // One thread: CPU time, which other processes on the machine do not inflate. Several:
+    // CPU time would sum them, so wall time.
+    options.clock = if threads == 1 {
+        Clock::ProcessCpu
+    } else {
+        Clock::Wall
+    };
+    println!(
+        "prism bench: {size} px (longer side), 1 camera ray per pixel plus shadow rays to each \
+         light; {threads} thread{}, median of {repeat} pass{} timed by {}",
+        if threads == 1 { "" } else { "s" },
+        if repeat == 1 { "" } else { "es" },
+        options.clock.describe()
+    );
+    println!("P = primary rays (nearest hit), S = shadow rays (any hit); nodes and tests per ray; * = fastest for P");
+    println!("{}", table::header());
+
+    let mut results = Vec::new();
+    for source in &sources {
+        let scene = source.load()?;
+        scene
+            .validate()
+            .with_context(|| format!("{}: the scene is not valid", source.name()))?;
+        let result = pool
+            .install(|| bench_scene(&scene, source.name(), &methods, size, &options, args.quiet))?;
+        print!("{}", table::scene_block(&result));
+        results.push(result);
+    }
+    println!();
+    for line in results::summary(&results) {
+        println!("{line}");
+    }
+
+    let method_names: Vec<String> = methods.iter().map(|(m, _)| m.clone()).collect();
+    let settings = json::RunSettings {
+        threads,
+        clock: options.clock.describe(),
+        size,
+        repeat,
+    };
+    let mut outputs: Vec<(&PathBuf, Vec<u8>)> = Vec::new();
+    if let Some(p) = &args.csv {
+        outputs.push((p, csv::csv(&results).into_bytes()));
+    }
+    if let Some(p) = &args.json {
+        let text = serde_json::to_string_pretty(&json::json(&results, &settings))?;
+        outputs.push((p, (text + "\n").into_bytes()));
+    }
+    if let Some(p) = &args.chart {
+        let title = format!(
+            "Primary rays per second by scene and method ({size} px, {threads} thread{})",
+            if threads == 1 { "" } else { "s" }
+        );
+        outputs.push((p, chart::svg(&results, &method_names, &title).into_bytes()));
+    }
+    for (path, bytes) in outputs {
+        prism::output::write_atomic(path, &bytes)?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn bench_scene(
+    scene: &prism::Scene,
+    name: String,
+    methods: &[(String, AccelSpec)],
+    size: u32,
+    options: &MeasureOptions,
+    quiet: bool,
+) -> Result<SceneResult> {
+    let (w, h) = (scene.options.width.max(1), scene.options.height.max(1));
+    let (width, height) = if w >= h {
+        (
+            size,
+            ((size as u64 * h as u64 + w as u64 / 2) / w as u64).max(1) as u32,
+        )
+    } else {
+        (
+            ((size as u64 * w as u64 + h as u64 / 2) / h as u64).max(1) as u32,
+            size,
+        )
+    };
+    if !quiet {
+        eprintln!("bench: {name}: tracing the reference rays");
+    }
+    let reference = scene.prepare(&AccelSpec::default());
+    let rays = RaySet::generate(&reference, width, height)
+        .with_context(|| format!("{name}: cannot set up the camera"))?;
+    let bounded = (0..scene.geometry.primitives.len() as u32)
+        .filter(|&i| scene.geometry.bounds(i).is_some())
+        .count() as u64;
+    drop(reference);
+    let mut rows = Vec::new();
+    let mut shadow_hits = None;
+    for (method, spec) in methods {
+        let work = bounded * (rays.primary.len() + rays.shadow.len()) as u64;
+        let outcome = if spec.kind() == AccelKind::BruteForce && work > BRUTE_FORCE_BUDGET {
+            Outcome::Skipped(format!(
+                "{bounded} primitives × {} rays is too slow",
+                rays.primary.len() + rays.shadow.len()
+            ))
+        } else {
+            if !quiet {
+                eprintln!("bench: {name}: {method}");
+            }
+            Outcome::Measured(Box::new(measure(scene, spec, &rays, options)))
+        };
+        let mismatch = match &outcome {
+            Outcome::Measured(m) => {
+                let shadow = *shadow_hits.get_or_insert(m.shadow.hits);
+                m.primary.hits != rays.primary_hits || m.shadow.hits != shadow
+            }
+            Outcome::Skipped(_) => false,
+        };
+        rows.push(Row {
+            method: method.clone(),
+            spec: spec.clone(),
+            outcome,
+            mismatch,
+        });
+    }
+    Ok(SceneResult {
+        name,
+        primitives: scene.geometry.primitives.len(),
+        width,
+        height,
+        rays: rays.size(),
+        primary_hits: rays.primary_hits,
+        rows,
+    })
+}

@@ -1,0 +1,64 @@
+//! The cost view: per pixel, the acceleration structure's work (node visits or primitive
+//! tests) per camera ray, as a heat map with a colour bar. Every ray a pixel spawns counts
+//! (camera, shadow, reflected, refracted), divided by the pixel's camera rays: the view shows
+//! where the structure works hard for the image as rendered, and its sum over the image is
+//! the render's total. The counts are exact per pixel, so the view is the same for any
+//! thread count.
+
+use anyhow::{bail, Result};
+use prism::output::heatmap::heatmap;
+use prism::render::RayCounts;
+use std::path::Path;
+
+/// Which work the cost view shows.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CostMetric {
+    /// Acceleration-structure nodes whose bounds were tested.
+    #[default]
+    Nodes,
+    /// Ray–primitive intersection tests.
+    Prims,
+}
+
+/// Fails early on a name the view cannot be written under.
+pub fn check(path: &Path) -> Result<()> {
+    if !path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+    {
+        bail!(
+            "{}: the cost view is written as PNG; use a .png name",
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// Work per camera ray of each pixel (0 where a pixel traced no camera ray).
+pub fn per_camera_ray(rays: &RayCounts, metric: CostMetric) -> Vec<f32> {
+    let work = match metric {
+        CostMetric::Nodes => &rays.node_visits,
+        CostMetric::Prims => &rays.primitive_tests,
+    };
+    work.iter()
+        .zip(&rays.camera)
+        .map(|(&w, &c)| if c == 0 { 0.0 } else { w as f32 / c as f32 })
+        .collect()
+}
+
+pub fn write(path: &Path, rays: &RayCounts, metric: CostMetric, accel: &str) -> Result<()> {
+    let values = per_camera_ray(rays, metric);
+    let what = match metric {
+        CostMetric::Nodes => "NODE VISITS",
+        CostMetric::Prims => "PRIMITIVE TESTS",
+    };
+    let mean = values.iter().map(|&v| v as f64).sum::<f64>() / values.len().max(1) as f64;
+    let max = values.iter().copied().fold(0.0, f32::max);
+    let caption = format!(
+        "{what} PER CAMERA RAY ({}): MEAN {mean:.1}, MAX {max:.0}",
+        accel.to_uppercase()
+    );
+    let image = heatmap(&values, rays.width, rays.height, None, &caption);
+    prism::output::write_png_rgb8(path, &image)?;
+    Ok(())
+}

@@ -1,0 +1,238 @@
+//! `prism bench` and the cost view from the command line: the files the benchmark writes
+//! and what their numbers must satisfy, refusals that leave nothing behind, and a cost
+//! view that does not depend on the thread count.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn work_dir(test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("bench-{test}"));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn prism(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_prism"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the prism binary runs")
+}
+
+#[track_caller]
+fn run(dir: &Path, args: &[&str], code: i32) -> (String, String) {
+    let out = prism(dir, args);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "prism {args:?}: expected exit {code}; stderr:\n{err}"
+    );
+    assert!(!err.contains("panicked"), "prism {args:?} panicked:\n{err}");
+    (String::from_utf8_lossy(&out.stdout).into_owned(), err)
+}
+
+const QUICK: [&str; 12] = [
+    "bench",
+    "--quick",
+    "-q",
+    "--scenes",
+    "cornell,sphereflake:1",
+    "--methods",
+    "bvh;brute-force",
+    "--csv",
+    "out.csv",
+    "--json",
+    "out.json",
+    "--chart",
+];
+
+#[test]
+fn bench_writes_the_same_results_as_csv_json_and_chart() {
+    let dir = work_dir("files");
+    let mut args = QUICK.to_vec();
+    args.push("out.svg");
+    let (table, _) = run(&dir, &args, 0);
+    assert!(table.contains("1 thread"), "{table}");
+    assert!(table.contains("within 10 %"), "{table}");
+
+    let csv = fs::read_to_string(dir.join("out.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|&h| h == name).unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 4, "two scenes × two methods:\n{csv}");
+    for row in &rows {
+        assert_eq!(row.len(), header.len(), "{row:?}");
+        assert_eq!(row[col("status")], "ok", "{row:?}");
+    }
+    let num = |row: &[&str], name: &str| row[col(name)].parse::<f64>().unwrap();
+    for pair in rows.chunks(2) {
+        let (bvh, brute) = (&pair[0], &pair[1]);
+        assert_eq!(
+            (bvh[col("method")], brute[col("method")]),
+            ("bvh", "brute-force")
+        );
+        // Brute force tests every primitive on every ray; the BVH must test fewer.
+        let prims = num(brute, "primitives");
+        assert_eq!(num(brute, "primary_tests_per_ray"), prims);
+        assert_eq!(num(brute, "primary_nodes_per_ray"), 0.0);
+        assert!(num(bvh, "primary_tests_per_ray") < prims, "{bvh:?}");
+        assert!(num(bvh, "primary_nodes_per_ray") > 0.0);
+        // The same rays and the same answers for both.
+        for c in ["primary_rays", "primary_hits", "shadow_rays", "shadow_hits"] {
+            assert_eq!(bvh[col(c)], brute[col(c)], "{c}");
+        }
+        assert!(num(bvh, "primary_rays") == num(bvh, "width") * num(bvh, "height"));
+        assert!(num(bvh, "shadow_rays") > 0.0);
+        let best = pair.iter().filter(|r| r[col("fastest")] == "true").count();
+        assert_eq!(best, 1);
+        for r in pair {
+            let vs = num(r, "vs_best");
+            assert!(vs > 0.0 && vs <= 1.0);
+            assert_eq!(vs == 1.0, r[col("fastest")] == "true");
+            assert!(num(r, "primary_mrays_per_s") > 0.0);
+        }
+    }
+
+    let json: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.join("out.json")).unwrap()).unwrap();
+    assert_eq!(json["threads"], 1);
+    assert_eq!(json["default_method"], "bvh");
+    let scenes = json["scenes"].as_array().unwrap();
+    assert_eq!(scenes.len(), 2);
+    assert_eq!(scenes[0]["name"], "cornell");
+    assert_eq!(scenes[1]["name"], "sphereflake:1");
+    for (s, pair) in scenes.iter().zip(rows.chunks(2)) {
+        let methods = s["methods"].as_array().unwrap();
+        assert_eq!(methods.len(), 2);
+        for (m, row) in methods.iter().zip(pair) {
+            let measured = &m["measured"];
+            assert_eq!(
+                measured["primary"]["hits"].as_u64().unwrap(),
+                num(row, "primary_hits") as u64
+            );
+            assert_eq!(
+                measured["accel"]["memory_bytes"].as_u64().unwrap(),
+                num(row, "memory_bytes") as u64
+            );
+        }
+    }
+
+    let svg = fs::read_to_string(dir.join("out.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert_eq!(svg.matches("Mrays/s</title>").count(), 4, "one bar per row");
+    for name in ["cornell", "sphereflake:1", "bvh", "brute-force", "▲"] {
+        assert!(svg.contains(name), "{name}");
+    }
+}
+
+#[test]
+fn bad_bench_input_fails_at_once_and_writes_nothing() {
+    let dir = work_dir("bad");
+    let cases: [(&[&str], &str); 5] = [
+        (&["--scenes", "cornell,nope"], "unknown scene 'nope'"),
+        (&["--methods", "bvh;bvh:leaf=0"], "bad method 'bvh:leaf=0'"),
+        (&["--method", "quadtree"], "bad method 'quadtree'"),
+        (&["--csv", "missing/out.csv"], "does not exist"),
+        (&["--chart", "out.png"], "expected a .svg file name"),
+    ];
+    for (extra, message) in cases {
+        let mut args = vec!["bench", "--quick", "-q", "--json", "out.json"];
+        if !extra.contains(&"--scenes") {
+            args.extend(["--scenes", "cornell"]);
+        }
+        args.extend(extra);
+        let (_, err) = run(&dir, &args, 1);
+        assert!(err.contains(message), "{args:?}: {err}");
+        let left: Vec<_> = fs::read_dir(&dir).unwrap().collect();
+        assert!(left.is_empty(), "{args:?} left files behind: {left:?}");
+    }
+}
+
+#[test]
+fn the_cost_view_is_the_same_for_any_thread_count() {
+    let dir = work_dir("cost");
+    let render = |threads: &str, metric: &str, out: &str| {
+        run(
+            &dir,
+            &[
+                "render",
+                "-b",
+                "sphereflake:2",
+                "-q",
+                "-W",
+                "24",
+                "-H",
+                "18",
+                "-o",
+                "img.png",
+                "-t",
+                threads,
+                "--cost",
+                out,
+                "--cost-metric",
+                metric,
+            ],
+            0,
+        );
+        fs::read(dir.join(out)).unwrap()
+    };
+    for metric in ["nodes", "prims"] {
+        let one = render("1", metric, "one.png");
+        let two = render("2", metric, "two.png");
+        assert!(one == two, "{metric}: the view depends on the thread count");
+        let image = image::load_from_memory(&one).unwrap();
+        // The heat map enlarges small renders by a whole factor and adds a colour bar to the
+        // right and a caption below.
+        let zoom = 240 / 18;
+        assert!(image.width() > 24 * zoom && image.height() > 18 * zoom);
+        let rgb = image.to_rgb8();
+        let colours: std::collections::HashSet<_> = (0..24 * zoom)
+            .flat_map(|x| (0..18 * zoom).map(move |y| (x, y)))
+            .map(|(x, y)| rgb.get_pixel(x, y).0)
+            .collect();
+        assert!(colours.len() > 4, "{metric}: the view is nearly flat");
+    }
+    let (_, err) = run(
+        &dir,
+        &[
+            "render", "-b", "cornell", "-q", "-W", "8", "-H", "8", "-o", "a.png", "--cost", "c.exr",
+        ],
+        1,
+    );
+    assert!(err.contains("cost view is written as PNG"), "{err}");
+}
+
+#[test]
+fn the_bad_case_scenes_render_and_describe_themselves() {
+    let dir = work_dir("bad-cases");
+    let (list, _) = run(&dir, &["list"], 0);
+    for (name, what) in [
+        ("stadium", "bad for the grid"),
+        ("slivers", "bad for bounding boxes"),
+        ("shards", "bad for the kd-tree"),
+        ("pearls", "bad for the octree"),
+    ] {
+        let line = list.lines().find(|l| l.trim_start().starts_with(name));
+        assert!(line.is_some_and(|l| l.contains(what)), "{name}: {list}");
+        run(
+            &dir,
+            &[
+                "render", "-b", name, "-q", "-W", "32", "-H", "24", "-o", "img.png",
+            ],
+            0,
+        );
+        let image = image::open(dir.join("img.png")).unwrap().to_rgb8();
+        let first = *image.get_pixel(0, 0);
+        assert!(
+            image.pixels().any(|p| *p != first),
+            "{name}: the render is one flat colour"
+        );
+        let builtin = format!("builtin:{name}");
+        let (info, _) = run(&dir, &["info", &builtin], 0);
+        assert!(info.contains("accelerator"), "{info}");
+    }
+}

@@ -1,0 +1,245 @@
+//! Measuring one method on one scene's `RaySet`: build time (median of several builds when
+//! a build is cheap), what was built, and for primary rays (nearest hit) and shadow rays
+//! (any hit) the node visits and primitive tests per ray and the throughput (median of the
+//! repetitions).
+
+use super::rays::{RaySet, ShadowRay};
+use super::Clock;
+use crate::accel::{AccelInfo, AccelSpec, SceneIntersector};
+use crate::geometry::Geometry;
+use crate::math::Ray;
+use crate::scene::Scene;
+use crate::stats::Stats;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::time::Duration;
+
+/// Rays per piece of work handed to a thread: large enough that scheduling costs nothing
+/// next to the tracing.
+const CHUNK: usize = 1024;
+
+#[derive(Clone, Debug)]
+pub struct MeasureOptions {
+    /// Timed repetitions of each ray kind (at least 1); the median counts.
+    pub repeat: usize,
+    /// Builds are repeated while the builds so far took less than this in all.
+    pub build_budget: Duration,
+    /// Builds at most.
+    pub max_builds: usize,
+    /// Repetitions stop early once they have taken this long in all, so a hopeless method
+    /// on a large scene does not hold the whole matrix up.
+    pub trace_budget: Duration,
+    /// A timed repetition runs as many passes as it takes to last about this long, so that
+    /// passes of a few milliseconds are not lost in timer and scheduler noise.
+    pub min_sample: Duration,
+    /// What the times are read from: process CPU time keeps single-threaded figures
+    /// steady on a shared machine; with several threads it sums them, so wall time is
+    /// the honest choice there.
+    pub clock: Clock,
+}
+
+impl Default for MeasureOptions {
+    fn default() -> Self {
+        MeasureOptions {
+            repeat: 5,
+            build_budget: Duration::from_millis(500),
+            max_builds: 5,
+            trace_budget: Duration::from_secs(3),
+            min_sample: Duration::from_millis(30),
+            clock: Clock::ProcessCpu,
+        }
+    }
+}
+
+/// Primary or shadow rays traced with one method.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct RayKindResult {
+    pub rays: usize,
+    /// Rays that hit (primary) or were blocked (shadow).
+    pub hits: usize,
+    pub node_visits_per_ray: f64,
+    pub primitive_tests_per_ray: f64,
+    /// Median time of one pass over all the rays.
+    pub seconds: f64,
+    pub mrays_per_s: f64,
+    /// Passes timed.
+    pub repetitions: usize,
+}
+
+/// Everything measured for one method on one scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct Measured {
+    pub accel: AccelInfo,
+    /// Median build time.
+    pub build_ms: f64,
+    pub builds: usize,
+    pub primary: RayKindResult,
+    pub shadow: RayKindResult,
+}
+
+/// Builds `spec` over `scene` and traces `rays` with it, on the current rayon pool.
+pub fn measure(
+    scene: &Scene,
+    spec: &AccelSpec,
+    rays: &RaySet,
+    options: &MeasureOptions,
+) -> Measured {
+    let mut build_times = Vec::new();
+    let mut spent = Duration::ZERO;
+    let intersector = loop {
+        let start = options.clock.start();
+        let built = SceneIntersector::build(&scene.geometry, spec);
+        let took = start.elapsed();
+        build_times.push(took.as_secs_f64() * 1e3);
+        spent += took;
+        if spent >= options.build_budget || build_times.len() >= options.max_builds.max(1) {
+            break built;
+        }
+    };
+    let geometry = &scene.geometry;
+    let primary = timed(options, rays.primary.len(), || {
+        trace_primary(&intersector, geometry, &rays.primary)
+    });
+    let shadow = timed(options, rays.shadow.len(), || {
+        trace_shadow(&intersector, geometry, &rays.shadow)
+    });
+    Measured {
+        accel: intersector.accel.info(),
+        build_ms: median(&mut build_times),
+        builds: build_times.len(),
+        primary,
+        shadow,
+    }
+}
+
+/// Counts the work of one pass of `pass`, then times up to `repeat` samples (within the
+/// budget), each of enough passes to last `min_sample`, and reports the median time of a
+/// pass.
+fn timed(
+    options: &MeasureOptions,
+    rays: usize,
+    pass: impl Fn() -> (usize, Stats),
+) -> RayKindResult {
+    let start = options.clock.start();
+    let (hits, stats) = std::hint::black_box(pass());
+    let first = start.elapsed();
+    let passes = if first.is_zero() {
+        1000
+    } else {
+        (options.min_sample.as_secs_f64() / first.as_secs_f64()).ceil() as usize
+    }
+    .clamp(1, 1000);
+    let mut times = Vec::new();
+    let mut spent = first;
+    if passes == 1 && spent >= options.trace_budget {
+        // One pass took the whole budget: it is the only sample there will be.
+        times.push(first.as_secs_f64());
+    }
+    while times.len() < options.repeat.max(1) && (times.is_empty() || spent < options.trace_budget)
+    {
+        let start = options.clock.start();
+        for _ in 0..passes {
+            std::hint::black_box(pass());
+        }
+        let took = start.elapsed();
+        times.push(took.as_secs_f64() / passes as f64);
+        spent += took;
+    }
+    let seconds = median(&mut times);
+    let per_ray = |n: u64| {
+        if rays == 0 {
+            0.0
+        } else {
+            n as f64 / rays as f64
+        }
+    };
+    RayKindResult {
+        rays,
+        hits,
+        node_visits_per_ray: per_ray(stats.node_visits),
+        primitive_tests_per_ray: per_ray(stats.primitive_tests),
+        seconds,
+        mrays_per_s: if seconds > 0.0 {
+            rays as f64 / seconds / 1e6
+        } else {
+            0.0
+        },
+        repetitions: times.len(),
+    }
+}
+
+fn trace_primary(
+    intersector: &SceneIntersector,
+    geometry: &Geometry,
+    rays: &[Ray],
+) -> (usize, Stats) {
+    sum_chunks(rays, |chunk, stats| {
+        chunk
+            .iter()
+            .filter(|ray| {
+                intersector
+                    .intersect(geometry, ray, f32::INFINITY, stats)
+                    .is_some()
+            })
+            .count()
+    })
+}
+
+fn trace_shadow(
+    intersector: &SceneIntersector,
+    geometry: &Geometry,
+    rays: &[ShadowRay],
+) -> (usize, Stats) {
+    sum_chunks(rays, |chunk, stats| {
+        chunk
+            .iter()
+            .filter(|s| intersector.occluded(geometry, &s.ray, s.t_max, stats))
+            .count()
+    })
+}
+
+/// Runs `f` over chunks of `items` in parallel and adds up its counts and statistics.
+fn sum_chunks<T: Sync>(
+    items: &[T],
+    f: impl Fn(&[T], &mut Stats) -> usize + Sync,
+) -> (usize, Stats) {
+    items
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut stats = Stats::default();
+            let n = f(chunk, &mut stats);
+            (n, stats)
+        })
+        .reduce(
+            || (0, Stats::default()),
+            |(a, mut s), (b, t)| {
+                s += t;
+                (a + b, s)
+            },
+        )
+}
+
+fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_median_is_the_middle_value() {
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&mut [4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert_eq!(median(&mut []), 0.0);
+    }
+}

@@ -1,0 +1,11 @@
+//! Measuring acceleration structures on a fixed workload: the same primary and shadow rays
+//! for every method (`rays`), then build time, memory, traversal work per ray and ray
+//! throughput for each (`measure`). `prism bench` runs these over scenes × methods.
+
+mod clock;
+mod measure;
+mod rays;
+
+pub use clock::{Clock, Stopwatch};
+pub use measure::{measure, MeasureOptions, Measured, RayKindResult};
+pub use rays::{RaySet, RaySetSize, ShadowRay};

@@ -1,0 +1,92 @@
+//! The kd-tree's bad case: 2 000 large triangles, each spanning about half the scene, in
+//! random orientations, all overlapping. Every splitting plane cuts most of them, so a
+//! kd-tree (and any spatial subdivision) copies each into many leaves and its references
+//! and memory explode, where a BVH just lets its boxes overlap.
+
+use super::random::unit;
+use crate::camera::Camera;
+use crate::geometry::{Plane, Shape, TriangleMesh};
+use crate::light::Light;
+use crate::math::{Color, Vec3};
+use crate::scene::Scene;
+use crate::shading::{Material, Texture};
+
+const SHARDS: u32 = 2_000;
+/// Distance of a shard's corners from its centre, against a scene of half-size 1.
+const REACH: f32 = 0.5;
+
+pub fn shards() -> Scene {
+    let mut scene = Scene {
+        camera: Camera {
+            eye: Vec3::new(2.8, -3.6, 2.2),
+            look_at: Vec3::ZERO,
+            up: Vec3::Z,
+            fov_degrees: 45.0,
+        },
+        background: Color::new(0.08, 0.08, 0.1),
+        ambient: Color::splat(0.15),
+        ..Scene::default()
+    };
+    scene.options.width = 480;
+    scene.options.height = 360;
+    let palette = [
+        Color::new(0.8, 0.3, 0.3),
+        Color::new(0.3, 0.7, 0.4),
+        Color::new(0.3, 0.4, 0.85),
+    ];
+    let materials: Vec<u32> = palette
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| {
+            scene.add_material(Material {
+                name: format!("shard{k}"),
+                color: Texture::Solid(c),
+                ambient: 0.5,
+                diffuse: 0.8,
+                specular: 0.4,
+                shininess: 30.0,
+                ..Material::default()
+            })
+        })
+        .collect();
+    let floor = scene.add_material(Material {
+        name: "floor".into(),
+        color: Texture::Solid(Color::splat(0.5)),
+        ambient: 0.5,
+        diffuse: 0.7,
+        ..Material::default()
+    });
+    for (k, &material) in materials.iter().enumerate() {
+        scene.geometry.add_mesh(shard_mesh(k as u32, 3), material);
+    }
+    let plane = Plane::new(Vec3::new(0.0, 0.0, -1.6), Vec3::Z).expect("non-zero normal");
+    scene.geometry.add(Shape::Plane(Box::new(plane)), floor);
+    scene.lights = vec![
+        Light::Point {
+            position: Vec3::new(-3.0, -4.0, 6.0),
+            color: Color::splat(0.7),
+        },
+        Light::Directional {
+            direction: Vec3::new(1.0, 0.5, -1.0).normalize(),
+            color: Color::splat(0.3),
+        },
+    ];
+    scene
+}
+
+/// Every `of`-th shard, starting at shard `part`: one mesh per colour.
+fn shard_mesh(part: u32, of: u32) -> TriangleMesh {
+    let mut positions = Vec::new();
+    let mut indices = Vec::new();
+    for i in (part..SHARDS).step_by(of as usize) {
+        let random_point =
+            |d: u32| Vec3::new(unit(i, d), unit(i, d + 1), unit(i, d + 2)) * 2.0 - Vec3::ONE;
+        let centre = random_point(0) * (1.0 - REACH);
+        let k = positions.len() as u32;
+        for corner in 0..3 {
+            positions.push(centre + REACH * random_point(3 + 3 * corner));
+        }
+        indices.push([k, k + 1, k + 2]);
+    }
+    TriangleMesh::new(positions, indices, None, None).expect("shard indices are in range")
+}

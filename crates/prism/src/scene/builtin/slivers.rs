@@ -1,0 +1,88 @@
+//! The bad case for axis-aligned boxes: a haystack of 10 000 long, thin triangles lying
+//! along the cube's diagonals. Each one's bounding box is a cube around it that is almost
+//! all empty, so box-bounded hierarchies and cells find "hits" everywhere and test far more
+//! triangles than a ray comes near.
+
+use super::random::unit;
+use crate::camera::Camera;
+use crate::geometry::{Plane, Shape, TriangleMesh};
+use crate::light::Light;
+use crate::math::{Color, Vec3};
+use crate::scene::Scene;
+use crate::shading::{Material, Texture};
+
+const NEEDLES: u32 = 10_000;
+const LENGTH: f32 = 1.2;
+const WIDTH: f32 = 0.02;
+
+pub fn slivers() -> Scene {
+    let mut scene = Scene {
+        camera: Camera {
+            eye: Vec3::new(3.2, -4.0, 2.4),
+            look_at: Vec3::new(0.0, 0.0, -0.2),
+            up: Vec3::Z,
+            fov_degrees: 40.0,
+        },
+        background: Color::new(0.05, 0.05, 0.08),
+        ambient: Color::splat(0.15),
+        ..Scene::default()
+    };
+    scene.options.width = 480;
+    scene.options.height = 360;
+    let straw = scene.add_material(Material {
+        name: "straw".into(),
+        color: Texture::Solid(Color::new(0.9, 0.8, 0.4)),
+        ambient: 0.5,
+        diffuse: 0.8,
+        specular: 0.3,
+        shininess: 20.0,
+        ..Material::default()
+    });
+    let floor = scene.add_material(Material {
+        name: "floor".into(),
+        color: Texture::Solid(Color::splat(0.45)),
+        ambient: 0.5,
+        diffuse: 0.7,
+        ..Material::default()
+    });
+    scene.geometry.add_mesh(needles(), straw);
+    let plane = Plane::new(Vec3::new(0.0, 0.0, -1.8), Vec3::Z).expect("non-zero normal");
+    scene.geometry.add(Shape::Plane(Box::new(plane)), floor);
+    scene.lights = vec![
+        Light::Point {
+            position: Vec3::new(-3.0, -4.0, 6.0),
+            color: Color::splat(0.7),
+        },
+        Light::Directional {
+            direction: Vec3::new(1.0, 0.5, -1.0).normalize(),
+            color: Color::splat(0.3),
+        },
+    ];
+    scene
+}
+
+/// Needles from random points in [-1, 1]³ along one of the four cube diagonals.
+fn needles() -> TriangleMesh {
+    let diagonals = [
+        Vec3::new(1.0, 1.0, 1.0),
+        Vec3::new(-1.0, 1.0, 1.0),
+        Vec3::new(1.0, -1.0, 1.0),
+        Vec3::new(-1.0, -1.0, 1.0),
+    ]
+    .map(Vec3::normalize);
+    let mut positions = Vec::with_capacity(3 * NEEDLES as usize);
+    let mut indices = Vec::with_capacity(NEEDLES as usize);
+    for i in 0..NEEDLES {
+        let start = Vec3::new(unit(i, 0), unit(i, 1), unit(i, 2)) * 2.0 - Vec3::ONE;
+        let d = diagonals[(unit(i, 3) * 4.0) as usize % 4];
+        // A side direction across the needle, turned by a random angle about it.
+        let side = d.any_orthonormal_vector();
+        let angle = unit(i, 4) * std::f32::consts::TAU;
+        let across = side * angle.cos() + d.cross(side) * angle.sin();
+        let start = start - 0.5 * LENGTH * d;
+        let k = positions.len() as u32;
+        positions.extend([start, start + LENGTH * d, start + WIDTH * across]);
+        indices.push([k, k + 1, k + 2]);
+    }
+    TriangleMesh::new(positions, indices, None, None).expect("needle indices are in range")
+}
