@@ -97,7 +97,7 @@ pub trait VolumeAccel: Send + Sync {
 
     /// The mean chance that a random line meeting a node's box also meets its volume
     /// (the surface-area ratio, for convex volumes), over up to `nodes` nodes spread
-    /// through the tree, `lines` lines each.
+    /// through the tree, `lines` lines each; NaN when there is nothing to measure.
     fn tightness(&self, geometry: &Geometry, nodes: usize, lines: u32) -> f64;
 }
 

@@ -232,6 +232,7 @@ impl VolumeAccel for ObjectHulls {
             on_hull += h;
             on_box += b;
         }
-        on_hull as f64 / on_box.max(1) as f64
+        // NaN when no object is big enough for a hull: there is nothing to measure.
+        on_hull as f64 / on_box as f64
     }
 }
