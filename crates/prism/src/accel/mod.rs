@@ -45,6 +45,7 @@ pub mod kdtree;
 mod mailbox;
 pub mod octree;
 mod spec;
+pub mod volumes;
 
 pub use brute::BruteForce;
 pub use bvh::{Bvh, BvhBuilder, BvhOptions};

@@ -1,8 +1,9 @@
 //! `AccelSpec`: which accelerator to build and with which parameters, written as one
 //! string so the command line (`--accel`) and the scene file (`accel = "…"`) say it the
 //! same way: `METHOD[:KEY=VALUE,…]`, e.g. `bvh`, `bvh:leaf=4,bins=32`, `grid:lambda=2`,
-//! `kdtree:isect=80`. A key without a value means `true` for switches.
+//! `kdtree:isect=80`, `bvh:volume=dop14`. A key without a value means `true` for switches.
 
+use super::volumes::{self, NodeVolume};
 use super::{
     Accel, AccelKind, BruteForce, Bvh, BvhOptions, Grid, GridOptions, KdTree, KdTreeOptions,
     Octree, OctreeOptions,
@@ -18,6 +19,12 @@ use std::str::FromStr;
 pub enum AccelSpec {
     BruteForce,
     Bvh(BvhOptions),
+    /// The same SAH tree with other node volumes than boxes (`bvh:volume=…`); boxes are
+    /// `Bvh` itself.
+    BvhVolume {
+        options: BvhOptions,
+        volume: NodeVolume,
+    },
     Grid(GridOptions),
     KdTree(KdTreeOptions),
     Octree(OctreeOptions),
@@ -46,7 +53,7 @@ impl AccelSpec {
     pub fn kind(&self) -> AccelKind {
         match self {
             AccelSpec::BruteForce => AccelKind::BruteForce,
-            AccelSpec::Bvh(_) => AccelKind::Bvh,
+            AccelSpec::Bvh(_) | AccelSpec::BvhVolume { .. } => AccelKind::Bvh,
             AccelSpec::Grid(_) => AccelKind::Grid,
             AccelSpec::KdTree(_) => AccelKind::KdTree,
             AccelSpec::Octree(_) => AccelKind::Octree,
@@ -58,6 +65,9 @@ impl AccelSpec {
         match self {
             AccelSpec::BruteForce => Box::new(BruteForce::new(prims)),
             AccelSpec::Bvh(o) => Box::new(Bvh::build(geometry, prims, o)),
+            AccelSpec::BvhVolume { options, volume } => {
+                volumes::build(geometry, prims, options, *volume)
+            }
             AccelSpec::Grid(o) => Box::new(Grid::build(geometry, prims, o)),
             AccelSpec::KdTree(o) => Box::new(KdTree::build(geometry, prims, o)),
             AccelSpec::Octree(o) => Box::new(Octree::build(geometry, prims, o)),
@@ -75,7 +85,7 @@ impl AccelSpec {
         };
         match self {
             AccelSpec::BruteForce => {}
-            AccelSpec::Bvh(o) => {
+            AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. } => {
                 let d = BvhOptions::default();
                 put("bins", o.bins.to_string(), d.bins.to_string());
                 put(
@@ -89,6 +99,9 @@ impl AccelSpec {
                     d.traversal_cost.to_string(),
                 );
                 put("build", o.builder.to_string(), d.builder.to_string());
+                if let AccelSpec::BvhVolume { volume, .. } = self {
+                    put("volume", volume.to_string(), NodeVolume::Aabb.to_string());
+                }
                 if o.reinsert {
                     out.push("reinsert".to_string());
                 }
@@ -227,6 +240,15 @@ impl Param<'_> {
             .map_err(|e| format!("bad value for '{}': {e}", self.key))
     }
 
+    /// A node volume by name.
+    fn volume(&self) -> Result<NodeVolume, String> {
+        let names: Vec<&str> = NodeVolume::ALL.iter().map(|v| v.name()).collect();
+        let expected = format!("one of {}", names.join(", "));
+        let text = self.text(&expected)?;
+        text.parse()
+            .map_err(|_| format!("bad value '{text}' for '{}': expected {expected}", self.key))
+    }
+
     /// A finite number in `lo..=hi`.
     fn number(&self, lo: f32, hi: f32) -> Result<f32, String> {
         let expected = format!("a number from {lo} to {hi}");
@@ -246,7 +268,7 @@ impl AccelSpec {
     pub fn keys(kind: AccelKind) -> &'static [&'static str] {
         match kind {
             AccelKind::BruteForce => &[],
-            AccelKind::Bvh => &["bins", "leaf", "trav", "build", "reinsert"],
+            AccelKind::Bvh => &["bins", "leaf", "trav", "build", "reinsert", "volume"],
             AccelKind::Grid => &["lambda", "cells"],
             AccelKind::KdTree => &["trav", "isect", "empty-bonus", "depth"],
             AccelKind::Octree => &["leaf", "depth"],
@@ -254,12 +276,33 @@ impl AccelSpec {
     }
 
     fn set(&mut self, key: &str, p: Param) -> Result<(), String> {
+        if let (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "volume") =
+            (&*self, key)
+        {
+            let options = o.clone();
+            let volume = p.volume()?;
+            *self = match volume {
+                NodeVolume::Aabb => AccelSpec::Bvh(options),
+                volume => AccelSpec::BvhVolume { options, volume },
+            };
+            return Ok(());
+        }
         match (self, key) {
-            (AccelSpec::Bvh(o), "bins") => o.bins = p.int(2, 256)?,
-            (AccelSpec::Bvh(o), "leaf") => o.max_leaf_size = p.int(1, 1024)?,
-            (AccelSpec::Bvh(o), "trav") => o.traversal_cost = p.number(0.0, 1000.0)?,
-            (AccelSpec::Bvh(o), "build") => o.builder = p.choice()?,
-            (AccelSpec::Bvh(o), "reinsert") => o.reinsert = p.switch()?,
+            (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "bins") => {
+                o.bins = p.int(2, 256)?
+            }
+            (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "leaf") => {
+                o.max_leaf_size = p.int(1, 1024)?
+            }
+            (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "trav") => {
+                o.traversal_cost = p.number(0.0, 1000.0)?
+            }
+            (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "build") => {
+                o.builder = p.choice()?
+            }
+            (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "reinsert") => {
+                o.reinsert = p.switch()?
+            }
             (AccelSpec::Grid(o), "lambda") => o.lambda = p.number(0.01, 100.0)?,
             (AccelSpec::Grid(o), "cells") => o.max_cells = p.int(1, 1 << 28)?,
             (AccelSpec::KdTree(o), "trav") => o.traversal_cost = p.number(0.0, 1000.0)?,
@@ -308,6 +351,9 @@ mod tests {
             "bvh:build=sweep,reinsert,leaf=4",
             "bvh:build=lbvh,reinsert=false",
             "bvh:build=median,reinsert=true",
+            "bvh:leaf=4,volume=obb",
+            "bvh:volume=dop26",
+            "bvh:volume=hull,bins=8",
             "grid:lambda=2,cells=1000",
             "kdtree:trav=1,isect=80,empty-bonus=0.5,depth=20",
             "octree:leaf=2,depth=6",
@@ -331,6 +377,15 @@ mod tests {
             AccelSpec::Bvh(o).to_string(),
             "bvh:leaf=4,build=sweep,reinsert"
         );
+        for v in volumes::NodeVolume::ALL {
+            let spec: AccelSpec = format!("bvh:volume={v}").parse().unwrap();
+            assert_eq!(spec.kind(), AccelKind::Bvh);
+            if v == NodeVolume::Aabb {
+                assert_eq!(spec, AccelSpec::default(), "boxes are the plain BVH");
+            } else {
+                assert_eq!(spec.to_string(), format!("bvh:volume={v}"));
+            }
+        }
         // A default value is not printed.
         assert_eq!(
             "bvh:bins=16".parse::<AccelSpec>().unwrap().to_string(),
@@ -356,6 +411,12 @@ mod tests {
                 "unknown parameter 'lambda' for bvh, expected one of: bins",
             ),
             ("grid:lambda=nan", "expected a number from"),
+            (
+                "bvh:volume=cube",
+                "expected one of aabb, sphere, obb, dop14, dop26, hull",
+            ),
+            ("bvh:volume", "'volume' needs a value"),
+            ("grid:volume=obb", "unknown parameter 'volume' for grid"),
             ("grid:lambda=inf", "expected a number from"),
             ("brute-force:leaf=1", "brute-force takes no parameters"),
             ("bvh:leaf=4,,bins=2", "empty parameter"),

@@ -71,22 +71,21 @@ fn process_cpu_time() -> Option<Duration> {
 mod tests {
     use super::*;
 
+    /// Work advances the CPU clock. (Other tests run in the same process at the same
+    /// time and advance it too, so nothing is asserted about sleeping.)
     #[test]
-    fn cpu_time_advances_with_work_and_not_with_sleep() {
-        let watch = Clock::ProcessCpu.start();
-        std::thread::sleep(Duration::from_millis(30));
-        let slept = watch.elapsed();
-        let mut x = 0u64;
-        let busy = Instant::now();
-        while busy.elapsed() < Duration::from_millis(30) {
-            x = std::hint::black_box(x.wrapping_mul(6364136223846793005).wrapping_add(1));
+    fn cpu_time_advances_with_work() {
+        if process_cpu_time().is_none() {
+            return;
         }
-        let worked = watch.elapsed();
-        if process_cpu_time().is_some() {
-            assert!(slept < Duration::from_millis(20), "sleeping cost {slept:?}");
+        let watch = Clock::ProcessCpu.start();
+        let wall = Instant::now();
+        let mut x = 0u64;
+        while watch.elapsed() < Duration::from_millis(20) {
+            x = std::hint::black_box(x.wrapping_mul(6364136223846793005).wrapping_add(1));
             assert!(
-                worked > slept,
-                "{worked:?} after work, {slept:?} after sleep"
+                wall.elapsed() < Duration::from_secs(20),
+                "20 s of busy work did not show as 20 ms of CPU time"
             );
         }
         let wall = Clock::Wall.start();

@@ -157,6 +157,20 @@ impl Bvh {
         info
     }
 
+    /// The tree's topology for hierarchies that reuse it with other volumes: per node,
+    /// `(first, count)` as in `Node` (children at `first`, `first + 1` when `count == 0`),
+    /// and the node's box.
+    pub(crate) fn topology(&self) -> impl Iterator<Item = (u32, u32, Aabb)> + '_ {
+        self.nodes
+            .iter()
+            .map(|n| (n.first, n.count, Aabb::new(n.min, n.max)))
+    }
+
+    /// Primitive indices in leaf order: a leaf holds `leaf_order()[first .. first + count]`.
+    pub(crate) fn leaf_order(&self) -> &[u32] {
+        &self.prims
+    }
+
     /// Both layouts of the tree and the primitive list.
     pub fn memory_bytes(&self) -> usize {
         self.nodes.len() * std::mem::size_of::<Node>()

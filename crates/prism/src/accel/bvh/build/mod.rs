@@ -26,6 +26,16 @@ impl Bvh {
             .par_iter()
             .map(|&p| geometry.bounds(p).expect("BVH primitives must be bounded"))
             .collect();
+        Bvh::build_over_bounds(prims, bounds, options)
+    }
+
+    /// Builds over items known only by their boxes (`bounds[i]` bounds `prims[i]`), for
+    /// hierarchies whose leaves are not single primitives.
+    pub(crate) fn build_over_bounds(
+        prims: Vec<u32>,
+        bounds: Vec<Aabb>,
+        options: &BvhOptions,
+    ) -> Bvh {
         let centroids = bounds.par_iter().map(Aabb::center).collect();
         let input = BuildPrims { bounds, centroids };
         // Work on positions 0..n; map back to primitive ids at the end.
