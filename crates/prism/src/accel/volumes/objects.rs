@@ -13,7 +13,6 @@ use super::hull::convex_hull;
 use super::kdop::DIRECTIONS;
 use super::measure;
 use super::polytope::{hit_polytope, store_planes, Plane};
-use super::support::support;
 use super::volume::magnitude;
 use super::VolumeAccel;
 use crate::accel::{Accel, AccelInfo, Bvh, BvhOptions, Hit};
@@ -170,11 +169,9 @@ fn object_planes(geometry: &Geometry, tris: &[u32], bounds: &Aabb) -> Vec<Plane>
             })
             .collect(),
     };
-    let support_all = |n: DVec3| {
-        tris.iter()
-            .map(|&t| support(geometry, t, n))
-            .fold(f64::MIN, f64::max)
-    };
+    // A triangle's support is its vertices', so the deduplicated points give the same
+    // maximum as the triangles, a third of the work without the per-triangle lookups.
+    let support_all = |n: DVec3| points.iter().map(|p| p.dot(n)).fold(f64::MIN, f64::max);
     store_planes(&faces, support_all, magnitude(bounds))
 }
 

@@ -8,6 +8,7 @@ use super::slab::{finish, round_up, SlabAxis, ROUNDINGS};
 use crate::math::robust::gamma;
 use crate::math::{TraceRay, Vec3};
 use glam::DVec3;
+use rayon::prelude::*;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plane {
@@ -20,11 +21,12 @@ pub struct Plane {
 /// and padded like every other volume's slabs.
 pub fn store_planes(
     planes: &[HalfSpace],
-    support: impl Fn(DVec3) -> f64,
+    support: impl Fn(DVec3) -> f64 + Sync,
     magnitude: f64,
 ) -> Vec<Plane> {
+    // In parallel: a hull of a big mesh has thousands of faces, each a pass over its points.
     planes
-        .iter()
+        .par_iter()
         .map(|p| {
             let normal = p.normal.as_vec3();
             let n = normal.as_dvec3();
