@@ -163,8 +163,10 @@ pub struct RenderArgs {
     pub seed: Option<u64>,
 
     /// Acceleration structure and its parameters, METHOD[:KEY=VALUE,...]: bvh (the
-    /// default; keys bins, leaf, trav), grid (lambda, cells), kdtree (trav, isect,
-    /// empty-bonus, depth), octree (leaf, depth) or brute-force. Example: bvh:leaf=4.
+    /// default; keys build=binned|sweep|median|lbvh, reinsert, volume=aabb|sphere|obb|
+    /// dop14|dop26|hull, bins, leaf, trav), grid (lambda, cells), kdtree (trav, isect,
+    /// empty-bonus, depth), octree (leaf, depth) or brute-force. Example:
+    /// bvh:build=sweep,reinsert.
     #[arg(long, value_name = "SPEC")]
     pub accel: Option<AccelSpec>,
 
