@@ -629,6 +629,9 @@ fn built_in_scenes_render_identically_with_every_accelerator() {
                 }));
             }
         }
+        for volume in ["sphere", "obb", "dop14", "dop26", "hull"] {
+            specs.push(format!("bvh:volume={volume}").parse().unwrap());
+        }
         for spec in specs {
             assert!(
                 image(spec.clone()) == reference,
