@@ -6,8 +6,8 @@
 /// `traverse(geometry, ray, t_max, stats, any)`, that stops at the first hit when `any`
 /// is set, and which describes itself with an inherent `info()`.
 macro_rules! accel_from_traverse {
-    ($structure:ty) => {
-        impl $crate::accel::Accel for $structure {
+    (impl<$($param:ident: $bound:path),*> $structure:ty) => {
+        impl<$($param: $bound),*> $crate::accel::Accel for $structure {
             fn intersect(
                 &self,
                 geometry: &$crate::geometry::Geometry,
@@ -32,6 +32,9 @@ macro_rules! accel_from_traverse {
                 self.info()
             }
         }
+    };
+    ($structure:ty) => {
+        $crate::accel::accel_from_traverse!(impl<> $structure);
     };
 }
 pub(crate) use accel_from_traverse;

@@ -175,23 +175,13 @@ fn object_planes(geometry: &Geometry, tris: &[u32], bounds: &Aabb) -> Vec<Plane>
     store_planes(&faces, support_all, magnitude(bounds))
 }
 
-impl Accel for ObjectHulls {
-    fn intersect(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
-        self.traverse(geometry, ray, t_max, stats, false)
-    }
+crate::accel::accel_from_traverse!(ObjectHulls);
 
-    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
-        self.traverse(geometry, ray, t_max, stats, true).is_some()
-    }
-
+impl ObjectHulls {
+    /// The top-level tree's figures with the objects' sub-trees added in.
     fn info(&self) -> AccelInfo {
         let mut info = self.top.info();
+        let top_depth = info.depth;
         let (hulls, faces) = self.hull_stats();
         info.method = format!(
             "bvh (binned SAH, hull volumes: {hulls} objects of ≥ {HULL_MIN_PRIMITIVES} \
@@ -203,6 +193,8 @@ impl Accel for ObjectHulls {
             info.nodes += sub.nodes;
             info.leaves += sub.leaves;
             info.max_leaf_size = info.max_leaf_size.max(sub.max_leaf_size);
+            // A sub-tree hangs below a top-level leaf.
+            info.depth = info.depth.max(top_depth + sub.depth);
         }
         info.sah_cost = None;
         info.memory_bytes = self.memory_bytes();

@@ -5,7 +5,7 @@
 
 use super::hierarchy::VolumeBvh;
 use super::volume::Volume;
-use crate::accel::{Accel, AccelInfo, Hit};
+use crate::accel::Hit;
 use crate::geometry::Geometry;
 use crate::math::robust::next_up;
 use crate::math::TraceRay;
@@ -130,22 +130,4 @@ impl<V: Volume> VolumeBvh<V> {
     }
 }
 
-impl<V: Volume> Accel for VolumeBvh<V> {
-    fn intersect(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
-        self.traverse(geometry, ray, t_max, stats, false)
-    }
-
-    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
-        self.traverse(geometry, ray, t_max, stats, true).is_some()
-    }
-
-    fn info(&self) -> AccelInfo {
-        self.info()
-    }
-}
+crate::accel::accel_from_traverse!(impl<V: Volume> VolumeBvh<V>);
