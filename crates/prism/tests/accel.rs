@@ -9,59 +9,18 @@
 
 mod common;
 
+use common::oracle::{random_ray, same_nearest, TestScene};
 use common::{icosphere, lattice_cube, rotate, trace_ray, Rng};
 use prism::accel::{
-    Accel, AccelKind, AccelSpec, BruteForce, Bvh, BvhBuilder, BvhOptions, Grid, GridOptions, Hit,
+    Accel, AccelKind, AccelSpec, BruteForce, Bvh, BvhBuilder, BvhOptions, Grid, GridOptions,
     KdTree, KdTreeOptions, Octree, OctreeOptions, SceneIntersector,
 };
-use prism::geometry::{generate, AaBox, Cone, Geometry, Plane, Shape, Sphere, TriangleMesh};
-use prism::math::{Aabb, Ray, TraceRay, Vec3};
+use prism::geometry::{generate, AaBox, Cone, Geometry, Plane, Shape, Sphere};
+use prism::math::{TraceRay, Vec3};
 use prism::Stats;
 
 /// Rays per scene; five scenes make the 10⁵ of the suite.
 const RAYS: usize = 20_000;
-
-struct TestScene {
-    geometry: Geometry,
-    /// Solid boxes, to start rays inside.
-    boxes: Vec<AaBox>,
-    /// Points on surfaces (vertices, edge midpoints, box corners) to aim at or start from.
-    features: Vec<Vec3>,
-}
-
-impl TestScene {
-    fn new() -> Self {
-        TestScene {
-            geometry: Geometry::default(),
-            boxes: Vec::new(),
-            features: Vec::new(),
-        }
-    }
-
-    fn add_box(&mut self, b: AaBox) {
-        self.geometry.add(Shape::from(b), 0);
-        self.boxes.push(b);
-        self.features.extend([b.min, b.max, 0.5 * (b.min + b.max)]);
-    }
-
-    fn add_triangles(&mut self, tris: &[[Vec3; 3]]) {
-        let positions: Vec<Vec3> = tris.iter().flatten().copied().collect();
-        for t in tris {
-            self.features
-                .extend([t[0], 0.5 * (t[0] + t[1]), 0.5 * (t[1] + t[2])]);
-        }
-        let indices = (0..tris.len() as u32)
-            .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
-            .collect();
-        let mesh = TriangleMesh::new(positions, indices, None, None).unwrap();
-        self.geometry.add_mesh(mesh, 0);
-    }
-
-    fn add_mesh(&mut self, mesh: TriangleMesh) {
-        self.features.extend(mesh.positions().iter().step_by(3));
-        self.geometry.add_mesh(mesh, 0);
-    }
-}
 
 /// Triangles of every shape, spheres (some nested, some overlapping), boxes, cones and
 /// cylinders, and exact duplicates, inside `[-2, 2]³·scale + offset`.
@@ -214,91 +173,6 @@ fn mesh_scene() -> TestScene {
     s.add_mesh(lattice_cube(3, |p| p * Vec3::new(2.0, 0.1, 2.0) - Vec3::Y));
     s.add_mesh(generate::torus_knot(3000));
     s
-}
-
-/// A ray of one of several kinds, chosen at random.
-fn random_ray(rng: &mut Rng, s: &TestScene, bounds: &Aabb) -> Ray {
-    let lo = bounds.min - 0.2 * bounds.extent();
-    let hi = bounds.max + 0.2 * bounds.extent();
-    let feature = |rng: &mut Rng| s.features[rng.below(s.features.len())];
-    loop {
-        let (o, d) = match rng.below(10) {
-            // Random origin and direction.
-            0..=2 => (rng.point_in(lo, hi), rng.unit_vector()),
-            // Aimed at a vertex, edge midpoint or surface point.
-            3 | 4 => {
-                let o = rng.point_in(lo, hi);
-                (o, feature(rng) - o)
-            }
-            // Axis-parallel, half of them lying in a slab plane of some feature.
-            5 => {
-                let mut o = rng.point_in(lo, hi);
-                let d = rng.axis_direction();
-                if rng.chance(0.5) {
-                    let f = feature(rng);
-                    for k in 0..3 {
-                        if d[k] == 0.0 && rng.chance(0.7) {
-                            o[k] = f[k];
-                        }
-                    }
-                }
-                (o, d)
-            }
-            // From inside a box.
-            6 if !s.boxes.is_empty() => {
-                let b = s.boxes[rng.below(s.boxes.len())];
-                let o = rng.point_in(b.min, b.max);
-                let d = if rng.chance(0.3) {
-                    rng.axis_direction()
-                } else {
-                    rng.unit_vector()
-                };
-                (o, d)
-            }
-            // In the plane of a box face, along it (diagonally or along an axis).
-            7 if !s.boxes.is_empty() => {
-                let b = s.boxes[rng.below(s.boxes.len())];
-                let axis = rng.below(3);
-                let mut o = rng.point_in(lo, hi);
-                o[axis] = if rng.chance(0.5) {
-                    b.min[axis]
-                } else {
-                    b.max[axis]
-                };
-                let mut d = rng.unit_vector();
-                d[axis] = 0.0;
-                (o, d)
-            }
-            // Starting exactly on a surface feature (an un-offset secondary ray).
-            8 => (feature(rng), rng.unit_vector()),
-            // Grazing: through a point displaced sideways from a feature by a hair.
-            _ => {
-                let o = rng.point_in(lo, hi);
-                let f = feature(rng);
-                let side = (f - o).any_orthonormal_vector();
-                let hair = (bounds.extent().max_element() * 1e-6) * rng.range(-1.0, 1.0);
-                (o, f + hair * side - o)
-            }
-        };
-        if let Some(d) = d.try_normalize() {
-            return Ray::new(o, d);
-        }
-    }
-}
-
-/// Nearest hits agree if the distances are bit-equal, or if the two primitives tie: each,
-/// tested alone, reports the same distance to within a few ulps.
-fn same_nearest(geometry: &Geometry, ray: &TraceRay, a: Option<Hit>, b: Option<Hit>) -> bool {
-    match (a, b) {
-        (None, None) => true,
-        (Some(a), Some(b)) if a.t.to_bits() == b.t.to_bits() => true,
-        (Some(a), Some(b)) => {
-            let ta = geometry.intersect(a.prim, ray, f32::INFINITY).map(|h| h.t);
-            let tb = geometry.intersect(b.prim, ray, f32::INFINITY).map(|h| h.t);
-            matches!((ta, tb), (Some(x), Some(y)) if (x - y).abs() <= 4e-7 * x.max(y))
-        }
-        _ => false,
-    }
 }
 
 fn bvh_settings() -> Vec<(String, BvhOptions)> {

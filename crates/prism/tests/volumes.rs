@@ -6,23 +6,16 @@
 
 mod common;
 
+use common::oracle::{random_ray, same_nearest, TestScene};
 use common::{icosphere, rotate, Rng};
 use prism::accel::volumes::{self, Dop14, Dop26, NodeVolume, Volume, VolumeBvh, CULL_SLACK};
-use prism::accel::{Accel, BruteForce, Bvh, BvhOptions, Hit};
+use prism::accel::{Accel, BruteForce, Bvh, BvhOptions};
 use prism::geometry::{AaBox, Cone, Geometry, Shape, Sphere, TriangleMesh};
 use prism::math::{Aabb, Ray, TraceRay, Vec3};
 use prism::Stats;
 
 /// Rays per scene and volume kind; 5 scenes make 10⁵ per kind.
 const RAYS: usize = 20_000;
-
-struct TestScene {
-    geometry: Geometry,
-    /// Points on surfaces to aim at or start from.
-    features: Vec<Vec3>,
-    /// Solid boxes, to start rays inside.
-    boxes: Vec<AaBox>,
-}
 
 /// Random scene of every bounded shape kind in `[-2, 2]³·scale + offset`: ordinary, long
 /// thin and degenerate triangles, duplicates, nested spheres, boxes, cones along axes and
@@ -119,62 +112,6 @@ fn hostile_scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
         geometry: g,
         features,
         boxes,
-    }
-}
-
-fn random_ray(rng: &mut Rng, s: &TestScene, bounds: &Aabb) -> Ray {
-    let lo = bounds.min - 0.2 * bounds.extent();
-    let hi = bounds.max + 0.2 * bounds.extent();
-    let feature = |rng: &mut Rng| s.features[rng.below(s.features.len())];
-    loop {
-        let (o, d) = match rng.below(8) {
-            0 | 1 => (rng.point_in(lo, hi), rng.unit_vector()),
-            2 | 3 => {
-                let o = rng.point_in(lo, hi);
-                (o, feature(rng) - o)
-            }
-            4 => {
-                let mut o = rng.point_in(lo, hi);
-                let d = rng.axis_direction();
-                let f = feature(rng);
-                for k in 0..3 {
-                    if d[k] == 0.0 && rng.chance(0.5) {
-                        o[k] = f[k];
-                    }
-                }
-                (o, d)
-            }
-            5 => {
-                let b = s.boxes[rng.below(s.boxes.len())];
-                (rng.point_in(b.min, b.max), rng.unit_vector())
-            }
-            6 => (feature(rng), rng.unit_vector()),
-            _ => {
-                // Grazing: past a feature by a hair.
-                let o = rng.point_in(lo, hi);
-                let f = feature(rng);
-                let side = (f - o).any_orthonormal_vector();
-                let hair = bounds.extent().max_element() * 1e-6 * rng.range(-1.0, 1.0);
-                (o, f + hair * side - o)
-            }
-        };
-        if let Some(d) = d.try_normalize() {
-            return Ray::new(o, d);
-        }
-    }
-}
-
-/// Bit-equal distances, or two primitives that tie to within a few ulps.
-fn same_nearest(g: &Geometry, ray: &TraceRay, a: Option<Hit>, b: Option<Hit>) -> bool {
-    match (a, b) {
-        (None, None) => true,
-        (Some(a), Some(b)) if a.t.to_bits() == b.t.to_bits() => true,
-        (Some(a), Some(b)) => {
-            let ta = g.intersect(a.prim, ray, f32::INFINITY).map(|h| h.t);
-            let tb = g.intersect(b.prim, ray, f32::INFINITY).map(|h| h.t);
-            matches!((ta, tb), (Some(x), Some(y)) if (x - y).abs() <= 4e-7 * x.max(y))
-        }
-        _ => false,
     }
 }
 

@@ -5,6 +5,7 @@
 #![allow(dead_code)]
 
 pub mod mesh_files;
+pub mod oracle;
 pub mod scratch;
 
 use prism::geometry::TriangleMesh;
