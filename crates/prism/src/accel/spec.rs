@@ -99,6 +99,7 @@ impl AccelSpec {
                     d.traversal_cost.to_string(),
                 );
                 put("build", o.builder.to_string(), d.builder.to_string());
+                put("split", o.presplit.to_string(), d.presplit.to_string());
                 if let AccelSpec::BvhVolume { volume, .. } = self {
                     put("volume", volume.to_string(), NodeVolume::Aabb.to_string());
                 }
@@ -178,6 +179,7 @@ impl FromStr for AccelSpec {
             None => (s.trim(), None),
         };
         let mut spec = AccelSpec::from(name.parse::<AccelKind>()?);
+        let mut seen: Vec<&str> = Vec::new();
         for param in params.into_iter().flat_map(|p| p.split(',')) {
             let param = param.trim();
             if param.is_empty() {
@@ -189,6 +191,10 @@ impl FromStr for AccelSpec {
                 Some((k, v)) => (k.trim(), Some(v.trim())),
                 None => (param, None),
             };
+            if seen.contains(&key) {
+                return Err(format!("'{key}' is given twice in '{s}'"));
+            }
+            seen.push(key);
             spec.set(key, Param { key, value })?;
         }
         Ok(spec)
@@ -268,7 +274,9 @@ impl AccelSpec {
     pub fn keys(kind: AccelKind) -> &'static [&'static str] {
         match kind {
             AccelKind::BruteForce => &[],
-            AccelKind::Bvh => &["bins", "leaf", "trav", "build", "reinsert", "volume"],
+            AccelKind::Bvh => &[
+                "bins", "leaf", "trav", "build", "reinsert", "split", "volume",
+            ],
             AccelKind::Grid => &["lambda", "cells"],
             AccelKind::KdTree => &["trav", "isect", "empty-bonus", "depth"],
             AccelKind::Octree => &["leaf", "depth"],
@@ -303,8 +311,11 @@ impl AccelSpec {
             (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "reinsert") => {
                 o.reinsert = p.switch()?
             }
+            (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "split") => {
+                o.presplit = p.number(0.0, 4.0)?
+            }
             (AccelSpec::Grid(o), "lambda") => o.lambda = p.number(0.01, 100.0)?,
-            (AccelSpec::Grid(o), "cells") => o.max_cells = p.int(1, 1 << 28)?,
+            (AccelSpec::Grid(o), "cells") => o.max_cells = p.int(1, 1 << 24)?,
             (AccelSpec::KdTree(o), "trav") => o.traversal_cost = p.number(0.0, 1000.0)?,
             (AccelSpec::KdTree(o), "isect") => o.intersection_cost = p.number(0.001, 1000.0)?,
             (AccelSpec::KdTree(o), "empty-bonus") => o.empty_bonus = p.number(0.0, 1.0)?,
@@ -350,6 +361,7 @@ mod tests {
             "bvh:trav=2.5",
             "bvh:build=sweep,reinsert,leaf=4",
             "bvh:build=lbvh,reinsert=false",
+            "bvh:split=0.5,build=sweep",
             "bvh:build=median,reinsert=true",
             "bvh:leaf=4,volume=obb",
             "bvh:volume=dop26",
@@ -420,6 +432,8 @@ mod tests {
             ("grid:lambda=inf", "expected a number from"),
             ("brute-force:leaf=1", "brute-force takes no parameters"),
             ("bvh:leaf=4,,bins=2", "empty parameter"),
+            ("bvh:leaf=4,leaf=8", "'leaf' is given twice"),
+            ("grid:cells=16777217", "from 1 to 16777216"),
             ("octree:depth=21", "from 1 to 20"),
         ] {
             let err = text.parse::<AccelSpec>().unwrap_err();

@@ -75,6 +75,9 @@ pub struct Measured {
     pub builds: usize,
     pub primary: RayKindResult,
     pub shadow: RayKindResult,
+    /// What the method answered (an untimed pass), to compare with the reference's.
+    pub primary_digest: super::HitDigest,
+    pub shadow_digest: super::HitDigest,
 }
 
 /// Builds `spec` over `scene` and traces `rays` with it, on the current rayon pool.
@@ -104,6 +107,8 @@ pub fn measure(
         trace_shadow(&intersector, geometry, &rays.shadow)
     });
     Measured {
+        primary_digest: super::digest::primary(&intersector, geometry, &rays.primary),
+        shadow_digest: super::digest::shadow(&intersector, geometry, &rays.shadow),
         accel: intersector.accel.info(),
         build_ms: median(&mut build_times),
         builds: build_times.len(),

@@ -3,9 +3,11 @@
 //! throughput for each (`measure`). `prism bench` runs these over scenes × methods.
 
 mod clock;
+mod digest;
 mod measure;
 mod rays;
 
 pub use clock::{Clock, Stopwatch};
+pub use digest::HitDigest;
 pub use measure::{measure, MeasureOptions, Measured, RayKindResult};
 pub use rays::{RaySet, RaySetSize, ShadowRay};

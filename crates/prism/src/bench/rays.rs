@@ -26,6 +26,9 @@ pub struct RaySet {
     pub shadow: Vec<ShadowRay>,
     /// Primary rays that hit something.
     pub primary_hits: usize,
+    /// The reference's answers, which every method must reproduce.
+    pub primary_digest: super::HitDigest,
+    pub shadow_digest: super::HitDigest,
 }
 
 /// Counts for reports.
@@ -86,6 +89,9 @@ impl RaySet {
                 }
             }
         }
+        let geometry = &scene.geometry;
+        set.primary_digest = super::digest::primary(&reference.intersector, geometry, &set.primary);
+        set.shadow_digest = super::digest::shadow(&reference.intersector, geometry, &set.shadow);
         Ok(set)
     }
 

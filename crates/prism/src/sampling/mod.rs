@@ -129,14 +129,7 @@ impl PixelPattern {
 
 /// The largest n with n² ≤ `count`: samples per axis of a square count.
 pub fn floor_sqrt(count: u32) -> u32 {
-    let mut n = (count as f64).sqrt() as u32;
-    while n * n > count {
-        n -= 1;
-    }
-    while (n + 1) * (n + 1) <= count {
-        n += 1;
-    }
-    n
+    count.isqrt()
 }
 
 /// A sampler ready for one render.
@@ -170,6 +163,28 @@ impl Sampler {
                 texture_n: floor_sqrt(options.adaptive_texture_spp),
                 seed,
             }),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::floor_sqrt;
+
+    #[test]
+    fn floor_sqrt_is_exact_up_to_the_largest_count() {
+        for (count, root) in [
+            (0, 0),
+            (1, 1),
+            (3, 1),
+            (4, 2),
+            (24, 4),
+            (25, 5),
+            (65535 * 65535, 65535),
+            (65535 * 65535 + 1, 65535),
+            (u32::MAX, 65535),
+        ] {
+            assert_eq!(floor_sqrt(count), root, "{count}");
         }
     }
 }

@@ -80,6 +80,9 @@ pub struct Bvh {
     prims: Vec<u32>,
     builder: BvhBuilder,
     reinserted: bool,
+    /// Whether triangles were split into several references before the build (so `prims`
+    /// may hold an id more than once).
+    presplit: bool,
 }
 
 /// Depth the build never exceeds, so traversal can use a fixed stack.
@@ -88,14 +91,15 @@ const MAX_DEPTH: usize = 64;
 impl Bvh {
     /// Takes a built tree (root at 0, interior nodes' children at `first`, `first + 1`)
     /// and derives the traversal layout.
-    fn from_tree(nodes: Vec<Node>, prims: Vec<u32>, builder: BvhBuilder, reinserted: bool) -> Bvh {
+    fn from_tree(nodes: Vec<Node>, prims: Vec<u32>, options: &BvhOptions) -> Bvh {
         let wide = WideNode::from_tree(&nodes);
         Bvh {
             nodes,
             wide,
             prims,
-            builder,
-            reinserted,
+            builder: options.builder,
+            reinserted: options.reinsert,
+            presplit: options.presplit > 0.0,
         }
     }
 
@@ -103,8 +107,19 @@ impl Bvh {
         self.nodes.len()
     }
 
+    /// Primitive references in the leaves (more than the primitives when pre-split).
     pub fn primitive_count(&self) -> usize {
         self.prims.len()
+    }
+
+    fn distinct_primitives(&self) -> usize {
+        if !self.presplit {
+            return self.prims.len();
+        }
+        let mut ids = self.prims.clone();
+        ids.sort_unstable();
+        ids.dedup();
+        ids.len()
     }
 
     /// Depth of the deepest leaf (the root alone has depth 1).
@@ -116,15 +131,16 @@ impl Bvh {
     pub fn info(&self) -> AccelInfo {
         let mut info = AccelInfo {
             method: format!(
-                "bvh ({}{})",
+                "bvh ({}{}{})",
                 self.builder.description(),
+                if self.presplit { " + pre-split" } else { "" },
                 if self.reinserted {
                     " + reinsertion"
                 } else {
                     ""
                 }
             ),
-            primitives: self.prims.len(),
+            primitives: self.distinct_primitives(),
             nodes: self.nodes.len(),
             memory_bytes: self.memory_bytes(),
             ..AccelInfo::default()

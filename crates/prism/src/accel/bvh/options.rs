@@ -79,6 +79,9 @@ pub struct BvhOptions {
     pub traversal_cost: f32,
     /// Improve the built tree by reinserting badly placed subtrees (Bittner et al. 2013).
     pub reinsert: bool,
+    /// Pre-split triangles whose boxes are mostly empty into up to 16 references, this
+    /// many extra references per primitive in all (0 = off; `build/presplit.rs`).
+    pub presplit: f32,
     /// Subtrees with more primitives than this are built on separate threads. The tree does
     /// not depend on it (or on the thread count); `usize::MAX` builds on one thread.
     pub parallel_threshold: usize,
@@ -92,6 +95,7 @@ impl Default for BvhOptions {
             max_leaf_size: 8,
             traversal_cost: 1.0,
             reinsert: false,
+            presplit: 0.0,
             parallel_threshold: 4096,
         }
     }

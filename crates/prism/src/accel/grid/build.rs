@@ -8,7 +8,7 @@
 use super::Grid;
 use crate::accel::cells::padded_bounds;
 use crate::geometry::Geometry;
-use crate::math::Vec3;
+use crate::math::{Aabb, Vec3};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct GridOptions {
@@ -28,12 +28,12 @@ impl Default for GridOptions {
 }
 
 /// Cells per axis for `n` primitives in a box of `extent`.
-fn resolution(extent: Vec3, n: usize, options: &GridOptions) -> [u32; 3] {
+fn resolution(extent: Vec3, n: usize, options: &GridOptions, shrink: f32) -> [u32; 3] {
     let longest = extent.max_element();
     if n == 0 || longest.is_nan() || longest <= 0.0 {
         return [1; 3];
     }
-    let mut per_unit = options.lambda.max(0.0) * (n as f32).cbrt() / longest;
+    let mut per_unit = shrink * options.lambda.max(0.0) * (n as f32).cbrt() / longest;
     loop {
         let res = [0, 1, 2].map(|k| ((extent[k] * per_unit).round() as u32).clamp(1, 1 << 12));
         let cells = res.iter().map(|&r| r as usize).product::<usize>();
@@ -44,11 +44,53 @@ fn resolution(extent: Vec3, n: usize, options: &GridOptions) -> [u32; 3] {
     }
 }
 
+/// References a grid may hold (256 MiB of ids); past this the resolution is lowered.
+const MAX_REFERENCES: u64 = 1 << 26;
+
+/// The cell range each primitive's box covers, clamped: the same floor() the traversal
+/// uses to find its entry cell, and the padding absorbs the rounding.
+fn cell_ranges(
+    boxes: &[Aabb],
+    bounds: &Aabb,
+    res: [u32; 3],
+    cell_size: Vec3,
+) -> Vec<([u32; 3], [u32; 3])> {
+    let cell_of = |p: Vec3| -> [u32; 3] {
+        [0, 1, 2].map(|k| {
+            let f = ((p[k] - bounds.min[k]) / cell_size[k]).floor();
+            (f.max(0.0) as u32).min(res[k] - 1)
+        })
+    };
+    boxes
+        .iter()
+        .map(|b| (cell_of(b.min), cell_of(b.max)))
+        .collect()
+}
+
 impl Grid {
     pub fn build(geometry: &Geometry, prims: Vec<u32>, options: &GridOptions) -> Grid {
         let (boxes, bounds) = padded_bounds(geometry, &prims);
-        let res = resolution(bounds.extent(), prims.len(), options);
-        let cell_size = bounds.extent() / Vec3::new(res[0] as f32, res[1] as f32, res[2] as f32);
+        // Big primitives in fine cells are listed in every cell they touch; coarsen the
+        // grid until the references fit the budget rather than run out of memory.
+        let mut shrink = 1.0;
+        let (res, cell_size, ranges) = loop {
+            let res = resolution(bounds.extent(), prims.len(), options, shrink);
+            let cell_size =
+                bounds.extent() / Vec3::new(res[0] as f32, res[1] as f32, res[2] as f32);
+            let ranges = cell_ranges(&boxes, &bounds, res, cell_size);
+            let total: u64 = ranges
+                .iter()
+                .map(|(lo, hi)| {
+                    (0..3)
+                        .map(|k| u64::from(hi[k] - lo[k] + 1))
+                        .product::<u64>()
+                })
+                .sum();
+            if total <= MAX_REFERENCES || res == [1; 3] {
+                break (res, cell_size, ranges);
+            }
+            shrink *= 0.8;
+        };
         let mut grid = Grid {
             bounds,
             res,
@@ -62,18 +104,6 @@ impl Grid {
             grid.starts = vec![0, 0];
             return grid;
         }
-        // The cell range each primitive's box covers, clamped: the same floor() the
-        // traversal uses to find its entry cell, and the padding absorbs the rounding.
-        let cell_of = |p: Vec3| -> [u32; 3] {
-            [0, 1, 2].map(|k| {
-                let f = ((p[k] - bounds.min[k]) / cell_size[k]).floor();
-                (f.max(0.0) as u32).min(res[k] - 1)
-            })
-        };
-        let ranges: Vec<([u32; 3], [u32; 3])> = boxes
-            .iter()
-            .map(|b| (cell_of(b.min), cell_of(b.max)))
-            .collect();
         let cells = res.iter().map(|&r| r as usize).product::<usize>();
         let mut counts = vec![0u32; cells + 1];
         let each_cell = |(lo, hi): &([u32; 3], [u32; 3]), f: &mut dyn FnMut(usize)| {

@@ -78,7 +78,7 @@ impl<V: Volume> VolumeBvh<V> {
             })
             .collect();
         let mut info = bvh.info();
-        info.method = format!("bvh (binned SAH, {name} volumes)");
+        info.method = super::with_volume(&info.method, &format!("{name} volumes"));
         let mut this = VolumeBvh {
             nodes,
             prims,

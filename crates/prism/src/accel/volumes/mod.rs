@@ -175,3 +175,12 @@ impl Accel for Box<dyn VolumeAccel> {
         self.accel().info()
     }
 }
+
+/// The BVH's own description ("bvh (full-sweep SAH + reinsertion)") with the volume kind
+/// added inside the brackets, so the builder and its options stay named.
+fn with_volume(method: &str, volumes: &str) -> String {
+    match method.strip_suffix(')') {
+        Some(open) => format!("{open}, {volumes})"),
+        None => format!("{method} ({volumes})"),
+    }
+}

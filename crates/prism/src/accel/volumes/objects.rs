@@ -183,9 +183,12 @@ impl ObjectHulls {
         let mut info = self.top.info();
         let top_depth = info.depth;
         let (hulls, faces) = self.hull_stats();
-        info.method = format!(
-            "bvh (binned SAH, hull volumes: {hulls} objects of ≥ {HULL_MIN_PRIMITIVES} \
-             primitives, {faces} faces)"
+        info.method = super::with_volume(
+            &info.method,
+            &format!(
+                "hull volumes: {hulls} objects of ≥ {HULL_MIN_PRIMITIVES} primitives, \
+                 {faces} faces"
+            ),
         );
         info.primitives = self.primitives;
         for o in &self.objects {

@@ -4,6 +4,7 @@
 mod binned;
 mod lbvh;
 mod median;
+mod presplit;
 mod stitch;
 mod sweep;
 mod topdown;
@@ -26,6 +27,11 @@ impl Bvh {
             .par_iter()
             .map(|&p| geometry.bounds(p).expect("BVH primitives must be bounded"))
             .collect();
+        let (prims, bounds) = if options.presplit > 0.0 {
+            presplit::presplit(geometry, prims, bounds, options.presplit)
+        } else {
+            (prims, bounds)
+        };
         Bvh::build_over_bounds(prims, bounds, options)
     }
 
@@ -77,8 +83,7 @@ impl Bvh {
         Bvh::from_tree(
             nodes,
             order.iter().map(|&i| prims[i as usize]).collect(),
-            options.builder,
-            options.reinsert,
+            options,
         )
     }
 }
