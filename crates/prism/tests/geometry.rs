@@ -910,3 +910,64 @@ fn aabb_is_conservative_for_the_shapes_it_bounds() {
     }
     assert!(checked > 10_000, "only {checked} hits checked");
 }
+
+/// Every shape kind reports hits strictly nearer than `t_max`: asked again with its own
+/// hit's distance as the limit, it finds nothing there. (Accelerators rely on this to break
+/// exact ties toward the lower primitive id; a cylinder's f64 root rounding up to t_max in
+/// f32 once let the SPD rings pick another primitive than brute force.)
+#[test]
+fn hits_are_strictly_nearer_than_t_max() {
+    let mut rng = Rng::new(77);
+    let mut g = Geometry::default();
+    g.add(Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0)), 0);
+    g.add(
+        Shape::Cone(Box::new(
+            Cone::new(
+                Vec3::new(-1.0, 0.2, -0.3),
+                0.5,
+                Vec3::new(1.0, -0.1, 0.4),
+                0.2,
+                true,
+            )
+            .unwrap(),
+        )),
+        0,
+    );
+    g.add(
+        Shape::Cone(Box::new(
+            Cone::new(
+                Vec3::new(0.0, -1.0, 0.0),
+                0.3,
+                Vec3::new(0.1, 1.0, 0.2),
+                0.3,
+                false,
+            )
+            .unwrap(),
+        )),
+        0,
+    );
+    g.add(
+        Shape::from(AaBox::new(Vec3::splat(-0.7), Vec3::splat(0.6))),
+        0,
+    );
+    g.add_mesh(icosphere(Vec3::new(0.2, 0.1, 0.0), 0.9, 1), 0);
+    let mut checked = 0;
+    for _ in 0..20_000 {
+        let o = rng.point_in(Vec3::splat(-4.0), Vec3::splat(4.0));
+        let d = (rng.point_in(Vec3::splat(-0.5), Vec3::splat(0.5)) - o).normalize();
+        let ray = trace_ray(o, d);
+        for prim in 0..g.primitives.len() as u32 {
+            if let Some(h) = g.intersect(prim, &ray, f32::INFINITY) {
+                checked += 1;
+                let again = g.intersect(prim, &ray, h.t);
+                assert!(
+                    again.is_none_or(|a| a.t < h.t),
+                    "prim {prim}: hit at {} reported again with t_max = {}",
+                    again.unwrap().t,
+                    h.t
+                );
+            }
+        }
+    }
+    assert!(checked > 20_000, "too few hits to mean anything: {checked}");
+}

@@ -73,10 +73,12 @@ impl Cone {
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
         let (o, d) = self.local_ray(ray);
         let (h, rb, k) = (self.height as f64, self.base_radius as f64, self.slope());
-        let t_max = t_max as f64;
         let mut best: Option<(f64, f32)> = None;
+        // Bounds are checked on the f32 distance the caller gets: an f64 root just below
+        // t_max can round up to it, and accelerators rely on hits being strictly nearer.
         let mut consider = |t: f64, part: f32| {
-            if t > 0.0 && t < t_max && best.is_none_or(|(b, _)| t < b) {
+            let reported = t as f32;
+            if reported > 0.0 && reported < t_max && best.is_none_or(|(b, _)| t < b) {
                 best = Some((t, part));
             }
         };

@@ -6,7 +6,7 @@ use super::wide::WideRay;
 use super::{Bvh, Node, MAX_DEPTH};
 use crate::accel::Hit;
 use crate::geometry::Geometry;
-use crate::math::robust::{gamma, next_up};
+use crate::math::robust::next_up;
 use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
 use std::mem::MaybeUninit;
@@ -52,8 +52,8 @@ impl Bvh {
         let leaf = LeafQuery { geometry, ray, any };
         let wide_ray = WideRay::new(ray);
         // Entry distances are compared against t_max with the same slack the box test
-        // gives exits, so a child pushed before a hit is not culled by rounding.
-        let slack = 1.0 + 2.0 * gamma(3);
+        // gives exits (`CULL_SLACK`): a hit's reported distance may be a little short.
+        let slack = crate::accel::CULL_SLACK;
         // Deferred children: (child, primitive count or 0 for interior, entry distance).
         // A visit defers at most three, and the wide tree is no deeper than the binary one.
         let mut stack = DeferredStack::new();

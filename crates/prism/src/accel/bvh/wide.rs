@@ -131,8 +131,8 @@ pub(super) struct WideRay {
     origin: [Vec4; 3],
     inv_dir: [Vec4; 3],
     negative: [bool; 3],
-    /// Exits are pushed out by this factor so rounding never loses a box the ray touches
-    /// (the same margin as `Aabb::hit`).
+    /// Exits are pushed out by this factor (`CULL_SLACK`), so that neither the box test's
+    /// rounding nor a primitive's error in its reported distance loses a box.
     exit_scale: Vec4,
 }
 
@@ -144,7 +144,7 @@ impl WideRay {
             origin: [o.x, o.y, o.z].map(Vec4::splat),
             inv_dir: [inv.x, inv.y, inv.z].map(Vec4::splat),
             negative: [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0],
-            exit_scale: Vec4::splat(1.0 + 2.0 * crate::math::robust::gamma(3)),
+            exit_scale: Vec4::splat(crate::accel::CULL_SLACK),
         }
     }
 }

@@ -14,14 +14,7 @@ use crate::stats::Stats;
 /// Depth bound of the SAH build, hence of the stack.
 const MAX_DEPTH: usize = 64;
 
-/// Nodes are culled only beyond the current hit distance times this. A thin triangle's
-/// reported distance can be off by far more than its vertices' rounding (its barycentrics
-/// are ill-conditioned), so the ray point at that distance can lie outside a tight volume
-/// (a thin OBB or k-DOP slab) that contains the triangle itself; without the slack, such a
-/// node could be culled by a slightly farther hit and the nearest hit lost. 2⁻¹³ covers the
-/// 10⁻⁴-relative errors the tests provoke (3-long, 10⁻³-wide triangles); 2⁻¹⁰ cost ~15 %
-/// more primitive tests on closed meshes (neighbouring leaves starting at the hit).
-pub const CULL_SLACK: f32 = 1.0 + 1.0 / 8192.0;
+pub use crate::accel::CULL_SLACK;
 
 impl<V: Volume> VolumeBvh<V> {
     /// The ordered walk; `visit(item, limit, stats)` tests one leaf entry and returns its
