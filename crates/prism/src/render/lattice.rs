@@ -10,12 +10,16 @@
 //! across the edge splits there; a textured pixel traces its stratified samples, which
 //! are its own, in the first of these passes); then the reconstruction, which splats each
 //! pixel's samples through the filter.
+//!
+//! No decision is made twice: each pixel's verdict is judged once, after the corners pass,
+//! and each refinement pass walks each pixel once, from the squares that split in the pass
+//! before, storing what it finds for the pixel's right and bottom neighbours too.
 
 use super::rays::PixelRays;
 use super::splat::{FilmSums, SplatBuffer};
 use super::{Job, TileDone, Traced};
 use crate::math::{Color, Vec2};
-use crate::sampling::adaptive::{Refinement, Square, Visit};
+use crate::sampling::adaptive::{encode, Refinement, Square, Verdict, Visit};
 use crate::stats::Stats;
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -33,6 +37,9 @@ struct Lattice {
     width: u32,
     height: u32,
     steps: u32,
+    /// log2 of `steps` (a power of two): lookups, which every walk makes for every square,
+    /// shift and mask instead of dividing.
+    shift: u32,
     /// (W+1)×(H+1) corners; None where the render was cancelled first.
     corners: Vec<Option<Color>>,
     /// Per pixel, its finer points sorted by local key.
@@ -43,10 +50,12 @@ struct Lattice {
 
 impl Lattice {
     fn new(width: u32, height: u32, steps: u32) -> Self {
+        debug_assert!(steps.is_power_of_two());
         Lattice {
             width,
             height,
             steps,
+            shift: steps.trailing_zeros(),
             corners: vec![None; (width as usize + 1) * (height as usize + 1)],
             points: vec![Vec::new(); width as usize * height as usize],
             stratified: vec![Vec::new(); width as usize * height as usize],
@@ -57,8 +66,8 @@ impl Lattice {
     /// square holds it; the last column and row also own the image's right and bottom edges.
     fn owner(&self, x: u32, y: u32) -> (u32, u32) {
         (
-            (x / self.steps).min(self.width - 1),
-            (y / self.steps).min(self.height - 1),
+            (x >> self.shift).min(self.width - 1),
+            (y >> self.shift).min(self.height - 1),
         )
     }
 
@@ -67,12 +76,12 @@ impl Lattice {
     }
 
     fn lookup(&self, x: u32, y: u32) -> Option<Color> {
-        let s = self.steps;
+        let (s, shift) = (self.steps, self.shift);
         if x > self.width * s || y > self.height * s {
             return None;
         }
-        if x % s == 0 && y % s == 0 {
-            return self.corners[((y / s) * (self.width + 1) + x / s) as usize];
+        if (x | y) & (s - 1) == 0 {
+            return self.corners[((y >> shift) * (self.width + 1) + (x >> shift)) as usize];
         }
         let owner = self.owner(x, y);
         let key = self.local_key(x, y, owner);
@@ -139,9 +148,14 @@ pub(super) fn render_corners(job: &Job) -> Traced {
 pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Traced {
     let mut out = Traced::new(job.width, job.height);
     let mut lattice = Lattice::new(job.width, job.height, rule.steps());
-    if trace_corners(job, &mut lattice, |x, y| rule.position(x, y), &mut out) {
+    let complete = trace_corners(job, &mut lattice, |x, y| rule.position(x, y), &mut out);
+    // The corners never change after their pass, so neither do the pixels' verdicts.
+    let judged = Judged::new(job, rule, &lattice);
+    if complete {
+        let mut frontiers = Vec::new();
         for level in 0..rule.depth {
-            if !refine(job, rule, &mut lattice, level, &mut out) {
+            frontiers = find_frontiers(&judged, &lattice, level, &frontiers);
+            if !refine(job, &judged, &mut lattice, level, &frontiers, &mut out) {
                 break;
             }
         }
@@ -151,37 +165,142 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Traced {
         let lookup = |lx: u32, ly: u32| lattice.lookup(lx, ly);
         let stratified = &lattice.stratified[(y * job.width + x) as usize];
         let mut offsets = Vec::new();
-        rule.walk(
-            Square::pixel(x, y, steps),
-            rule.depth,
-            &lookup,
-            &mut |sq, visit| {
-                let c = match visit {
-                    Visit::Stratified(_) if !stratified.is_empty() => {
-                        // Each sample stands for its stratum: an equal share of the pixel.
-                        offsets.clear();
-                        rule.texture_offsets(x, y, &mut offsets);
-                        let weight = 1.0 / stratified.len() as f32;
-                        for (&o, &c) in offsets.iter().zip(stratified) {
-                            buffer.add(&job.filter, x, y, o, weight, c);
-                        }
-                        return;
+        judged.walk(x, y, rule.depth, &lookup, &mut |sq, visit| {
+            let c = match visit {
+                Visit::Stratified(_) if !stratified.is_empty() => {
+                    // Each sample stands for its stratum: an equal share of the pixel.
+                    offsets.clear();
+                    rule.texture_offsets(x, y, &mut offsets);
+                    let weight = 1.0 / stratified.len() as f32;
+                    for (&o, &c) in offsets.iter().zip(stratified) {
+                        buffer.add(&job.filter, x, y, o, weight, c);
                     }
-                    Visit::Leaf(c) | Visit::Frontier(c) | Visit::Stratified(c) => c,
-                    Visit::Split | Visit::Missing => return,
-                };
-                // A square that does not split (or whose split or stratified pass was never
-                // traced) is worth the mean of its corners over its area.
-                let mean = (c[0] + c[1] + c[2] + c[3]) * 0.25;
-                let half = sq.size as f32 * 0.5;
-                let o = lattice.offset(sq.x as f32 + half, sq.y as f32 + half, x, y);
-                let side = sq.size as f32 / steps as f32;
-                buffer.add(&job.filter, x, y, o, side * side, mean);
-            },
-        );
+                    return;
+                }
+                Visit::Leaf(c) | Visit::Frontier(c) | Visit::Stratified(c) => c,
+                Visit::Split | Visit::Missing => return,
+            };
+            // A square that does not split (or whose split or stratified pass was never
+            // traced) is worth the mean of its corners over its area.
+            let mean = (c[0] + c[1] + c[2] + c[3]) * 0.25;
+            let half = sq.size as f32 * 0.5;
+            let o = lattice.offset(sq.x as f32 + half, sq.y as f32 + half, x, y);
+            let side = sq.size as f32 / steps as f32;
+            buffer.add(&job.filter, x, y, o, side * side, mean);
+        });
     });
     out.film = film;
     out
+}
+
+/// The refinement rule with every pixel's verdict judged once, after the corners pass: the
+/// neighbourhood rule reads 16 corners per pixel, and the passes walk each pixel again.
+struct Judged<'a> {
+    rule: &'a Refinement,
+    width: u32,
+    /// Per pixel; None where one of its corners was not traced.
+    verdicts: Vec<Option<Verdict>>,
+}
+
+impl<'a> Judged<'a> {
+    fn new(job: &Job, rule: &'a Refinement, lattice: &Lattice) -> Self {
+        let (w, steps) = (job.width, lattice.steps);
+        // Each corner encoded once: a pixel's verdict compares 16 of them.
+        let encoded: Vec<_> = lattice.corners.par_iter().map(|c| c.map(encode)).collect();
+        let lookup = |x: u32, y: u32| {
+            let (i, j) = (x / steps, y / steps);
+            if i > w || j > job.height {
+                return None;
+            }
+            encoded[(j * (w + 1) + i) as usize]
+        };
+        let rows: Vec<Vec<Option<Verdict>>> = (0..job.height)
+            .into_par_iter()
+            .map(|y| {
+                (0..w)
+                    .map(|x| rule.verdict(&Square::pixel(x, y, steps), &lookup))
+                    .collect()
+            })
+            .collect();
+        Judged {
+            rule,
+            width: w,
+            verdicts: rows.concat(),
+        }
+    }
+
+    /// Whether pixel (x, y) is textured (false where not judged).
+    fn textured(&self, x: u32, y: u32) -> bool {
+        self.verdicts[(y * self.width + x) as usize].is_some_and(|v| v.textured)
+    }
+
+    /// `Refinement::walk` of pixel (x, y).
+    fn walk(
+        &self,
+        x: u32,
+        y: u32,
+        max_level: u32,
+        lookup: &impl Fn(u32, u32) -> Option<Color>,
+        visit: &mut impl FnMut(Square, Visit),
+    ) {
+        let pixel = Square::pixel(x, y, self.rule.steps());
+        match self.verdicts[(y * self.width + x) as usize] {
+            Some(verdict) => self
+                .rule
+                .walk_judged(pixel, verdict, max_level, lookup, visit),
+            None => self.rule.walk(pixel, max_level, lookup, visit),
+        }
+    }
+}
+
+/// What one pixel's walk finds at a refinement pass's level: the squares that split there
+/// (the pass traces their new points) and whether the pixel takes the stratified pass.
+#[derive(Default)]
+struct PixelFrontier {
+    splits: Vec<Square>,
+    stratified: bool,
+}
+
+/// Per row and pixel, the squares that split at `level`, found once per pass (a pixel's
+/// pass also needs its left and top neighbours'). Below the pixel only the quarters of
+/// the squares that split one level up (`above`, from the pass before, whose points are
+/// all traced) are new: the levels above would be walked to the same decisions.
+fn find_frontiers(
+    judged: &Judged,
+    lattice: &Lattice,
+    level: u32,
+    above: &[Vec<PixelFrontier>],
+) -> Vec<Vec<PixelFrontier>> {
+    let lookup = |x: u32, y: u32| lattice.lookup(x, y);
+    (0..lattice.height)
+        .into_par_iter()
+        .map(|y| {
+            (0..lattice.width)
+                .map(|x| {
+                    let mut found = PixelFrontier::default();
+                    let mut visit = |sq: Square, v| {
+                        if matches!(v, Visit::Frontier(_)) && sq.level == level {
+                            found.splits.push(sq);
+                        }
+                        found.stratified |= matches!(v, Visit::Stratified(_));
+                    };
+                    if level == 0 {
+                        judged.walk(x, y, level, &lookup, &mut visit);
+                    } else {
+                        let textured = judged.textured(x, y);
+                        for parent in &above[y as usize][x as usize].splits {
+                            for child in parent.children() {
+                                judged
+                                    .rule
+                                    .walk_below(child, textured, level, &lookup, &mut visit);
+                            }
+                        }
+                    }
+                    found
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// Traces the (W+1)×(H+1) pixel corners, each at `position` (lattice units) of its
@@ -282,17 +401,19 @@ fn trace_centres(job: &Job, centres: &mut [Option<Color>], out: &mut Traced) {
 }
 
 /// One refinement pass: traces the new points of every square that splits at `level`
-/// and, in the first pass, the samples of every textured pixel; false if cancelled.
+/// (`frontiers`) and, in the first pass, the samples of every textured pixel; false if
+/// cancelled.
 fn refine(
     job: &Job,
-    rule: &Refinement,
+    judged: &Judged,
     lattice: &mut Lattice,
     level: u32,
+    frontiers: &[Vec<PixelFrontier>],
     out: &mut Traced,
 ) -> bool {
+    let rule = judged.rule;
     let (w, steps) = (job.width, lattice.steps);
     let shared = &*lattice;
-    let lookup = |x: u32, y: u32| shared.lookup(x, y);
     let rows: Vec<Option<RowTrace<Vec<PixelRefinement>>>> = (0..job.height)
         .into_par_iter()
         .map(|y| {
@@ -306,47 +427,28 @@ fn refine(
             let mut offsets: Vec<Vec2> = Vec::new();
             for x in 0..w {
                 wanted.clear();
-                let mut splits = 0u64;
-                let mut textured = false;
-                rule.walk(Square::pixel(x, y, steps), level, &lookup, &mut |sq, v| {
-                    if matches!(v, Visit::Frontier(_)) && sq.level == level {
-                        splits += 1;
-                        wanted.extend(sq.new_points());
-                    }
-                    textured |= matches!(v, Visit::Stratified(_));
-                });
-                stats.adaptive_splits += splits;
+                let own = &frontiers[y as usize][x as usize];
+                for sq in &own.splits {
+                    wanted.extend(sq.new_points());
+                }
+                stats.adaptive_splits += own.splits.len() as u64;
                 // Midpoints on this pixel's left and top edges are its own; the neighbour
                 // across the edge may be the one that needs them.
                 if x > 0 {
-                    rule.walk(
-                        Square::pixel(x - 1, y, steps),
-                        level,
-                        &lookup,
-                        &mut |sq, v| {
-                            if matches!(v, Visit::Frontier(_))
-                                && sq.level == level
-                                && sq.x + sq.size == x * steps
-                            {
-                                wanted.push(sq.new_points()[3]);
-                            }
-                        },
-                    );
+                    let left = &frontiers[y as usize][x as usize - 1];
+                    for sq in &left.splits {
+                        if sq.x + sq.size == x * steps {
+                            wanted.push(sq.new_points()[3]);
+                        }
+                    }
                 }
                 if y > 0 {
-                    rule.walk(
-                        Square::pixel(x, y - 1, steps),
-                        level,
-                        &lookup,
-                        &mut |sq, v| {
-                            if matches!(v, Visit::Frontier(_))
-                                && sq.level == level
-                                && sq.y + sq.size == y * steps
-                            {
-                                wanted.push(sq.new_points()[4]);
-                            }
-                        },
-                    );
+                    let top = &frontiers[y as usize - 1][x as usize];
+                    for sq in &top.splits {
+                        if sq.y + sq.size == y * steps {
+                            wanted.push(sq.new_points()[4]);
+                        }
+                    }
                 }
                 wanted.retain(|&(px, py)| shared.owner(px, py) == (x, y));
                 wanted.sort_unstable();
@@ -362,7 +464,7 @@ fn refine(
                     })
                     .collect();
                 offsets.clear();
-                if textured && level == 0 {
+                if own.stratified && level == 0 {
                     stats.adaptive_stratified += 1;
                     rule.texture_offsets(x, y, &mut offsets);
                 }

@@ -141,13 +141,63 @@ impl Refinement {
         lookup: &impl Fn(u32, u32) -> Option<Color>,
         visit: &mut impl FnMut(Square, Visit),
     ) {
-        self.walk_from(root, false, max_level, lookup, visit);
+        self.walk_square(root, false, None, max_level, lookup, visit);
     }
 
-    fn walk_from(
+    /// `walk` of a pixel whose verdict was judged beforehand (by `verdict`, from the same
+    /// corners): the walk then skips the rule's costliest step, which every pass repeats.
+    pub fn walk_judged(
+        &self,
+        pixel: Square,
+        verdict: Verdict,
+        max_level: u32,
+        lookup: &impl Fn(u32, u32) -> Option<Color>,
+        visit: &mut impl FnMut(Square, Visit),
+    ) {
+        self.walk_square(pixel, false, Some(verdict), max_level, lookup, visit);
+    }
+
+    /// `walk` of a square below a pixel (level ≥ 1) whose pixel is `textured` (see
+    /// `Verdict`): a pass that knows where the last level split walks on from there.
+    pub fn walk_below(
         &self,
         square: Square,
         textured: bool,
+        max_level: u32,
+        lookup: &impl Fn(u32, u32) -> Option<Color>,
+        visit: &mut impl FnMut(Square, Visit),
+    ) {
+        debug_assert!(square.level > 0);
+        self.walk_square(square, textured, None, max_level, lookup, visit);
+    }
+
+    /// What the rule says of a pixel from the corners around it, read display-encoded
+    /// (`encode`) through `encoded`, so that a caller judging every pixel encodes each
+    /// corner once instead of 16 times; None if one of the pixel's own corners is not
+    /// traced (the walk then finds it `Missing` and never asks).
+    pub fn verdict(
+        &self,
+        pixel: &Square,
+        encoded: &impl Fn(u32, u32) -> Option<Encoded>,
+    ) -> Option<Verdict> {
+        let corners = pixel.corners().map(|(x, y)| encoded(x, y));
+        let [Some(a), Some(b), Some(c), Some(d)] = corners else {
+            return None;
+        };
+        let (busy, textured) = match self.rule {
+            AdaptiveRule::Neighbourhood => self.neighbourhood(pixel, encoded),
+            AdaptiveRule::Corners => (spread_encoded(&[a, b, c, d]) > self.threshold, false),
+        };
+        Some(Verdict { busy, textured })
+    }
+
+    /// `textured`: inherited from the pixel; `judged`: the pixel's verdict when judged
+    /// beforehand (the pixel's own square only).
+    fn walk_square(
+        &self,
+        square: Square,
+        textured: bool,
+        judged: Option<Verdict>,
         max_level: u32,
         lookup: &impl Fn(u32, u32) -> Option<Color>,
         visit: &mut impl FnMut(Square, Visit),
@@ -158,10 +208,12 @@ impl Refinement {
             return;
         };
         let corners = [a, b, c, d];
-        let (busy, textured) = if square.level == 0 && self.rule == AdaptiveRule::Neighbourhood {
-            self.neighbourhood(&square, lookup)
-        } else {
-            (contrast(&corners) > self.threshold, textured)
+        let (busy, textured) = match judged {
+            Some(v) => (v.busy, v.textured),
+            None if square.level == 0 && self.rule == AdaptiveRule::Neighbourhood => {
+                self.neighbourhood(&square, &|x, y| lookup(x, y).map(encode))
+            }
+            None => (contrast(&corners) > self.threshold, textured),
         };
         if textured && self.texture_n > 0 && self.depth > 0 {
             visit(square, Visit::Stratified(corners));
@@ -185,16 +237,19 @@ impl Refinement {
         }
         visit(square, Visit::Split);
         for child in square.children() {
-            self.walk_from(child, textured, max_level, lookup, visit);
+            self.walk_square(child, textured, None, max_level, lookup, visit);
         }
     }
 
     /// The neighbourhood rule for a pixel: whether the 4×4 corners around it differ, and
     /// whether they change colour more often than one straight edge can make them.
+    /// `encoded`: the corners' colours display-encoded, which the 24 comparisons below
+    /// would otherwise encode up to four times each (the encoding, a power, dominates the
+    /// sampler's own cost).
     fn neighbourhood(
         &self,
         pixel: &Square,
-        lookup: &impl Fn(u32, u32) -> Option<Color>,
+        encoded: &impl Fn(u32, u32) -> Option<Encoded>,
     ) -> (bool, bool) {
         let s = pixel.size as i64;
         let mut block = [None; 16];
@@ -202,15 +257,17 @@ impl Refinement {
             for dx in -1..=2i64 {
                 let (x, y) = (pixel.x as i64 + dx * s, pixel.y as i64 + dy * s);
                 if x >= 0 && y >= 0 {
-                    block[((dy + 1) * 4 + dx + 1) as usize] = lookup(x as u32, y as u32);
+                    block[((dy + 1) * 4 + dx + 1) as usize] = encoded(x as u32, y as u32);
                 }
             }
         }
-        // Encoded once: the 24 comparisons below would otherwise encode each colour up to
-        // four times, and the encoding (a power) dominates the sampler's own cost.
-        let block = block.map(|c| c.map(encode));
-        let present: Vec<[f32; 3]> = block.iter().flatten().copied().collect();
-        let busy = spread_encoded(&present) > self.threshold;
+        let mut present = [[0.0; 3]; 16];
+        let mut count = 0;
+        for c in block.iter().flatten() {
+            present[count] = *c;
+            count += 1;
+        }
+        let busy = spread_encoded(&present[..count]) > self.threshold;
         let differ = |i: usize, j: usize| match (block[i], block[j]) {
             (Some(a), Some(b)) => spread_encoded(&[a, b]) > self.threshold,
             _ => false,
@@ -232,6 +289,16 @@ impl Refinement {
             .sum::<usize>();
         (busy, changes > straight_edge_changes)
     }
+}
+
+/// The rule's judgement of a whole pixel, which depends on the pixel corners alone and so
+/// holds for every pass once they are traced.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Verdict {
+    /// The pixel splits (if the depth allows).
+    pub busy: bool,
+    /// The pixel is textured (neighbourhood rule only).
+    pub textured: bool,
 }
 
 /// What a walk finds at a square.
@@ -327,14 +394,18 @@ fn spread_encoded(colours: &[[f32; 3]]) -> f32 {
     (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max)
 }
 
+/// A colour display-encoded: what the rule compares.
+pub type Encoded = [f32; 3];
+
 /// A colour's channels display-encoded.
-fn encode(c: Color) -> [f32; 3] {
+pub fn encode(c: Color) -> Encoded {
     c.to_array().map(display)
 }
 
 /// The largest per-channel spread of the corners, in display-encoded units.
 pub fn contrast(corners: &[Color; 4]) -> f32 {
-    spread(corners)
+    // Not `spread`: every square of every walk asks, and an array spares its allocation.
+    spread_encoded(&corners.map(encode))
 }
 
 /// sRGB encoding of a linear value clamped to [0, 1] (NaN counts as 0).
@@ -427,6 +498,82 @@ mod tests {
         corners.walk(Square::pixel(1, 1, 4), 2, &lookup, &mut |_, v| {
             assert!(!matches!(v, Visit::Stratified(_)))
         });
+    }
+
+    #[test]
+    fn judged_and_resumed_walks_decide_as_the_full_walk() {
+        // A slanted edge, and a fine checker (texture) below y = 24 lattice steps.
+        let lookup = |x: u32, y: u32| {
+            let white = if y >= 24 {
+                (x / 3 + y / 3) % 2 == 0
+            } else {
+                2 * x + 3 * y < 70
+            };
+            Some(if white {
+                Color::ONE
+            } else {
+                Color::splat(0.02)
+            })
+        };
+        let encoded = |x: u32, y: u32| lookup(x, y).map(encode);
+        for rule in AdaptiveRule::ALL {
+            let r = Refinement {
+                threshold: 0.1,
+                depth: 3,
+                rule,
+                jitter: 0.0,
+                texture_n: 0,
+                seed: 0,
+            };
+            let (mut splits, mut textured) = (0, 0);
+            for (px, py) in [(0, 0), (1, 1), (2, 1), (1, 2), (3, 3), (0, 4)] {
+                let pixel = Square::pixel(px, py, r.steps());
+                let verdict = r.verdict(&pixel, &encoded).unwrap();
+                textured += verdict.textured as usize;
+                let full = |judged: bool| {
+                    let mut seen = Vec::new();
+                    let mut visit = |sq, v| seen.push((sq, v));
+                    if judged {
+                        r.walk_judged(pixel, verdict, r.depth, &lookup, &mut visit);
+                    } else {
+                        r.walk(pixel, r.depth, &lookup, &mut visit);
+                    }
+                    seen
+                };
+                assert_eq!(full(true), full(false), "{rule}, pixel ({px}, {py})");
+                // Level by level, resumed from the squares that split one level up.
+                let mut frontier = Vec::new();
+                for level in 0..r.depth {
+                    let mut expected = Vec::new();
+                    r.walk(pixel, level, &lookup, &mut |sq, v| {
+                        if matches!(v, Visit::Frontier(_)) && sq.level == level {
+                            expected.push(sq);
+                        }
+                    });
+                    let mut found = Vec::new();
+                    let mut visit = |sq: Square, v| {
+                        if matches!(v, Visit::Frontier(_)) && sq.level == level {
+                            found.push(sq);
+                        }
+                    };
+                    if level == 0 {
+                        r.walk_judged(pixel, verdict, 0, &lookup, &mut visit);
+                    } else {
+                        for parent in &frontier {
+                            for child in Square::children(parent) {
+                                r.walk_below(child, verdict.textured, level, &lookup, &mut visit);
+                            }
+                        }
+                    }
+                    assert_eq!(found, expected, "{rule}, pixel ({px}, {py}), level {level}");
+                    splits += found.len();
+                    frontier = found;
+                }
+            }
+            // The cases above are not vacuous.
+            assert!(splits > 6, "{rule}: {splits} splits");
+            assert_eq!(textured > 0, rule == AdaptiveRule::Neighbourhood, "{rule}");
+        }
     }
 
     #[test]
