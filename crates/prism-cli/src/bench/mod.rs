@@ -12,7 +12,7 @@ mod table;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use prism::accel::{AccelKind, AccelSpec};
-use prism::bench::{measure, Clock, MeasureOptions, RaySet};
+use prism::bench::{measure_all, Clock, MeasureOptions, RaySet};
 use results::{Outcome, Row, SceneResult};
 use scenes::SceneSource;
 use std::path::{Path, PathBuf};
@@ -295,19 +295,29 @@ fn bench_scene(
         .filter(|&i| scene.geometry.bounds(i).is_some())
         .count() as u64;
     drop(reference);
+    let work = bounded * (rays.primary.len() + rays.shadow.len()) as u64;
+    let skipped =
+        |spec: &AccelSpec| spec.kind() == AccelKind::BruteForce && work > BRUTE_FORCE_BUDGET;
+    // The methods that run are built first and then timed in turns (`measure_all`).
+    let running: Vec<&(String, AccelSpec)> = methods.iter().filter(|(_, s)| !skipped(s)).collect();
+    let specs: Vec<AccelSpec> = running.iter().map(|(_, s)| s.clone()).collect();
+    let mut measured = measure_all(scene, &specs, &rays, options, |i| {
+        if !quiet {
+            eprintln!("bench: {name}: {}", running[i].0);
+        }
+    })
+    .into_iter();
     let mut rows = Vec::new();
     for (method, spec) in methods {
-        let work = bounded * (rays.primary.len() + rays.shadow.len()) as u64;
-        let outcome = if spec.kind() == AccelKind::BruteForce && work > BRUTE_FORCE_BUDGET {
+        let outcome = if skipped(spec) {
             Outcome::Skipped(format!(
                 "{bounded} primitives × {} rays is too slow",
                 rays.primary.len() + rays.shadow.len()
             ))
         } else {
-            if !quiet {
-                eprintln!("bench: {name}: {method}");
-            }
-            Outcome::Measured(Box::new(measure(scene, spec, &rays, options)))
+            Outcome::Measured(Box::new(
+                measured.next().expect("one measurement per running method"),
+            ))
         };
         let mismatch = match &outcome {
             // Which primitive at which distance for every primary ray, which shadow rays

@@ -1,7 +1,7 @@
 //! Measuring one method on one scene's `RaySet`: build time (median of several builds when
 //! a build is cheap), what was built, and for primary rays (nearest hit) and shadow rays
 //! (any hit) the node visits and primitive tests per ray and the throughput (median of the
-//! repetitions).
+//! repetitions, the methods timed in turns).
 
 use super::rays::{RaySet, ShadowRay};
 use super::Clock;
@@ -80,77 +80,130 @@ pub struct Measured {
     pub shadow_digest: super::HitDigest,
 }
 
-/// Builds `spec` over `scene` and traces `rays` with it, on the current rayon pool.
-pub fn measure(
+/// Builds every method in `specs` over `scene`, then times them on `rays` in turns: sample
+/// r of every method before sample r + 1 of any, so that a slow spell on a shared machine
+/// falls on all methods alike and the ratios between them hold. On the current rayon pool.
+/// `progress` hears each method's index as its build starts.
+pub fn measure_all(
     scene: &Scene,
-    spec: &AccelSpec,
+    specs: &[AccelSpec],
     rays: &RaySet,
     options: &MeasureOptions,
-) -> Measured {
+    progress: impl Fn(usize),
+) -> Vec<Measured> {
+    let built: Vec<(SceneIntersector, Vec<f64>)> = specs
+        .iter()
+        .enumerate()
+        .map(|(i, spec)| {
+            progress(i);
+            build_timed(scene, spec, options)
+        })
+        .collect();
+    let geometry = &scene.geometry;
+    let primary_passes: Vec<_> = built
+        .iter()
+        .map(|(intersector, _)| move || trace_primary(intersector, geometry, &rays.primary))
+        .collect();
+    let primary = interleaved(options, rays.primary.len(), &primary_passes);
+    let shadow_passes: Vec<_> = built
+        .iter()
+        .map(|(intersector, _)| move || trace_shadow(intersector, geometry, &rays.shadow))
+        .collect();
+    let shadow = interleaved(options, rays.shadow.len(), &shadow_passes);
+    built
+        .into_iter()
+        .zip(primary.into_iter().zip(shadow))
+        .map(
+            |((intersector, mut build_times), (primary, shadow))| Measured {
+                primary_digest: super::digest::primary(&intersector, geometry, &rays.primary),
+                shadow_digest: super::digest::shadow(&intersector, geometry, &rays.shadow),
+                accel: intersector.accel.info(),
+                build_ms: median(&mut build_times),
+                builds: build_times.len(),
+                primary,
+                shadow,
+            },
+        )
+        .collect()
+}
+
+/// Builds `spec` once, or several times while builds are cheap; the build times in ms.
+fn build_timed(
+    scene: &Scene,
+    spec: &AccelSpec,
+    options: &MeasureOptions,
+) -> (SceneIntersector, Vec<f64>) {
     let mut build_times = Vec::new();
     let mut spent = Duration::ZERO;
-    let intersector = loop {
+    loop {
         let start = options.clock.start();
         let built = SceneIntersector::build(&scene.geometry, spec);
         let took = start.elapsed();
         build_times.push(took.as_secs_f64() * 1e3);
         spent += took;
         if spent >= options.build_budget || build_times.len() >= options.max_builds.max(1) {
-            break built;
+            return (built, build_times);
         }
-    };
-    let geometry = &scene.geometry;
-    let primary = timed(options, rays.primary.len(), || {
-        trace_primary(&intersector, geometry, &rays.primary)
-    });
-    let shadow = timed(options, rays.shadow.len(), || {
-        trace_shadow(&intersector, geometry, &rays.shadow)
-    });
-    Measured {
-        primary_digest: super::digest::primary(&intersector, geometry, &rays.primary),
-        shadow_digest: super::digest::shadow(&intersector, geometry, &rays.shadow),
-        accel: intersector.accel.info(),
-        build_ms: median(&mut build_times),
-        builds: build_times.len(),
-        primary,
-        shadow,
     }
 }
 
-/// Counts the work of one pass of `pass`, then times up to `repeat` samples (within the
-/// budget), each of enough passes to last `min_sample`, and reports the median time of a
-/// pass.
-fn timed(
+/// For each method's `pass`: counts the work of one pass, then times up to `repeat`
+/// samples (within the budget), each of enough passes to last `min_sample`, taking the
+/// methods in turns; reports the median time of a pass.
+fn interleaved<F: Fn() -> (usize, Stats)>(
     options: &MeasureOptions,
     rays: usize,
-    pass: impl Fn() -> (usize, Stats),
-) -> RayKindResult {
-    let start = options.clock.start();
-    let (hits, stats) = std::hint::black_box(pass());
-    let first = start.elapsed();
-    let passes = if first.is_zero() {
-        1000
-    } else {
-        (options.min_sample.as_secs_f64() / first.as_secs_f64()).ceil() as usize
+    passes: &[F],
+) -> Vec<RayKindResult> {
+    struct Run {
+        hits: usize,
+        stats: Stats,
+        passes: usize,
+        times: Vec<f64>,
+        spent: Duration,
     }
-    .clamp(1, 1000);
-    let mut times = Vec::new();
-    let mut spent = first;
-    if passes == 1 && spent >= options.trace_budget {
-        // One pass took the whole budget: it is the only sample there will be.
-        times.push(first.as_secs_f64());
-    }
-    while times.len() < options.repeat.max(1) && (times.is_empty() || spent < options.trace_budget)
-    {
-        let start = options.clock.start();
-        for _ in 0..passes {
-            std::hint::black_box(pass());
+    let mut runs: Vec<Run> = passes
+        .iter()
+        .map(|pass| {
+            let start = options.clock.start();
+            let (hits, stats) = std::hint::black_box(pass());
+            let first = start.elapsed();
+            let passes = if first.is_zero() {
+                1000
+            } else {
+                (options.min_sample.as_secs_f64() / first.as_secs_f64()).ceil() as usize
+            }
+            .clamp(1, 1000);
+            let mut times = Vec::new();
+            if passes == 1 && first >= options.trace_budget {
+                // One pass took the whole budget: it is the only sample there will be.
+                times.push(first.as_secs_f64());
+            }
+            Run {
+                hits,
+                stats,
+                passes,
+                times,
+                spent: first,
+            }
+        })
+        .collect();
+    for _ in 0..options.repeat.max(1) {
+        for (run, pass) in runs.iter_mut().zip(passes) {
+            let wanted = run.times.len() < options.repeat.max(1)
+                && (run.times.is_empty() || run.spent < options.trace_budget);
+            if !wanted {
+                continue;
+            }
+            let start = options.clock.start();
+            for _ in 0..run.passes {
+                std::hint::black_box(pass());
+            }
+            let took = start.elapsed();
+            run.times.push(took.as_secs_f64() / run.passes as f64);
+            run.spent += took;
         }
-        let took = start.elapsed();
-        times.push(took.as_secs_f64() / passes as f64);
-        spent += took;
     }
-    let seconds = median(&mut times);
     let per_ray = |n: u64| {
         if rays == 0 {
             0.0
@@ -158,19 +211,24 @@ fn timed(
             n as f64 / rays as f64
         }
     };
-    RayKindResult {
-        rays,
-        hits,
-        node_visits_per_ray: per_ray(stats.node_visits),
-        primitive_tests_per_ray: per_ray(stats.primitive_tests),
-        seconds,
-        mrays_per_s: if seconds > 0.0 {
-            rays as f64 / seconds / 1e6
-        } else {
-            0.0
-        },
-        repetitions: times.len(),
-    }
+    runs.into_iter()
+        .map(|mut run| {
+            let seconds = median(&mut run.times);
+            RayKindResult {
+                rays,
+                hits: run.hits,
+                node_visits_per_ray: per_ray(run.stats.node_visits),
+                primitive_tests_per_ray: per_ray(run.stats.primitive_tests),
+                seconds,
+                mrays_per_s: if seconds > 0.0 {
+                    rays as f64 / seconds / 1e6
+                } else {
+                    0.0
+                },
+                repetitions: run.times.len(),
+            }
+        })
+        .collect()
 }
 
 fn trace_primary(

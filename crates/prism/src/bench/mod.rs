@@ -9,5 +9,5 @@ mod rays;
 
 pub use clock::{Clock, Stopwatch};
 pub use digest::HitDigest;
-pub use measure::{measure, MeasureOptions, Measured, RayKindResult};
+pub use measure::{measure_all, MeasureOptions, Measured, RayKindResult};
 pub use rays::{RaySet, RaySetSize, ShadowRay};

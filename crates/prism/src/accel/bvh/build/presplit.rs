@@ -41,6 +41,7 @@ pub fn presplit(
         })
         .collect();
     let total: f64 = priority.iter().sum();
+    let scene = bounds.iter().fold(Aabb::EMPTY, |s, b| s.union(b));
     let mut out_prims = Vec::with_capacity(prims.len() + extra);
     let mut out_bounds = Vec::with_capacity(prims.len() + extra);
     for (i, (&prim, b)) in prims.iter().zip(&bounds).enumerate() {
@@ -53,7 +54,7 @@ pub fn presplit(
         match triangles[i] {
             Some(tri) if pieces > 1 => {
                 let polygon = tri.to_vec();
-                split(&polygon, *b, pieces, &mut |piece| {
+                split(&polygon, *b, &scene, pieces, &mut |piece| {
                     out_prims.push(prim);
                     out_bounds.push(piece);
                 });
@@ -74,15 +75,22 @@ fn triangle(geometry: &Geometry, prim: u32) -> Option<[Vec3; 3]> {
     }
 }
 
-/// Emits boxes covering `polygon` (which lies within `bounds`) in `pieces` parts, halving
-/// `bounds` across its longest axis.
-fn split(polygon: &[Vec3], bounds: Aabb, pieces: usize, emit: &mut impl FnMut(Aabb)) {
+/// Emits boxes covering `polygon` (which lies within `bounds`) in `pieces` parts, cutting
+/// `bounds` across its longest axis at the coarsest plane of the scene's power-of-two grid
+/// that crosses it (Karras & Aila): pieces of different triangles then share their cut
+/// planes, which the builder's own splits can follow.
+fn split(polygon: &[Vec3], bounds: Aabb, scene: &Aabb, pieces: usize, emit: &mut impl FnMut(Aabb)) {
     if pieces <= 1 || polygon.len() < 3 {
         emit(bounds);
         return;
     }
     let axis = bounds.extent().max_position();
-    let mid = 0.5 * (bounds.min[axis] + bounds.max[axis]);
+    let mid = grid_plane(
+        scene.min[axis],
+        scene.max[axis],
+        bounds.min[axis],
+        bounds.max[axis],
+    );
     if !(mid > bounds.min[axis] && mid < bounds.max[axis]) {
         // Too thin to halve in f32: one piece.
         emit(bounds);
@@ -97,12 +105,29 @@ fn split(polygon: &[Vec3], bounds: Aabb, pieces: usize, emit: &mut impl FnMut(Aa
     let hi_box = piece_bounds(&above, hi_box);
     match (lo_box, hi_box) {
         (Some(lo), Some(hi)) => {
-            split(&below, lo, pieces / 2, emit);
-            split(&above, hi, pieces - pieces / 2, emit);
+            split(&below, lo, scene, pieces / 2, emit);
+            split(&above, hi, scene, pieces - pieces / 2, emit);
         }
         // The whole polygon on one side (up to rounding): keep the unsplit box.
         _ => emit(bounds),
     }
+}
+
+/// The coarsest plane `lo + j·(hi − lo)/2^k` strictly inside `(a, b)`, or the midpoint of
+/// `(a, b)` when the grid is finer than f32 can tell.
+fn grid_plane(lo: f32, hi: f32, a: f32, b: f32) -> f32 {
+    let extent = hi - lo;
+    if extent > 0.0 {
+        let mut cell = extent;
+        for _ in 0..24 {
+            cell *= 0.5;
+            let plane = lo + ((a - lo) / cell).floor() * cell + cell;
+            if plane > a && plane < b {
+                return plane;
+            }
+        }
+    }
+    0.5 * (a + b)
 }
 
 /// The box of a clipped piece: its vertices' box grown by a margin relative to the
@@ -159,7 +184,7 @@ mod tests {
         ];
         let bounds = tri.iter().fold(Aabb::EMPTY, |b, &p| b.union_point(p));
         let mut boxes = Vec::new();
-        split(&tri, bounds, 16, &mut |b| boxes.push(b));
+        split(&tri, bounds, &bounds, 16, &mut |b| boxes.push(b));
         assert_eq!(boxes.len(), 16);
         let area: f32 = boxes.iter().map(Aabb::surface_area).sum();
         assert!(
