@@ -132,13 +132,18 @@ fn bench_writes_the_same_results_as_csv_json_and_chart() {
 #[test]
 fn bad_bench_input_fails_at_once_and_writes_nothing() {
     let dir = work_dir("bad");
-    let cases: [(&[&str], &str); 5] = [
+    let mut cases: Vec<(&[&str], &str)> = vec![
         (&["--scenes", "cornell,nope"], "unknown scene 'nope'"),
         (&["--methods", "bvh;bvh:leaf=0"], "bad method 'bvh:leaf=0'"),
         (&["--method", "quadtree"], "bad method 'quadtree'"),
+        (&["--methods", ";;"], "no method given"),
         (&["--csv", "missing/out.csv"], "does not exist"),
         (&["--chart", "out.png"], "expected a .svg file name"),
     ];
+    // A folder that exists but takes no files (even for root): found before any work.
+    if std::path::Path::new("/proc/self").is_dir() {
+        cases.push((&["--csv", "/proc/prism-bench.csv"], "is not writable"));
+    }
     for (extra, message) in cases {
         let mut args = vec!["bench", "--quick", "-q", "--json", "out.json"];
         if !extra.contains(&"--scenes") {

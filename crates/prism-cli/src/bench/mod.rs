@@ -153,6 +153,17 @@ fn check_output(path: &Path, extension: Option<&str>) -> Result<()> {
             parent.display()
         );
     }
+    // Try a scratch file beside it now, rather than learn after the whole matrix that the
+    // folder is read-only.
+    let probe = parent.join(format!(".prism-bench-probe-{}", std::process::id()));
+    std::fs::write(&probe, b"").with_context(|| {
+        format!(
+            "cannot write {}: the directory {} is not writable",
+            path.display(),
+            parent.display()
+        )
+    })?;
+    let _ = std::fs::remove_file(&probe);
     Ok(())
 }
 
