@@ -2,23 +2,14 @@
 //! and what their numbers must satisfy, refusals that leave nothing behind, and a cost
 //! view that does not depend on the thread count.
 
+mod common;
+
+use common::prism;
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 fn work_dir(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("bench-{test}"));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn prism(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_prism"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the prism binary runs")
+    common::work_dir("bench", test)
 }
 
 #[track_caller]

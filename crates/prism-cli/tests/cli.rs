@@ -2,24 +2,15 @@
 //! messages instead of panics, and output files that decode to the requested size with
 //! nothing left beside them.
 
+mod common;
+
+use common::prism;
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-/// A fresh, empty directory for one test.
 fn work_dir(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli-{test}"));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn prism(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_prism"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the prism binary runs")
+    common::work_dir("cli", test)
 }
 
 fn stderr(out: &Output) -> String {

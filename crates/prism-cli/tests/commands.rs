@@ -1,23 +1,15 @@
 //! The sampling side of the command line: --spp and --sampler checks, the density view,
 //! `prism compare`, `prism reference`, `prism sweep` and `prism patterns`.
 
+mod common;
+
+use common::prism;
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 fn work_dir(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("commands-{test}"));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn prism(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_prism"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the prism binary runs")
+    common::work_dir("commands", test)
 }
 
 #[track_caller]
