@@ -8,6 +8,7 @@ mod shards;
 mod slivers;
 mod sphereflake;
 mod stadium;
+mod staging;
 mod torusknot;
 mod whitted;
 

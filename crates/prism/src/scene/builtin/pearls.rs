@@ -5,7 +5,7 @@
 //! kd-tree or BVH cuts the string along its length instead.
 
 use crate::camera::Camera;
-use crate::geometry::{Plane, Shape, Sphere};
+use crate::geometry::{Shape, Sphere};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
@@ -40,21 +40,13 @@ pub fn pearls() -> Scene {
         reflect: 0.2,
         ..Material::default()
     });
-    let floor = scene.add_material(Material {
-        name: "floor".into(),
-        color: Texture::Solid(Color::new(0.3, 0.2, 0.25)),
-        ambient: 0.5,
-        diffuse: 0.7,
-        ..Material::default()
-    });
     for i in 0..PEARLS {
         let centre = Vec3::new(start + i as f32 * 2.0 * RADIUS, 0.0, 0.0);
         scene
             .geometry
             .add(Shape::Sphere(Sphere::new(centre, RADIUS)), pearl);
     }
-    let plane = Plane::new(Vec3::new(0.0, 0.0, -0.3), Vec3::Z).expect("non-zero normal");
-    scene.geometry.add(Shape::Plane(Box::new(plane)), floor);
+    super::staging::matte_floor(&mut scene, Color::new(0.3, 0.2, 0.25), -0.3);
     scene.lights = vec![
         Light::Point {
             position: Vec3::new(start, -3.0, 4.0),

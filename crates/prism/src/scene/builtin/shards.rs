@@ -5,8 +5,7 @@
 
 use super::random::unit;
 use crate::camera::Camera;
-use crate::geometry::{Plane, Shape, TriangleMesh};
-use crate::light::Light;
+use crate::geometry::TriangleMesh;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
 use crate::shading::{Material, Texture};
@@ -49,28 +48,11 @@ pub fn shards() -> Scene {
             })
         })
         .collect();
-    let floor = scene.add_material(Material {
-        name: "floor".into(),
-        color: Texture::Solid(Color::splat(0.5)),
-        ambient: 0.5,
-        diffuse: 0.7,
-        ..Material::default()
-    });
     for (k, &material) in materials.iter().enumerate() {
         scene.geometry.add_mesh(shard_mesh(k as u32, 3), material);
     }
-    let plane = Plane::new(Vec3::new(0.0, 0.0, -1.6), Vec3::Z).expect("non-zero normal");
-    scene.geometry.add(Shape::Plane(Box::new(plane)), floor);
-    scene.lights = vec![
-        Light::Point {
-            position: Vec3::new(-3.0, -4.0, 6.0),
-            color: Color::splat(0.7),
-        },
-        Light::Directional {
-            direction: Vec3::new(1.0, 0.5, -1.0).normalize(),
-            color: Color::splat(0.3),
-        },
-    ];
+    super::staging::matte_floor(&mut scene, Color::splat(0.5), -1.6);
+    scene.lights = super::staging::key_and_fill();
     scene
 }
 

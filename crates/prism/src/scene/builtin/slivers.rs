@@ -5,8 +5,7 @@
 
 use super::random::unit;
 use crate::camera::Camera;
-use crate::geometry::{Plane, Shape, TriangleMesh};
-use crate::light::Light;
+use crate::geometry::TriangleMesh;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
 use crate::shading::{Material, Texture};
@@ -38,26 +37,9 @@ pub fn slivers() -> Scene {
         shininess: 20.0,
         ..Material::default()
     });
-    let floor = scene.add_material(Material {
-        name: "floor".into(),
-        color: Texture::Solid(Color::splat(0.45)),
-        ambient: 0.5,
-        diffuse: 0.7,
-        ..Material::default()
-    });
     scene.geometry.add_mesh(needles(), straw);
-    let plane = Plane::new(Vec3::new(0.0, 0.0, -1.8), Vec3::Z).expect("non-zero normal");
-    scene.geometry.add(Shape::Plane(Box::new(plane)), floor);
-    scene.lights = vec![
-        Light::Point {
-            position: Vec3::new(-3.0, -4.0, 6.0),
-            color: Color::splat(0.7),
-        },
-        Light::Directional {
-            direction: Vec3::new(1.0, 0.5, -1.0).normalize(),
-            color: Color::splat(0.3),
-        },
-    ];
+    super::staging::matte_floor(&mut scene, Color::splat(0.45), -1.8);
+    scene.lights = super::staging::key_and_fill();
     scene
 }
 
