@@ -75,7 +75,8 @@ pub enum Preset {
 #[derive(Args, Debug, Default)]
 pub struct RenderArgs {
     /// Scene file to render (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply: framed by a
-    /// default camera and light). Without it, a built-in scene is rendered.
+    /// default camera and light). Without it (and without --builtin), the built-in
+    /// `whitted` scene is rendered.
     pub scene: Option<PathBuf>,
 
     /// Built-in scene to render instead of a file (see `prism list`).
@@ -86,7 +87,7 @@ pub struct RenderArgs {
     #[arg(short, long, value_name = "FILE", default_value = "prism.png")]
     pub output: PathBuf,
 
-    /// Write EXR output as 16-bit half floats instead of 32-bit floats.
+    /// Write EXR output as 16-bit half floats instead of 32-bit floats (EXR only).
     #[arg(long)]
     pub half: bool,
 
@@ -117,12 +118,12 @@ pub struct RenderArgs {
     pub filter: Option<FilterKind>,
 
     /// Filter radius in pixels [default: box 0.5, tent 1, gaussian 1.5, mitchell 2].
-    #[arg(long, value_name = "PIXELS")]
+    #[arg(long, value_name = "PIXELS", allow_negative_numbers = true)]
     pub filter_radius: Option<f32>,
 
     /// Adaptive sampling: split a square when its corners differ by more than this, in
     /// display (sRGB) units from 0 to 1 [default: 0.1].
-    #[arg(long, value_name = "X")]
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
     pub adaptive_threshold: Option<f32>,
 
     /// Adaptive sampling: levels of splitting below the pixel, 0 to 6 [default: 3].
@@ -137,7 +138,7 @@ pub struct RenderArgs {
 
     /// Adaptive sampling: 0 traces exactly on the lattice, 1 anywhere in each point's
     /// lattice cell [default: 1].
-    #[arg(long, value_name = "X")]
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
     pub adaptive_jitter: Option<f32>,
 
     /// Adaptive sampling: samples (a square number) that a textured pixel takes in a
@@ -147,26 +148,27 @@ pub struct RenderArgs {
 
     /// Adaptive depth control: stop a reflected or refracted branch whose weight in the
     /// pixel is below this; 0 traces every branch to the depth limit [default: 1/255].
-    #[arg(long, value_name = "W")]
+    #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub min_weight: Option<f32>,
 
     /// Maximum ray-tree depth, counting the eye ray as 1 (1 to 256) [default: 5].
     #[arg(short, long, value_name = "N")]
     pub depth: Option<u32>,
 
-    /// Worker threads; 0 uses every core [default: 0].
+    /// Worker threads; 0 uses every core, at most 1024 [default: 0]. A render never starts
+    /// more threads than it has tiles.
     #[arg(short, long, value_name = "N")]
     pub threads: Option<usize>,
 
-    /// Seed for random decisions.
+    /// Seed for random decisions [default: 0].
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
 
     /// Acceleration structure and its parameters, METHOD[:KEY=VALUE,...]: bvh (the
-    /// default; keys build=binned|sweep|median|lbvh, reinsert, volume=aabb|sphere|obb|
-    /// dop14|dop26|hull, bins, leaf, trav), grid (lambda, cells), kdtree (trav, isect,
-    /// empty-bonus, depth), octree (leaf, depth) or brute-force. Example:
-    /// bvh:build=sweep,reinsert.
+    /// default; keys build=binned|sweep|median|lbvh, reinsert,
+    /// volume=aabb|sphere|obb|dop14|dop26|hull, bins, leaf, trav, split), grid (lambda,
+    /// cells), kdtree (trav, isect, empty-bonus, depth), octree (leaf, depth) or
+    /// brute-force. Example: bvh:build=sweep,reinsert.
     #[arg(long, value_name = "SPEC")]
     pub accel: Option<AccelSpec>,
 
@@ -203,9 +205,14 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FILE")]
     pub stats_json: Option<PathBuf>,
 
-    /// No progress bar and no closing message.
+    /// No progress bar and no closing message (warnings and errors still show).
     #[arg(short, long)]
     pub quiet: bool,
+
+    /// Treat warnings (a missing MTL file, a feature prism reads but cannot render, an
+    /// empty scene, …) as errors: stop before rendering.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// A built-in scene by name, or an error listing the names there are.
@@ -300,8 +307,16 @@ impl RenderArgs {
     }
 }
 
-/// Samples per axis for `spp` samples per pixel, which must be a square.
+/// Samples per axis for `spp` samples per pixel, which must be a square of at most
+/// 64 × 64. Errors echo the value as the user typed it.
 pub fn per_axis(spp: u32) -> Result<u32> {
+    let max = prism::options::MAX_SAMPLES_PER_AXIS;
+    if spp > max * max {
+        bail!(
+            "--spp {spp} is too many: at most {} ({max}×{max}) samples per pixel",
+            max * max
+        );
+    }
     let n = (spp as f64).sqrt().round() as u32;
     if n == 0 || n * n != spp {
         let below = (spp as f64).sqrt().floor().max(1.0) as u32;

@@ -35,7 +35,7 @@ pub fn run(args: &CompareArgs) -> Result<ExitCode> {
         anyhow::bail!("--ppd must be a positive number, got {}", args.ppd);
     }
     if let Some(path) = &args.flip_map {
-        crate::density::check(path)?;
+        crate::outputs::Outputs::default().add(path, &["png"])?;
     }
     let reference = read_image(&args.reference)?;
     let test = read_image(&args.test)?;

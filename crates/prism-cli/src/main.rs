@@ -1,7 +1,7 @@
 //! `prism`: the command-line front end. Parses arguments, loads or builds a scene, renders
 //! it with a progress bar, writes the image and reports statistics. Exit codes: 0 success,
-//! 1 bad input or failed output, 2 bad usage (from clap), 130 interrupted (image still
-//! written with the finished tiles).
+//! 1 bad input or failed output, 2 bad usage (from clap), 130 interrupted by Ctrl-C and 143
+//! by SIGTERM (the image still written with the finished tiles).
 
 mod args;
 mod bench;
@@ -9,28 +9,36 @@ mod compare;
 mod cost;
 mod density;
 mod info;
+mod memory;
+mod outputs;
 mod patterns;
 mod plot;
 mod progress;
 mod reference;
 mod report;
+mod signals;
 mod sweep;
+mod warnings;
 
 use anyhow::{Context, Result};
 use args::{Cli, Command, RenderArgs};
 use clap::Parser;
 use prism::scene::builtin;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::time::Instant;
 
 fn main() -> ExitCode {
+    signals::restore_unix_defaults();
     let cli = Cli::parse();
-    let result = match cli
-        .command
-        .unwrap_or(Command::Render(RenderArgs::default()))
-    {
+    // No command means `render` with its defaults, exactly as if it had been typed.
+    let command = match cli.command {
+        Some(command) => command,
+        None => Cli::parse_from(["prism", "render"])
+            .command
+            .expect("`render` is a command"),
+    };
+    let result = match command {
         Command::Render(args) => render(&args),
         Command::Info(args) => info(&args),
         Command::Bench(args) => bench::run(&args),
@@ -71,9 +79,47 @@ fn list() {
 }
 
 fn render(args: &RenderArgs) -> Result<ExitCode> {
+    // Every output is checked before anything else, so a typo in a folder name costs
+    // nothing and a bad extra output means nothing is written.
+    let mut outputs = outputs::Outputs::default();
+    outputs.add(&args.output, &[])?;
+    let format = prism::output::ImageFormat::from_path(&args.output)?;
+    if let Some(path) = &args.density {
+        density::check(path)?;
+        outputs.add(path, &[])?;
+    }
+    if let Some(path) = &args.cost {
+        cost::check(path)?;
+        outputs.add(path, &[])?;
+    }
+    if let Some(path) = args.stats_json.as_ref().filter(|p| *p != Path::new("-")) {
+        outputs.add(path, &[])?;
+    }
+    let mut warnings = warnings::Warnings::new(args.strict);
+    let format = match format {
+        prism::output::ImageFormat::Exr { .. } => {
+            prism::output::ImageFormat::Exr { half: args.half }
+        }
+        other => {
+            if args.half {
+                warnings.add(format!(
+                    "--half applies to EXR output only; {} is written at full precision",
+                    args.output.display()
+                ));
+            }
+            other
+        }
+    };
+
     let load_start = Instant::now();
     let (mut scene, scene_name) = args.load_scene()?;
     let load_time = load_start.elapsed();
+    warnings.extend(std::mem::take(&mut scene.warnings));
+    if scene.geometry.primitives.is_empty() {
+        warnings.add(format!(
+            "{scene_name} has no objects: the image will show only the background"
+        ));
+    }
     scene.validate().context("the scene is not valid")?;
     let mut options = args.options(&scene.options)?;
     if args.preset == Some(args::Preset::Spd) {
@@ -82,44 +128,31 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     options
         .validate()
         .map_err(|e| anyhow::anyhow!("invalid option: {e}"))?;
-    // Fail on an unwritable format before spending time on the render.
-    let format = match prism::output::ImageFormat::from_path(&args.output)? {
-        prism::output::ImageFormat::Exr { .. } => {
-            prism::output::ImageFormat::Exr { half: args.half }
-        }
-        other => other,
-    };
-
-    if let Some(path) = &args.density {
-        density::check(path)?;
-    }
-    if let Some(path) = &args.cost {
-        cost::check(path)?;
-    }
+    warnings.report()?;
+    note_threads(&options);
+    memory::check(&scene, &options, args)?;
     let prepared = scene.prepare(&options.accel);
 
-    let cancel = Arc::new(AtomicBool::new(false));
-    {
-        let cancel = cancel.clone();
-        // If a handler cannot be installed, Ctrl-C simply kills the process as usual.
-        let _ = ctrlc::set_handler(move || {
-            if cancel.swap(true, Ordering::SeqCst) {
-                // A second Ctrl-C: the user does not want to wait for the tiles in flight.
-                std::process::exit(130);
-            }
-        });
-    }
+    let interrupt = signals::listen();
     let bar = progress::RenderProgress::new(&options, args.quiet);
-    let result = prism::render::render(&prepared, &options, &|t| bar.tile_done(t), &cancel)?;
-    bar.finish(result.complete);
+    let result = prism::render::render(
+        &prepared,
+        &options,
+        &|t| bar.tile_done(t),
+        &interrupt.cancel,
+    )?;
+    bar.finish();
 
+    let mut written = vec![args.output.clone()];
     prism::output::write_image_as(&args.output, &result.film, format)?;
     if let Some(path) = &args.density {
         density::write(path, &result.rays, args.density_rays)?;
+        written.push(path.clone());
     }
     if let Some(path) = &args.cost {
         let accel = options.accel.to_string();
         cost::write(path, &result.rays, args.cost_metric, &accel)?;
+        written.push(path.clone());
     }
     let report = report::Report::new(
         &scene_name,
@@ -134,22 +167,50 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     }
     if let Some(path) = &args.stats_json {
         report.write_json(path)?;
+        if path != Path::new("-") {
+            written.push(path.clone());
+        }
     }
     if !result.complete {
         eprintln!(
-            "prism: interrupted; wrote the finished tiles to {}",
-            args.output.display()
+            "prism: {} at {:.0} %; wrote the finished tiles to {}",
+            interrupt.cause(),
+            bar.fraction_done() * 100.0,
+            names(&written)
         );
-        return Ok(ExitCode::from(130));
+        return Ok(ExitCode::from(interrupt.exit_code()));
     }
     if !args.quiet {
         eprintln!(
             "prism: wrote {} ({}×{}, {:.2} s)",
-            args.output.display(),
+            names(&written),
             options.width,
             options.height,
             result.render_time.as_secs_f64()
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// A note (not a warning: harmless, and machine-dependent) when more threads are asked for
+/// than the machine has cores.
+fn note_threads(options: &prism::RenderOptions) {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if options.threads > cores {
+        eprintln!(
+            "prism: note: {} worker threads on {cores} cores; threads beyond the cores only \
+             take turns",
+            options.threads
+        );
+    }
+}
+
+/// "a.png", "a.png and b.png", "a.png, b.png and c.json".
+fn names(paths: &[PathBuf]) -> String {
+    let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    match names.split_last() {
+        None => String::new(),
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+    }
 }

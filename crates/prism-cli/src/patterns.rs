@@ -53,6 +53,7 @@ struct Panel {
 
 pub fn run(args: &PatternsArgs) -> Result<ExitCode> {
     let n = per_axis(args.spp)?;
+    crate::outputs::check_writable(&args.output)?;
     let mut panels = Vec::new();
     for kind in SamplerKind::ALL {
         panels.push(panel(kind, n, args.seed));

@@ -61,6 +61,7 @@ pub fn run(args: &ReferenceArgs) -> Result<ExitCode> {
         .validate()
         .map_err(|e| anyhow::anyhow!("invalid option: {e}"))?;
     prism::output::ImageFormat::from_path(&args.output)?;
+    crate::outputs::check_writable(&args.output)?;
     let start = std::time::Instant::now();
     let reference = checkerboard(&scene, width, height, args.tolerance)?;
     prism::output::write_image(&args.output, &reference.film)?;

@@ -162,7 +162,7 @@ impl Report {
             println!("{text}");
             return Ok(());
         }
-        std::fs::write(path, text + "\n")
+        prism::output::write_atomic(path, (text + "\n").as_bytes())
             .with_context(|| format!("cannot write statistics to {}", path.display()))
     }
 }

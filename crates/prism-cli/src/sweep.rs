@@ -77,8 +77,8 @@ pub struct SweepArgs {
 
     /// Adaptive variants to render, comma-separated RULE:JITTER[:TEXTURE_SPP], e.g.
     /// `neighbourhood:1,corners:0` (the default adaptive sampler and POV-Ray's +AM2);
-    /// TEXTURE_SPP is the stratified pass's samples (0: subdivide textured pixels too)
-    /// [default: the default sampler's].
+    /// TEXTURE_SPP is the stratified pass's samples (0: subdivide textured pixels too;
+    /// left out: the default sampler's).
     #[arg(
         long,
         value_name = "LIST",
@@ -247,6 +247,8 @@ pub fn run(args: &SweepArgs) -> Result<ExitCode> {
     let runs = plan(args)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
+    // Learn now, not after the renders, that the folder cannot take the files.
+    crate::outputs::check_writable(&args.out.join("summary.txt"))?;
     let prepared = scene.prepare(&base.accel);
     let say = |msg: String| {
         if !args.quiet {
@@ -378,7 +380,7 @@ pub fn run(args: &SweepArgs) -> Result<ExitCode> {
         )?;
     }
     let summary = summary(&name, &base, &reference_note, &results);
-    std::fs::write(args.out.join("summary.txt"), &summary)
+    prism::output::write_atomic(&args.out.join("summary.txt"), summary.as_bytes())
         .with_context(|| format!("cannot write {}", args.out.join("summary.txt").display()))?;
     print!("{summary}");
     Ok(ExitCode::SUCCESS)

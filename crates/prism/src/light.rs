@@ -1,6 +1,8 @@
-//! Light sources of the Whitted model: points and directions, without falloff (as in
-//! Whitted 1980 and POV-Ray's default), so a light's colour is the irradiance it gives a
-//! surface facing it.
+//! Light sources of the Whitted model: points, spots and directions, without falloff with
+//! distance (as in Whitted 1980 and POV-Ray's default), so a light's colour is the
+//! irradiance it gives a surface facing it. A spot light is a point light whose cone fades
+//! from full strength at its inner angle to nothing at its outer angle, as glTF's
+//! KHR_lights_punctual defines it.
 
 use crate::math::{Color, Vec3};
 
@@ -15,6 +17,27 @@ pub enum Light {
         direction: Vec3,
         color: Color,
     },
+    /// A point light shining along `direction` (unit) into a cone: full strength within
+    /// the inner angle, none beyond the outer one, given as the angles' cosines
+    /// (`cos_outer` ≤ `cos_inner`).
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        color: Color,
+        cos_inner: f32,
+        cos_outer: f32,
+    },
+}
+
+/// The share of a spot light's strength at cosine `cos_angle` off its axis: KHR_lights_
+/// punctual's smooth falloff, the square of a linear ramp between the cone's cosines.
+pub fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
+    if cos_inner <= cos_outer {
+        // No ramp: a hard-edged cone.
+        return if cos_angle >= cos_outer { 1.0 } else { 0.0 };
+    }
+    let t = ((cos_angle - cos_outer) / (cos_inner - cos_outer)).clamp(0.0, 1.0);
+    t * t
 }
 
 /// What a light offers a shading point.
@@ -44,6 +67,27 @@ impl Light {
                 distance: f32::INFINITY,
                 color,
             }),
+            Light::Spot {
+                position,
+                direction,
+                color,
+                cos_inner,
+                cos_outer,
+            } => {
+                let d = position - p;
+                let distance = d.length();
+                if distance <= 0.0 {
+                    return None;
+                }
+                let to_light = d / distance;
+                let strength = spot_falloff(direction.dot(-to_light), cos_inner, cos_outer);
+                // Outside the cone: no light, and so no shadow ray.
+                (strength > 0.0).then(|| LightSample {
+                    to_light,
+                    distance,
+                    color: color * strength,
+                })
+            }
         }
     }
 }

@@ -16,6 +16,11 @@ pub const DEFAULT_ADAPTIVE_DEPTH: u32 = 3;
 /// threshold 0.1 and depth 3, the setting that meets issue 5's goal on the checkerboard and
 /// the default scene (docs/sampling.md).
 pub const DEFAULT_ADAPTIVE_TEXTURE_SPP: u32 = 25;
+/// Most worker threads a render may ask for. Far above any core count a machine offers
+/// today; beyond it a typo (`--threads 1000000000000`) would start thousands of OS threads.
+pub const MAX_THREADS: usize = 1024;
+/// Most samples per pixel along each axis (`samples`).
+pub const MAX_SAMPLES_PER_AXIS: u32 = 64;
 /// Largest accepted filter radius, in pixels.
 pub const MAX_FILTER_RADIUS: f32 = 8.0;
 
@@ -135,9 +140,9 @@ impl RenderOptions {
                 self.width, self.height
             ));
         }
-        if self.samples == 0 || self.samples > 64 {
+        if self.samples == 0 || self.samples > MAX_SAMPLES_PER_AXIS {
             return Err(format!(
-                "samples must be between 1 and 64 per axis, got {}",
+                "samples must be between 1 and {MAX_SAMPLES_PER_AXIS} per axis, got {}",
                 self.samples
             ));
         }
@@ -187,6 +192,12 @@ impl RenderOptions {
                 "adaptive_texture_spp must be 0 or a square number up to {}, got {}",
                 adaptive::MAX_TEXTURE_N * adaptive::MAX_TEXTURE_N,
                 self.adaptive_texture_spp
+            ));
+        }
+        if self.threads > MAX_THREADS {
+            return Err(format!(
+                "threads must be between 0 (every core) and {MAX_THREADS}, got {}",
+                self.threads
             ));
         }
         if self.tile_size == 0 {

@@ -9,13 +9,13 @@ mod results;
 mod scenes;
 mod table;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use clap::Args;
 use prism::accel::{AccelKind, AccelSpec};
 use prism::bench::{measure_all, Clock, MeasureOptions, RaySet};
 use results::{Outcome, Row, SceneResult};
 use scenes::SceneSource;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
@@ -129,54 +129,17 @@ impl BenchArgs {
     }
 }
 
-/// Fails before any work on an output that could not be written at the end.
-fn check_output(path: &Path, extension: Option<&str>) -> Result<()> {
-    if let Some(ext) = extension {
-        if !path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case(ext))
-        {
-            bail!("{}: expected a .{ext} file name", path.display());
-        }
-    }
-    if path.is_dir() {
-        bail!("{}: is a directory", path.display());
-    }
-    let parent = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    if !parent.is_dir() {
-        bail!(
-            "cannot write {}: the directory {} does not exist",
-            path.display(),
-            parent.display()
-        );
-    }
-    // Try a scratch file beside it now, rather than learn after the whole matrix that the
-    // folder is read-only.
-    let probe = parent.join(format!(".prism-bench-probe-{}", std::process::id()));
-    std::fs::write(&probe, b"").with_context(|| {
-        format!(
-            "cannot write {}: the directory {} is not writable",
-            path.display(),
-            parent.display()
-        )
-    })?;
-    let _ = std::fs::remove_file(&probe);
-    Ok(())
-}
-
 pub fn run(args: &BenchArgs) -> Result<ExitCode> {
     let methods = args.methods()?;
     let sources = args.sources()?;
+    let mut outputs = crate::outputs::Outputs::default();
     for (path, ext) in [
-        (&args.csv, None),
-        (&args.json, None),
-        (&args.chart, Some("svg")),
+        (&args.csv, &[][..]),
+        (&args.json, &[][..]),
+        (&args.chart, &["svg"][..]),
     ] {
         if let Some(p) = path {
-            check_output(p, ext)?;
+            outputs.add(p, ext)?;
         }
     }
     let size = args

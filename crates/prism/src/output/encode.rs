@@ -18,6 +18,9 @@ pub fn png_rgb8(data: &[u8], width: u32, height: u32) -> Result<Vec<u8>, String>
     Ok(out)
 }
 
+/// OpenEXR, linear RGB. Compressed chunk by chunk on this thread: exr's parallel writer
+/// stores chunks in the order its threads finish them, so the same pixels would give files
+/// with different bytes from run to run.
 pub fn exr(film: &Film, half: bool) -> Result<Vec<u8>, String> {
     use exr::prelude::*;
     let (w, h) = (film.width as usize, film.height as usize);
@@ -30,6 +33,7 @@ pub fn exr(film: &Film, half: bool) -> Result<Vec<u8>, String> {
         });
         Image::from_channels((w, h), channels)
             .write()
+            .non_parallel()
             .to_buffered(&mut out)
     } else {
         let channels = SpecificChannels::rgb(|Vec2(x, y)| {
@@ -38,6 +42,7 @@ pub fn exr(film: &Film, half: bool) -> Result<Vec<u8>, String> {
         });
         Image::from_channels((w, h), channels)
             .write()
+            .non_parallel()
             .to_buffered(&mut out)
     };
     result.map_err(|e| e.to_string())?;

@@ -97,11 +97,22 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     tmp_name.push(file_name);
     tmp_name.push(format!(".{}.tmp", std::process::id()));
     let tmp = path.with_file_name(tmp_name);
-    std::fs::write(&tmp, bytes).map_err(|e| err(e.to_string()))?;
-    std::fs::rename(&tmp, path).map_err(|e| {
+    // Whatever fails (a full disk mid-write, a rename across devices), the temporary file
+    // goes: a retry must not leave one more truncated file behind each time.
+    let written = write_all_synced(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
+    written.map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         err(e.to_string())
     })
+}
+
+/// Writes `bytes` to a new file and waits until they reach the disk, so that a full disk
+/// is reported here rather than lost at close.
+fn write_all_synced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let mut file = std::fs::File::create(path)?;
+    file.write_all(bytes)?;
+    file.sync_all()
 }
 
 /// Linear to sRGB-encoded 8-bit, clamping out-of-range values.

@@ -15,9 +15,10 @@
 //! and each refinement pass walks each pixel once, from the squares that split in the pass
 //! before, storing what it finds for the pixel's right and bottom neighbours too.
 
+use super::memory::try_filled;
 use super::rays::PixelRays;
 use super::splat::{FilmSums, SplatBuffer};
-use super::{Job, TileDone, Traced};
+use super::{Film, Job, RenderError, TileDone, Traced};
 use crate::math::{Color, Vec2};
 use crate::sampling::adaptive::{encode, Refinement, Square, Verdict, Visit};
 use crate::stats::Stats;
@@ -49,17 +50,19 @@ struct Lattice {
 }
 
 impl Lattice {
-    fn new(width: u32, height: u32, steps: u32) -> Self {
+    fn try_new(width: u32, height: u32, steps: u32) -> Result<Self, RenderError> {
         debug_assert!(steps.is_power_of_two());
-        Lattice {
+        let pixels = width as usize * height as usize;
+        let corners = (width as usize + 1) * (height as usize + 1);
+        Ok(Lattice {
             width,
             height,
             steps,
             shift: steps.trailing_zeros(),
-            corners: vec![None; (width as usize + 1) * (height as usize + 1)],
-            points: vec![Vec::new(); width as usize * height as usize],
-            stratified: vec![Vec::new(); width as usize * height as usize],
-        }
+            corners: try_filled(corners, None, "sample lattice")?,
+            points: try_filled(pixels, Vec::new(), "sample lattice")?,
+            stratified: try_filled(pixels, Vec::new(), "sample lattice")?,
+        })
     }
 
     /// The pixel that traces and stores lattice point (x, y): the one whose half-open
@@ -114,10 +117,11 @@ struct RowTrace<T> {
     rays: Vec<PixelRays>,
 }
 
-pub(super) fn render_corners(job: &Job) -> Traced {
-    let mut out = Traced::new(job.width, job.height);
-    let mut lattice = Lattice::new(job.width, job.height, 1);
-    let mut centres = vec![None; job.width as usize * job.height as usize];
+pub(super) fn render_corners(job: &Job) -> Result<Traced, RenderError> {
+    let (w, h) = (job.width, job.height);
+    let mut out = Traced::try_new(w, h, Film::unallocated(w, h))?;
+    let mut lattice = Lattice::try_new(w, h, 1)?;
+    let mut centres = try_filled(w as usize * h as usize, None, "sample lattice")?;
     if trace_corners(job, &mut lattice, |x, y| (x as f32, y as f32), &mut out) {
         trace_centres(job, &mut centres, &mut out);
     }
@@ -141,13 +145,14 @@ pub(super) fn render_corners(job: &Job) -> Traced {
             }
         }
     });
-    out.film = film;
-    out
+    out.film = film?;
+    Ok(out)
 }
 
-pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Traced {
-    let mut out = Traced::new(job.width, job.height);
-    let mut lattice = Lattice::new(job.width, job.height, rule.steps());
+pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Result<Traced, RenderError> {
+    let (w, h) = (job.width, job.height);
+    let mut out = Traced::try_new(w, h, Film::unallocated(w, h))?;
+    let mut lattice = Lattice::try_new(w, h, rule.steps())?;
     let complete = trace_corners(job, &mut lattice, |x, y| rule.position(x, y), &mut out);
     // The corners never change after their pass, so neither do the pixels' verdicts.
     let judged = Judged::new(job, rule, &lattice);
@@ -189,8 +194,8 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Traced {
             buffer.add(&job.filter, x, y, o, side * side, mean);
         });
     });
-    out.film = film;
-    out
+    out.film = film?;
+    Ok(out)
 }
 
 /// The refinement rule with every pixel's verdict judged once, after the corners pass: the
@@ -511,9 +516,12 @@ fn refine(
 
 /// The reconstruction pass: `splat` adds pixel (x, y)'s samples to a buffer covering its
 /// row and the filter's reach; buffers merge exactly into the film.
-fn reconstruct(job: &Job, splat: impl Fn(&mut SplatBuffer, u32, u32) + Sync) -> super::Film {
+fn reconstruct(
+    job: &Job,
+    splat: impl Fn(&mut SplatBuffer, u32, u32) + Sync,
+) -> Result<Film, RenderError> {
     let (w, h) = (job.width, job.height);
-    let sums = Mutex::new(FilmSums::new(w, h));
+    let sums = Mutex::new(FilmSums::try_new(w, h)?);
     (0..h).into_par_iter().for_each(|y| {
         let mut buffer = SplatBuffer::around(&job.filter, (w, h), 0, y, w, y + 1);
         for x in 0..w {

@@ -8,12 +8,14 @@
 mod film;
 mod filter;
 mod lattice;
+pub mod memory;
 mod pixels;
 mod rays;
 mod splat;
 
 pub use film::Film;
 pub use filter::{Filter, FilterKind};
+pub use memory::{estimate as memory_estimate, MemoryEstimate};
 pub use rays::{PixelRays, RayCounts};
 
 use crate::camera::{CameraError, CameraRays};
@@ -57,6 +59,25 @@ pub fn tiles(width: u32, height: u32, size: u32) -> Vec<Tile> {
     out
 }
 
+/// The worker threads a render starts: the requested count (every core for 0), but never
+/// more than there are pieces of work (tiles, or rows for the lattice samplers), since
+/// the others could only wait.
+pub fn worker_threads(options: &RenderOptions) -> usize {
+    use crate::sampling::SamplerKind;
+    let requested = match options.threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    };
+    let pieces = match options.sampler {
+        SamplerKind::Corners | SamplerKind::Adaptive => options.height as usize + 1,
+        _ => {
+            let size = options.tile_size.max(1);
+            (options.width.div_ceil(size) as usize) * (options.height.div_ceil(size) as usize)
+        }
+    };
+    requested.clamp(1, pieces.max(1))
+}
+
 /// What a finished piece of work reports to a progress display. `pixels` counts pixel
 /// passes: the total to expect is `progress_total`.
 #[derive(Clone, Copy, Debug)]
@@ -96,6 +117,8 @@ pub enum RenderError {
     Camera(#[from] CameraError),
     #[error("cannot start {threads} worker threads: {message}")]
     Threads { threads: usize, message: String },
+    #[error("out of memory: the {what} would take {}", memory::format_bytes(*bytes))]
+    OutOfMemory { what: &'static str, bytes: u64 },
 }
 
 /// Everything a worker needs: where rays come from, how they are traced, how samples
@@ -132,13 +155,15 @@ struct Traced {
 }
 
 impl Traced {
-    fn new(width: u32, height: u32) -> Self {
-        Traced {
-            film: Film::new(width, height),
+    /// An empty result with its film and ray counts allocated; the film may be replaced by
+    /// the one a reconstruction pass builds.
+    fn try_new(width: u32, height: u32, film: Film) -> Result<Self, RenderError> {
+        Ok(Traced {
+            film,
             stats: Stats::default(),
             complete: true,
-            rays: RayCounts::new(width, height),
-        }
+            rays: RayCounts::try_new(width, height)?,
+        })
     }
 
     /// Adds a row's statistics and its pixels' rays.
@@ -168,11 +193,12 @@ pub fn render(
         on_tile,
         cancel,
     };
+    let threads = worker_threads(options);
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.threads)
+        .num_threads(threads)
         .build()
         .map_err(|e| RenderError::Threads {
-            threads: options.threads,
+            threads,
             message: e.to_string(),
         })?;
 
@@ -181,7 +207,7 @@ pub fn render(
         Sampler::Pixel(pattern) => pixels::render(&job, &pattern, options.tile_size),
         Sampler::Corners => lattice::render_corners(&job),
         Sampler::Adaptive(rule) => lattice::render_adaptive(&job, &rule),
-    });
+    })?;
     Ok(RenderResult {
         film: traced.film,
         stats: traced.stats,

@@ -5,7 +5,7 @@
 
 use super::rays::PixelRays;
 use super::splat::{FilmSums, SplatBuffer};
-use super::{tiles, Job, TileDone, Traced};
+use super::{tiles, Film, Job, RenderError, TileDone, Traced};
 use crate::math::{Color, Vec2};
 use crate::sampling::PixelPattern;
 use crate::stats::Stats;
@@ -19,11 +19,28 @@ struct TileResult {
     rays: Vec<PixelRays>,
 }
 
-pub(super) fn render(job: &Job, pattern: &PixelPattern, tile_size: u32) -> Traced {
+pub(super) fn render(
+    job: &Job,
+    pattern: &PixelPattern,
+    tile_size: u32,
+) -> Result<Traced, RenderError> {
     let (width, height) = (job.width, job.height);
     let tile_list = tiles(width, height, tile_size);
     let local = job.filter.is_pixel_box();
-    let sums = Mutex::new(FilmSums::new(width, height));
+    // Only a filter wider than the pixel needs the whole image's sums; the box filter's
+    // pixels go straight into the film.
+    let (mut out, sums) = if local {
+        (
+            Traced::try_new(width, height, Film::try_new(width, height)?)?,
+            None,
+        )
+    } else {
+        let sums = Mutex::new(FilmSums::try_new(width, height)?);
+        (
+            Traced::try_new(width, height, Film::unallocated(width, height))?,
+            Some(sums),
+        )
+    };
     let count = pattern.count();
     let mean_weight = 1.0 / count as f32;
 
@@ -66,7 +83,7 @@ pub(super) fn render(job: &Job, pattern: &PixelPattern, tile_size: u32) -> Trace
                     rays.push(PixelRays::between(&before, &stats));
                 }
             }
-            if let Some(b) = &buffer {
+            if let (Some(b), Some(sums)) = (&buffer, &sums) {
                 sums.lock().unwrap_or_else(|e| e.into_inner()).merge(b);
             }
             (job.on_tile)(TileDone {
@@ -77,13 +94,12 @@ pub(super) fn render(job: &Job, pattern: &PixelPattern, tile_size: u32) -> Trace
         })
         .collect();
 
-    let mut out = Traced::new(width, height);
-    let mut film = if local {
-        super::Film::new(width, height)
-    } else {
-        sums.into_inner()
+    let mut film = match sums {
+        None => std::mem::replace(&mut out.film, Film::unallocated(width, height)),
+        Some(sums) => sums
+            .into_inner()
             .unwrap_or_else(|e| e.into_inner())
-            .into_film()
+            .into_film()?,
     };
     for (tile, result) in tile_list.iter().zip(results) {
         let Some(r) = result else {
@@ -105,5 +121,5 @@ pub(super) fn render(job: &Job, pattern: &PixelPattern, tile_size: u32) -> Trace
         }
     }
     out.film = film;
-    out
+    Ok(out)
 }

@@ -19,16 +19,18 @@ pub struct RayCounts {
 }
 
 impl RayCounts {
-    pub fn new(width: u32, height: u32) -> Self {
+    /// Zero counts, or an out-of-memory error instead of an abort.
+    pub fn try_new(width: u32, height: u32) -> Result<Self, super::RenderError> {
+        use super::memory::try_filled;
         let n = width as usize * height as usize;
-        RayCounts {
+        Ok(RayCounts {
             width,
             height,
-            camera: vec![0; n],
-            total: vec![0; n],
-            node_visits: vec![0; n],
-            primitive_tests: vec![0; n],
-        }
+            camera: try_filled(n, 0, "ray counts")?,
+            total: try_filled(n, 0, "ray counts")?,
+            node_visits: try_filled(n, 0, "ray counts")?,
+            primitive_tests: try_filled(n, 0, "ray counts")?,
+        })
     }
 
     /// Adds rays to pixel (x, y).

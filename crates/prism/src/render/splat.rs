@@ -110,12 +110,14 @@ pub struct FilmSums {
 }
 
 impl FilmSums {
-    pub fn new(width: u32, height: u32) -> Self {
-        FilmSums {
+    /// Zero sums, or an out-of-memory error instead of an abort.
+    pub fn try_new(width: u32, height: u32) -> Result<Self, super::RenderError> {
+        let n = width as usize * height as usize;
+        Ok(FilmSums {
             width,
             height,
-            sums: vec![PixelSum::default(); width as usize * height as usize],
-        }
+            sums: super::memory::try_filled(n, PixelSum::default(), "filter sums")?,
+        })
     }
 
     pub fn merge(&mut self, buffer: &SplatBuffer) {
@@ -132,8 +134,8 @@ impl FilmSums {
     }
 
     /// Each pixel's weighted average; black where no sample counted.
-    pub fn into_film(self) -> Film {
-        let mut film = Film::new(self.width, self.height);
+    pub fn into_film(self) -> Result<Film, super::RenderError> {
+        let mut film = Film::try_new(self.width, self.height)?;
         for (p, s) in film.pixels.iter_mut().zip(&self.sums) {
             let [r, g, b, w] = s.0;
             if w != 0 {
@@ -145,7 +147,7 @@ impl FilmSums {
                 );
             }
         }
-        film
+        Ok(film)
     }
 }
 
@@ -159,9 +161,9 @@ mod tests {
         let f = Filter::new(FilterKind::Box, None);
         let mut buf = SplatBuffer::around(&f, (4, 4), 1, 1, 2, 2);
         buf.add(&f, 1, 1, Vec2::ZERO, 1.0, Color::ONE);
-        let mut film = FilmSums::new(4, 4);
+        let mut film = FilmSums::try_new(4, 4).unwrap();
         film.merge(&buf);
-        let film = film.into_film();
+        let film = film.into_film().unwrap();
         let lit: Vec<(u32, u32)> = (0..16)
             .map(|i| (i % 4, i / 4))
             .filter(|&(x, y)| film.get(x, y) == Color::ONE)
@@ -184,13 +186,13 @@ mod tests {
             })
             .collect();
         let render = |order: &mut dyn Iterator<Item = &(u32, u32, Vec2, Color)>| {
-            let mut film = FilmSums::new(5, 5);
+            let mut film = FilmSums::try_new(5, 5).unwrap();
             for &(x, y, o, c) in order {
                 let mut buf = SplatBuffer::around(&f, (5, 5), x, y, x + 1, y + 1);
                 buf.add(&f, x, y, o, 1.0, c);
                 film.merge(&buf);
             }
-            film.into_film()
+            film.into_film().unwrap()
         };
         let forward = render(&mut samples.iter());
         let backward = render(&mut samples.iter().rev());

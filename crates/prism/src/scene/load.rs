@@ -28,11 +28,23 @@ pub enum LoadError {
 
 /// Loads a scene file, choosing the format by extension.
 pub fn load(path: &Path) -> Result<Scene, LoadError> {
+    if path.is_dir() {
+        return Err(LoadError::Io {
+            path: path.display().to_string(),
+            message: "it is a directory, not a scene file".into(),
+        });
+    }
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
+    if let Some(message) = super::sniff::mismatch(path, &ext) {
+        return Err(LoadError::Invalid {
+            path: path.display().to_string(),
+            message,
+        });
+    }
     match ext.as_str() {
         "toml" => super::toml::load(path),
         "nff" => super::nff::load(path),

@@ -25,6 +25,8 @@ pub struct MeshFile {
     /// vertex once per distinct uv and normal it is used with), so this may differ from
     /// `vertex_count`.
     pub defined_vertices: usize,
+    /// What was read but could not be used (see `Scene::warnings`).
+    pub warnings: Vec<String>,
 }
 
 /// Whether to read the materials a mesh file refers to (OBJ's `mtllib` and `usemtl`).
@@ -50,7 +52,14 @@ pub const MESH_EXTENSIONS: &[&str] = &["obj", "ply"];
 
 /// Reads an OBJ or PLY file (chosen by extension). A file without faces is an error.
 pub fn load_mesh_file(path: &Path, materials: Materials) -> Result<MeshFile, LoadError> {
-    let file = match extension(path).as_str() {
+    let ext = extension(path);
+    if let Some(message) = super::sniff::mismatch(path, &ext) {
+        return Err(LoadError::Invalid {
+            path: path.display().to_string(),
+            message,
+        });
+    }
+    let file = match ext.as_str() {
         "obj" => obj::load(path, materials)?,
         "ply" => ply::load(path)?,
         ext => {
@@ -82,6 +91,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, LoadError> {
 pub fn mesh_scene(file: MeshFile, path: &Path) -> Result<Scene, LoadError> {
     let mut scene = Scene {
         materials: file.materials,
+        warnings: file.warnings,
         ..Scene::default()
     };
     let mut default = None;

@@ -11,6 +11,7 @@ pub mod nff;
 pub mod obj;
 pub mod ply;
 mod scale;
+mod sniff;
 mod toml;
 
 /// Parses the bytes of a .gltf or .glb file; the path names it in errors and anchors the
@@ -42,6 +43,10 @@ pub struct Scene {
     pub geometry: Geometry,
     /// Settings the scene asks for (size, depth…); the CLI may override them.
     pub options: RenderOptions,
+    /// What the loader read but could not use, or had to guess (a missing MTL file, a
+    /// feature prism does not render), one sentence each naming the file. The scene still
+    /// renders; the CLI prints these, and `--strict` makes them errors.
+    pub warnings: Vec<String>,
 }
 
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -71,6 +76,7 @@ impl Default for Scene {
             materials: Vec::new(),
             geometry: Geometry::default(),
             options: RenderOptions::default(),
+            warnings: Vec::new(),
         }
     }
 }

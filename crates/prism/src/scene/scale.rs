@@ -24,7 +24,7 @@ impl Scene {
         scene.camera.eye *= factor;
         scene.camera.look_at *= factor;
         for light in &mut scene.lights {
-            if let Light::Point { position, .. } = light {
+            if let Light::Point { position, .. } | Light::Spot { position, .. } = light {
                 *position *= factor;
             }
         }

@@ -39,8 +39,11 @@ pub fn load<'a>(
                     }
                 };
             if (data.len() as u64) < declared {
+                // A short buffer is most often not the buffer at all: say what it is.
+                let is = crate::scene::sniff::identify(&data)
+                    .map_or(String::new(), |what| format!("; it is {what}"));
                 return Err(format!(
-                    "buffer {index} ({origin}) has {} bytes but its byteLength is {declared}",
+                    "buffer {index} ({origin}) has {} bytes but its byteLength is {declared}{is}",
                     data.len()
                 ));
             }

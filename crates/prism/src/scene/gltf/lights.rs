@@ -23,8 +23,21 @@ const MIN_DISTANCE_FRACTION: f32 = 0.05;
 
 /// One light in glTF units: colour × intensity, and where it is or which way it shines.
 enum Placed {
-    Point { position: Vec3, color: Color },
-    Directional { direction: Vec3, color: Color },
+    Point {
+        position: Vec3,
+        color: Color,
+    },
+    Directional {
+        direction: Vec3,
+        color: Color,
+    },
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        color: Color,
+        cos_inner: f32,
+        cos_outer: f32,
+    },
 }
 
 /// Rec. 709 luminance, to weigh coloured lights in the exposure.
@@ -57,26 +70,51 @@ fn place(root: &Root, index: usize, world: &DAffine3) -> Result<Placed, String> 
         Checked::Invalid => return Err(format!("light {index} has an invalid type")),
     };
     match kind {
-        // Spot lights become point lights: prism's lights have no cone.
-        Type::Point | Type::Spot => {
-            let position = world.translation.as_vec3();
-            if !position.is_finite() {
-                return Err(format!("light {index}: its node places it at infinity"));
+        Type::Point => Ok(Placed::Point {
+            position: position(index, world)?,
+            color,
+        }),
+        Type::Spot => {
+            // KHR_lights_punctual's defaults: inner 0, outer π/4; 0 ≤ inner < outer ≤ π/2.
+            let spot = light.spot.as_ref();
+            let inner = spot.map_or(0.0, |s| s.inner_cone_angle);
+            let outer = spot.map_or(std::f32::consts::FRAC_PI_4, |s| s.outer_cone_angle);
+            if !(0.0 <= inner && inner <= outer && outer <= std::f32::consts::FRAC_PI_2) {
+                return Err(format!(
+                    "light {index}: cone angles inner {inner} and outer {outer}; expected \
+                     0 ≤ inner ≤ outer ≤ π/2 (radians)"
+                ));
             }
-            Ok(Placed::Point { position, color })
+            Ok(Placed::Spot {
+                position: position(index, world)?,
+                direction: direction(index, world)?,
+                color,
+                cos_inner: inner.cos(),
+                cos_outer: outer.cos(),
+            })
         }
-        Type::Directional => {
-            // A directional light shines along its node's −Z axis.
-            let direction = world
-                .transform_vector3(DVec3::NEG_Z)
-                .try_normalize()
-                .ok_or_else(|| {
-                    format!("light {index}: its node's transform leaves it no direction")
-                })?
-                .as_vec3();
-            Ok(Placed::Directional { direction, color })
-        }
+        Type::Directional => Ok(Placed::Directional {
+            direction: direction(index, world)?,
+            color,
+        }),
     }
+}
+
+fn position(index: usize, world: &DAffine3) -> Result<Vec3, String> {
+    let position = world.translation.as_vec3();
+    if !position.is_finite() {
+        return Err(format!("light {index}: its node places it at infinity"));
+    }
+    Ok(position)
+}
+
+/// Directional and spot lights shine along their node's −Z axis.
+fn direction(index: usize, world: &DAffine3) -> Result<Vec3, String> {
+    world
+        .transform_vector3(DVec3::NEG_Z)
+        .try_normalize()
+        .map(|d| d.as_vec3())
+        .ok_or_else(|| format!("light {index}: its node's transform leaves it no direction"))
 }
 
 /// The lights the scene's nodes place, exposed for a scene within `bounds`.
@@ -98,7 +136,7 @@ pub fn lights(
     // Irradiance at the centre per unit of each light's colour. In f64: candela over
     // squared millimetres can exceed f32's range before the exposure brings it back.
     let falloff = |l: &Placed| match l {
-        Placed::Point { position, .. } => {
+        Placed::Point { position, .. } | Placed::Spot { position, .. } => {
             let d = f64::from(position.distance(center)).max(min_distance);
             if d > 0.0 {
                 1.0 / (d * d)
@@ -112,7 +150,9 @@ pub fn lights(
         .iter()
         .map(|l| {
             let color = match l {
-                Placed::Point { color, .. } | Placed::Directional { color, .. } => *color,
+                Placed::Point { color, .. }
+                | Placed::Directional { color, .. }
+                | Placed::Spot { color, .. } => *color,
             };
             f64::from(luminance(color)) * falloff(l)
         })
@@ -131,6 +171,19 @@ pub fn lights(
                 Placed::Directional { direction, color } => Light::Directional {
                     direction,
                     color: color * scale,
+                },
+                Placed::Spot {
+                    position,
+                    direction,
+                    color,
+                    cos_inner,
+                    cos_outer,
+                } => Light::Spot {
+                    position,
+                    direction,
+                    color: color * scale,
+                    cos_inner,
+                    cos_outer,
                 },
             }
         })

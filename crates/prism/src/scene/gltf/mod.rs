@@ -58,7 +58,11 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<Scene, LoadError> {
     };
     let root = document::parse(json, path, is_glb)?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
-    build(&root, json.len(), bin, base_dir).map_err(invalid)
+    let mut scene = build(&root, json.len(), bin, base_dir).map_err(invalid)?;
+    for w in &mut scene.warnings {
+        *w = format!("{file}: {w}");
+    }
+    Ok(scene)
 }
 
 /// Nodes may place one mesh any number of times, and prism copies every placement: a
@@ -133,6 +137,16 @@ fn build(
 
     let bounds = scene.geometry.world_bounds();
     scene.camera = camera::camera(root, placed.camera, bounds, &mut scene.options)?;
+    if let Some(&first) = placed.orthographic_cameras.first() {
+        let instead = match placed.camera {
+            Some((index, _)) => format!("the perspective camera {index}"),
+            None => "a default perspective view that frames the scene".to_string(),
+        };
+        scene.warnings.push(format!(
+            "camera {first} is orthographic, which prism does not render; using \
+             {instead}"
+        ));
+    }
     scene.lights = lights::lights(root, &placed.lights, bounds)?;
     if scene.lights.is_empty() {
         scene.lights.push(lights::default_light(&scene.camera));

@@ -17,6 +17,9 @@ pub struct Placed {
     pub camera: Option<(usize, DAffine3)>,
     /// KHR_lights_punctual light index and world transform.
     pub lights: Vec<(usize, DAffine3)>,
+    /// Orthographic cameras met in the walk, which prism passes over (it renders
+    /// perspective views only).
+    pub orthographic_cameras: Vec<usize>,
 }
 
 /// The nodes to start from: the file's `scene`, else its first scene, else (a file
@@ -76,6 +79,8 @@ pub fn walk(root: &Root) -> Result<Placed, String> {
                 .is_some_and(|c| matches!(c.type_, Checked::Valid(CameraType::Perspective)));
             if perspective && placed.camera.is_none() {
                 placed.camera = Some((camera.value(), world));
+            } else if !perspective {
+                placed.orthographic_cameras.push(camera.value());
             }
         }
         if let Some(light) = node

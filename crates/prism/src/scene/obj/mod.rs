@@ -37,12 +37,15 @@ pub fn parse(text: &str, path: &Path, materials: Materials) -> Result<MeshFile, 
         dir: path.parent().unwrap_or(Path::new("")),
         libraries: Vec::new(),
         textures: TextureCache::new(),
+        warnings: Vec::new(),
+        missing_library: false,
     };
     let checked = match materials {
         Materials::Read => scan::check(text, &name, Some(&mut opener))?,
         Materials::Ignore => scan::check(text, &name, None)?,
     };
     let libraries = opener.libraries;
+    let warnings = opener.warnings;
 
     let options = tobj::LoadOptions {
         single_index: true,
@@ -66,6 +69,7 @@ pub fn parse(text: &str, path: &Path, materials: Materials) -> Result<MeshFile, 
         parts: Vec::new(),
         defined_vertices: checked.positions,
         materials: libraries.into_iter().flat_map(|l| l.materials).collect(),
+        warnings,
     };
     if tobj_count != file.materials.len() {
         return Err(tobj_failed(&name, tobj::LoadError::MaterialParseError));
@@ -100,6 +104,10 @@ struct LibraryOpener<'a> {
     dir: &'a Path,
     libraries: Vec<Library>,
     textures: TextureCache,
+    /// Libraries that are not there (downloaded models often come without theirs) and
+    /// statements the libraries hold that prism does not render.
+    warnings: Vec<String>,
+    missing_library: bool,
 }
 
 impl scan::Libraries for LibraryOpener<'_> {
@@ -119,6 +127,17 @@ impl scan::Libraries for LibraryOpener<'_> {
         let mut library = Library::default();
         for file in files {
             let path = self.dir.join(&file);
+            if !path.exists() {
+                // As other viewers do: render with the default material, and say so.
+                self.warnings.push(format!(
+                    "{}:{line}:{column}: the material library {} is missing; faces that use \
+                     its materials get the default material",
+                    self.obj_path,
+                    path.display()
+                ));
+                self.missing_library = true;
+                continue;
+            }
             let parsed = mtl::load(&path, &mut self.textures).map_err(|e| LoadError::Syntax {
                 path: self.obj_path.to_string(),
                 line,
@@ -132,9 +151,14 @@ impl scan::Libraries for LibraryOpener<'_> {
             })?;
             library.append(parsed?);
         }
+        self.warnings.append(&mut library.warnings);
         let names = library.names();
         self.libraries.push(library);
         Ok((self.libraries.len() - 1, names))
+    }
+
+    fn missing(&self) -> bool {
+        self.missing_library
     }
 }
 

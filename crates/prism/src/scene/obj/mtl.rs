@@ -26,6 +26,8 @@ pub struct Library {
     pub tobj: TobjMaterials,
     /// prism's materials, in tobj's order.
     pub materials: Vec<Material>,
+    /// Statements read but not rendered (see `Scene::warnings`).
+    pub warnings: Vec<String>,
 }
 
 impl Library {
@@ -37,6 +39,7 @@ impl Library {
             self.tobj.1.insert(name, index + offset);
         }
         self.materials.extend(other.materials);
+        self.warnings.extend(other.warnings);
     }
 
     pub fn names(&self) -> Vec<String> {
@@ -65,6 +68,7 @@ pub fn parse(text: &str, path: &Path, textures: &mut TextureCache) -> Parsed {
         extras: Vec::new(),
         textures,
         out: String::with_capacity(text.len()),
+        warnings: Vec::new(),
     };
     for (i, raw) in text.split('\n').enumerate() {
         checker.line_number = i + 1;
@@ -97,6 +101,7 @@ pub fn parse(text: &str, path: &Path, textures: &mut TextureCache) -> Parsed {
     Ok(Library {
         tobj: parsed,
         materials,
+        warnings: checker.warnings,
     })
 }
 
@@ -108,6 +113,7 @@ struct Checker<'a> {
     extras: Vec<Extras>,
     textures: &'a mut TextureCache,
     out: String,
+    warnings: Vec<String>,
 }
 
 impl Checker<'_> {
@@ -137,6 +143,19 @@ impl Checker<'_> {
             let _ = write!(self.out, "newmtl {name}");
             self.extras.push(Extras::default());
             return Ok(());
+        }
+        if keyword == "Ke"
+            && words.words[1..]
+                .iter()
+                .any(|&(_, w)| w.parse::<f32>() != Ok(0.0))
+        {
+            // Whitted shading has no emitters: say so rather than render it dark silently.
+            self.warnings.push(format!(
+                "{}:{}: the emission colour Ke is read but not rendered (prism's lights are \
+                 point and directional lights)",
+                self.path.display(),
+                self.line_number
+            ));
         }
         let known = matches!(
             keyword,

@@ -23,6 +23,12 @@ pub trait Libraries {
         line: usize,
         column: usize,
     ) -> Result<(usize, Vec<String>), LoadError>;
+
+    /// Whether a library named so far was missing: its materials are then unknown, and a
+    /// `usemtl` of a name no library defines means the default material, not an error.
+    fn missing(&self) -> bool {
+        false
+    }
 }
 
 /// How many positions, texture coordinates and normals are defined so far. Faces may
@@ -391,7 +397,8 @@ impl<'a> Scanner<'a, '_> {
         if name.is_empty() {
             return Err(self.error(at, "expected a material name after usemtl".into()));
         }
-        if !self.known_materials.iter().any(|m| m == name) {
+        let missing_library = self.libraries.as_ref().is_some_and(|l| l.missing());
+        if !self.known_materials.iter().any(|m| m == name) && !missing_library {
             let message = if self.known_materials.is_empty() {
                 format!(
                     "unknown material '{name}': no material library (mtllib) defines materials \

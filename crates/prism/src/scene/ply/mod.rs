@@ -83,10 +83,22 @@ enum Slot {
 
 const COMPONENTS: usize = 8;
 
+/// How the face element lists its vertices.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum FaceList {
+    /// `element face`: one polygon per instance.
+    Polygons,
+    /// `element tristrips`: triangle strips, each list holding strips separated by -1
+    /// (as in the Georgia Tech and Cyberware models): vertices i, i+1, i+2 make triangle i,
+    /// every other one with its winding turned back.
+    Strips,
+}
+
 /// Which elements and properties hold the mesh.
 struct Layout {
     vertex: usize,
     face: usize,
+    face_list: FaceList,
     slots: Vec<Slot>,
     has_normals: bool,
     has_uvs: bool,
@@ -105,14 +117,17 @@ impl Layout {
                 format!("{path} declares no 'element vertex'; expected one with x, y and z"),
             )
         })?;
-        let face = find("face").ok_or_else(|| {
-            (
-                last_line,
-                "no 'element face': prism renders surfaces, not point clouds; expected an \
-                 element face with a vertex_indices list"
-                    .to_string(),
-            )
-        })?;
+        let (face, face_list) = find("face")
+            .map(|f| (f, FaceList::Polygons))
+            .or_else(|| find("tristrips").map(|f| (f, FaceList::Strips)))
+            .ok_or_else(|| {
+                (
+                    last_line,
+                    "no 'element face' or 'element tristrips': prism renders surfaces, not \
+                     point clouds; expected an element face with a vertex_indices list"
+                        .to_string(),
+                )
+            })?;
 
         let v = &header.elements[vertex];
         let position_of = |name: &str| v.properties.iter().position(|p| p.name == name);
@@ -179,9 +194,11 @@ impl Layout {
             .ok_or_else(|| {
                 (
                     f.line,
-                    "element face has no vertex_indices property; expected 'property list \
-                     uchar int vertex_indices'"
-                        .to_string(),
+                    format!(
+                        "element {} has no vertex_indices property; expected 'property list \
+                         uchar int vertex_indices'",
+                        f.name
+                    ),
                 )
             })?;
         match f.properties[indices].ty {
@@ -207,6 +224,7 @@ impl Layout {
         Ok(Layout {
             vertex,
             face,
+            face_list,
             slots,
             has_normals,
             has_uvs,
@@ -275,7 +293,7 @@ fn read_body(header: &Header, layout: &Layout, mut src: impl Source) -> Result<R
         if index == layout.vertex {
             read_vertices(element, layout, &mut src, &mut raw)?;
         } else if index == layout.face {
-            read_faces(element, layout.indices, vertex_count, &mut src, &mut raw)?;
+            read_faces(element, layout, vertex_count, &mut src, &mut raw)?;
         } else {
             for i in 0..element.count {
                 skip_instance(element, &mut src)
@@ -333,16 +351,40 @@ fn read_vertices(
 
 fn read_faces(
     element: &Element,
-    indices: usize,
+    layout: &Layout,
     vertex_count: usize,
     src: &mut impl Source,
     raw: &mut RawMesh,
 ) -> Result<(), ReadError> {
-    let context = |i: usize, p: usize| format!("face {i}, property {}", element.properties[p].name);
+    let what = match layout.face_list {
+        FaceList::Polygons => "face",
+        FaceList::Strips => "strip list",
+    };
+    let context =
+        |i: usize, p: usize| format!("{what} {i}, property {}", element.properties[p].name);
+    let mut strip = Vec::new();
     for i in 0..element.count {
         for (p, property) in element.properties.iter().enumerate() {
             match property.ty {
-                PropertyType::List { count, item } if p == indices => {
+                PropertyType::List { count, item }
+                    if p == layout.indices && layout.face_list == FaceList::Strips =>
+                {
+                    let n = list_length(src, count, item).map_err(|e| (e, context(i, p)))?;
+                    strip.clear();
+                    for _ in 0..n {
+                        let value = src.read(item).map_err(|e| (e, context(i, p)))?;
+                        if value == -1.0 {
+                            add_strip(&strip, raw);
+                            strip.clear();
+                            continue;
+                        }
+                        check_index(value, vertex_count, true, src)
+                            .map_err(|e| (e, context(i, p)))?;
+                        strip.push(value as u32);
+                    }
+                    add_strip(&strip, raw);
+                }
+                PropertyType::List { count, item } if p == layout.indices => {
                     let n = list_length(src, count, item).map_err(|e| (e, context(i, p)))?;
                     if n < 3 {
                         let e = BodyError {
@@ -353,17 +395,8 @@ fn read_faces(
                     }
                     for _ in 0..n {
                         let value = src.read(item).map_err(|e| (e, context(i, p)))?;
-                        if !(value >= 0.0 && (value as usize) < vertex_count) {
-                            let e = BodyError {
-                                at: src.last(),
-                                message: format!(
-                                    "vertex index {value}, but the file has {vertex_count} \
-                                     vertices: expected 0 to {}",
-                                    vertex_count as i64 - 1
-                                ),
-                            };
-                            return Err((e, context(i, p)));
-                        }
+                        check_index(value, vertex_count, false, src)
+                            .map_err(|e| (e, context(i, p)))?;
                         raw.corners.push(value as u32);
                     }
                     raw.face_sizes.push(n as u32);
@@ -379,6 +412,41 @@ fn read_faces(
         }
     }
     Ok(())
+}
+
+/// Refuses a vertex index outside the vertices the file has.
+fn check_index(
+    value: f64,
+    vertex_count: usize,
+    strips: bool,
+    src: &impl Source,
+) -> Result<(), BodyError> {
+    if value >= 0.0 && (value as usize) < vertex_count {
+        return Ok(());
+    }
+    Err(BodyError {
+        at: src.last(),
+        message: format!(
+            "vertex index {value}, but the file has {vertex_count} vertices: expected 0 to {}{}",
+            vertex_count as i64 - 1,
+            if strips { ", or -1 between strips" } else { "" }
+        ),
+    })
+}
+
+/// The triangles of one strip, as three-corner faces. Strips repeat a vertex to turn a
+/// corner or to join two runs; the zero-area triangles that makes are left out.
+fn add_strip(strip: &[u32], raw: &mut RawMesh) {
+    for (k, w) in strip.windows(3).enumerate() {
+        let (a, b, c) = (w[0], w[1], w[2]);
+        if a == b || b == c || a == c {
+            continue;
+        }
+        // Every other triangle runs the other way round; turn it back to keep the winding.
+        let corners = if k % 2 == 0 { [a, b, c] } else { [b, a, c] };
+        raw.corners.extend(corners);
+        raw.face_sizes.push(3);
+    }
 }
 
 fn skip_instance(element: &Element, src: &mut impl Source) -> Result<(), BodyError> {

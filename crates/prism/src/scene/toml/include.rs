@@ -50,6 +50,7 @@ pub fn add_mesh_file(
     let loaded = load_mesh_file(&path, materials)
         .map_err(|e| Problem::at(file.span(), format!("cannot load the mesh file: {e}")))?;
 
+    scene.warnings.extend(loaded.warnings);
     let offset = scene.materials.len() as u32;
     if loaded.parts.iter().any(|p| p.material.is_some()) {
         scene.materials.extend(loaded.materials);

@@ -7,6 +7,9 @@ use crate::light::Light;
 use crate::math::Color;
 use toml::Spanned;
 
+/// A spot light's outer cone angle when the file gives none: glTF's default, π/4.
+const DEFAULT_SPOT_OUTER_DEGREES: f32 = 45.0;
+
 /// The light whose table is `def`.
 pub fn light(def: Spanned<LightDef>) -> Result<Light, Problem> {
     let span = def.span();
@@ -30,5 +33,39 @@ pub fn light(def: Spanned<LightDef>) -> Result<Light, Problem> {
             direction: d.direction.0,
             color: scaled(d.color, d.intensity)?,
         },
+        LightDef::Spot(s) => {
+            let angle = |a: &Option<Spanned<NonNegative>>, default: f32| {
+                a.as_ref().map_or(Ok(default), |a| {
+                    let v = a.get_ref().0;
+                    if v <= 90.0 {
+                        Ok(v)
+                    } else {
+                        Err(Problem::at(
+                            a.span(),
+                            format!("a cone angle of {v}°: expected 0 to 90 degrees"),
+                        ))
+                    }
+                })
+            };
+            let outer = angle(&s.outer_angle, DEFAULT_SPOT_OUTER_DEGREES)?;
+            let inner = angle(&s.inner_angle, 0.0)?;
+            if inner > outer {
+                let span = s.inner_angle.as_ref().map_or(span.clone(), |a| a.span());
+                return Err(Problem::at(
+                    span,
+                    format!(
+                        "inner_angle {inner}° is wider than outer_angle {outer}°: expected \
+                         inner ≤ outer"
+                    ),
+                ));
+            }
+            Light::Spot {
+                position: s.position.0,
+                direction: s.direction.0,
+                color: scaled(s.color, s.intensity)?,
+                cos_inner: inner.to_radians().cos(),
+                cos_outer: outer.to_radians().cos(),
+            }
+        }
     })
 }

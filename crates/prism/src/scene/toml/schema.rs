@@ -101,19 +101,33 @@ pub struct ImageDef {
     pub scale: Option<Scale2>,
 }
 
-pub const LIGHT_TYPES: &[&str] = &["point", "directional"];
+pub const LIGHT_TYPES: &[&str] = &["point", "directional", "spot"];
 
 #[derive(Debug, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum LightDef {
     Point(PointLightDef),
     Directional(DirectionalLightDef),
+    Spot(SpotLightDef),
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PointLightDef {
     pub position: Point,
+    pub color: Option<Rgb>,
+    pub intensity: Option<NonNegative>,
+}
+
+/// A spot light: a point light shining along `direction` into a cone whose strength fades
+/// from `inner_angle` to `outer_angle` (degrees from the axis).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpotLightDef {
+    pub position: Point,
+    pub direction: Direction,
+    pub inner_angle: Option<Spanned<NonNegative>>,
+    pub outer_angle: Option<Spanned<NonNegative>>,
     pub color: Option<Rgb>,
     pub intensity: Option<NonNegative>,
 }

@@ -1,0 +1,187 @@
+//! The memory a render needs, known before it starts, and the fallible allocation of its
+//! big buffers. An image of 65536 × 65536 pixels needs hundreds of gigabytes; the process
+//! must refuse it with a message that names the bytes, not abort inside the allocator.
+
+use super::RenderError;
+use crate::options::RenderOptions;
+use crate::sampling::SamplerKind;
+
+/// Bytes per pixel of the buffers every render holds: the film (RGB f32) and the per-pixel
+/// ray counts of the density and cost views (two u32, two u64).
+const FILM_BYTES: u64 = 12;
+const RAY_COUNT_BYTES: u64 = 24;
+/// Exact fixed-point sums of a pixel under a filter wider than the pixel: four i128.
+const SPLAT_SUM_BYTES: u64 = 64;
+/// The corner and adaptive samplers' lattice per pixel: a corner (Option<Color>), the
+/// pixel's finer points and stratified samples (two Vec headers), its centre and verdict.
+const LATTICE_BYTES: u64 = 16 + 24 + 24 + 16 + 16;
+/// What a traced point of an adaptive pixel costs once it is stored: (key, colour).
+const LATTICE_POINT_BYTES: u64 = 16;
+/// Bytes per primitive of a prepared scene with its default BVH: the primitive, its box,
+/// the binary and the 4-wide nodes. A rough figure: other structures may need more.
+pub const ACCEL_BYTES_PER_PRIMITIVE: u64 = 160;
+
+/// What a render will allocate, part by part.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct MemoryEstimate {
+    /// (what, bytes), in the order a reader would list them.
+    pub parts: Vec<(&'static str, u64)>,
+}
+
+impl MemoryEstimate {
+    /// The sum of the parts.
+    pub fn total(&self) -> u64 {
+        self.parts.iter().map(|&(_, b)| b).sum()
+    }
+
+    /// Adds a part (a caller's own buffers: encoded output, extra views).
+    pub fn add(&mut self, what: &'static str, bytes: u64) {
+        self.parts.push((what, bytes));
+    }
+
+    /// "film 51.5 GB, ray counts 103 GB, …".
+    pub fn breakdown(&self) -> String {
+        self.parts
+            .iter()
+            .filter(|&&(_, b)| b > 0)
+            .map(|&(what, b)| format!("{what} {}", format_bytes(b)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// The memory `render` will need for `options`, before any of it is allocated: film, ray
+/// counts and the sampler's buffers (the acceleration structure is the caller's: it is
+/// built before the render starts).
+pub fn estimate(options: &RenderOptions) -> MemoryEstimate {
+    let pixels = options.width as u64 * options.height as u64;
+    let mut e = MemoryEstimate::default();
+    // The film is assembled once more from the tiles' or the sums' results.
+    e.add("film", pixels * FILM_BYTES * 2);
+    e.add("ray counts", pixels * RAY_COUNT_BYTES);
+    let box_pixel =
+        options.filter == super::FilterKind::Box && options.filter_radius.is_none_or(|r| r == 0.5);
+    match options.sampler {
+        SamplerKind::Corners => {
+            e.add("sample lattice", pixels * LATTICE_BYTES);
+            e.add("filter sums", pixels * SPLAT_SUM_BYTES);
+        }
+        SamplerKind::Adaptive => {
+            // Refinement stores traced points only where pixels split; count one level's
+            // worth for every pixel, the usual order of magnitude.
+            e.add(
+                "sample lattice",
+                pixels * (LATTICE_BYTES + 3 * LATTICE_POINT_BYTES),
+            );
+            e.add("filter sums", pixels * SPLAT_SUM_BYTES);
+        }
+        _ if !box_pixel => e.add("filter sums", pixels * SPLAT_SUM_BYTES),
+        _ => {}
+    }
+    e
+}
+
+/// A vector of `n` copies of `value`, or an out-of-memory error naming `what` and the bytes
+/// it would have taken.
+pub(crate) fn try_filled<T: Clone>(
+    n: usize,
+    value: T,
+    what: &'static str,
+) -> Result<Vec<T>, RenderError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n)
+        .map_err(|_| RenderError::OutOfMemory {
+            what,
+            bytes: (n as u64).saturating_mul(std::mem::size_of::<T>() as u64),
+        })?;
+    v.resize(n, value);
+    Ok(v)
+}
+
+/// Bytes in decimal units with three significant digits: "812 MB", "51.5 GB".
+pub fn format_bytes(bytes: u64) -> String {
+    const UNITS: [&str; 5] = ["B", "kB", "MB", "GB", "TB"];
+    let mut v = bytes as f64;
+    let mut unit = 0;
+    while v >= 1000.0 && unit + 1 < UNITS.len() {
+        v /= 1000.0;
+        unit += 1;
+    }
+    if unit == 0 {
+        format!("{bytes} B")
+    } else if v >= 100.0 {
+        format!("{v:.0} {}", UNITS[unit])
+    } else if v >= 10.0 {
+        format!("{v:.1} {}", UNITS[unit])
+    } else {
+        format!("{v:.2} {}", UNITS[unit])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_largest_image_is_estimated_in_hundreds_of_gigabytes() {
+        let options = RenderOptions {
+            width: 65536,
+            height: 65536,
+            ..RenderOptions::default()
+        };
+        let e = estimate(&options);
+        // Film twice and the ray counts: 48 bytes a pixel at least.
+        assert!(e.total() >= 65536 * 65536 * 48, "{e:?}");
+        assert!(
+            e.breakdown().starts_with("film 103 GB"),
+            "{}",
+            e.breakdown()
+        );
+    }
+
+    #[test]
+    fn a_wide_filter_and_the_lattice_samplers_need_their_sums() {
+        let base = RenderOptions {
+            width: 100,
+            height: 100,
+            ..RenderOptions::default()
+        };
+        let box_total = estimate(&base).total();
+        let tent = RenderOptions {
+            filter: crate::render::FilterKind::Tent,
+            ..base.clone()
+        };
+        assert_eq!(
+            estimate(&tent).total(),
+            box_total + 10_000 * SPLAT_SUM_BYTES
+        );
+        let corners = RenderOptions {
+            sampler: SamplerKind::Corners,
+            ..base
+        };
+        assert!(estimate(&corners).total() > estimate(&tent).total());
+    }
+
+    #[test]
+    fn an_impossible_vector_is_an_error_not_an_abort() {
+        let r = try_filled(usize::MAX / 2, 0u64, "test buffer");
+        match r {
+            Err(RenderError::OutOfMemory { what, bytes }) => {
+                assert_eq!(what, "test buffer");
+                assert!(bytes > 1 << 62);
+            }
+            other => panic!(
+                "expected an out-of-memory error, got {:?}",
+                other.map(|v| v.len())
+            ),
+        }
+    }
+
+    #[test]
+    fn bytes_read_as_people_write_them() {
+        assert_eq!(format_bytes(999), "999 B");
+        assert_eq!(format_bytes(1_500), "1.50 kB");
+        assert_eq!(format_bytes(51_539_607_552), "51.5 GB");
+        assert_eq!(format_bytes(274_877_906_944), "275 GB");
+    }
+}
