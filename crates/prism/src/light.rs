@@ -91,3 +91,58 @@ impl Light {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spot(inner_deg: f32, outer_deg: f32) -> Light {
+        Light::Spot {
+            position: Vec3::new(0.0, 10.0, 0.0),
+            direction: Vec3::NEG_Y,
+            color: Color::ONE,
+            cos_inner: inner_deg.to_radians().cos(),
+            cos_outer: outer_deg.to_radians().cos(),
+        }
+    }
+
+    #[test]
+    fn the_spot_falloff_is_the_square_of_a_ramp_in_cosines() {
+        let (ci, co) = (0.9f32, 0.7f32);
+        assert_eq!(spot_falloff(0.95, ci, co), 1.0);
+        assert_eq!(spot_falloff(0.9, ci, co), 1.0);
+        assert_eq!(spot_falloff(0.7, ci, co), 0.0);
+        assert_eq!(spot_falloff(0.5, ci, co), 0.0);
+        // Half way in cosine: (1/2)² = 1/4.
+        assert!((spot_falloff(0.8, ci, co) - 0.25).abs() < 1e-6);
+        // Equal angles: a hard edge.
+        assert_eq!(spot_falloff(0.8, 0.8, 0.8), 1.0);
+        assert_eq!(spot_falloff(0.79, 0.8, 0.8), 0.0);
+    }
+
+    #[test]
+    fn a_spot_light_lights_its_cone_only() {
+        let light = spot(10.0, 30.0);
+        // Straight below: full strength, towards the light, at distance 10.
+        let s = light.sample(Vec3::ZERO).unwrap();
+        assert_eq!(s.color, Color::ONE);
+        assert!((s.to_light - Vec3::Y).length() < 1e-6);
+        assert!((s.distance - 10.0).abs() < 1e-5);
+        // 20° off the axis: cos ramp (cos20 − cos30)/(cos10 − cos30), squared.
+        let p = Vec3::new(10.0 * 20f32.to_radians().tan(), 0.0, 0.0);
+        let t = (20f32.to_radians().cos() - 30f32.to_radians().cos())
+            / (10f32.to_radians().cos() - 30f32.to_radians().cos());
+        let s = light.sample(p).unwrap();
+        assert!(
+            (s.color.x - t * t).abs() < 1e-4,
+            "{} vs {}",
+            s.color.x,
+            t * t
+        );
+        // 40° off the axis and behind the light: no light, so no shadow ray.
+        assert!(light
+            .sample(Vec3::new(10.0 * 40f32.to_radians().tan(), 0.0, 0.0))
+            .is_none());
+        assert!(light.sample(Vec3::new(0.0, 20.0, 0.0)).is_none());
+    }
+}

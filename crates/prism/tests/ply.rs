@@ -721,3 +721,43 @@ proptest! {
         }
     }
 }
+
+/// `element tristrips` (the Georgia Tech / Cyberware models such as igea.ply): strips
+/// separated by -1, every other triangle turned back to keep the winding, zero-area joins
+/// left out.
+#[test]
+fn triangle_strips_are_read_as_triangles_with_one_winding() {
+    // A 3×2 grid of vertices in the z = 0 plane as a strip of two triangles, then a
+    // restart and a strip that repeats a vertex (degenerate joins, to be dropped).
+    let text = "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n\
+                property float z\nelement tristrips 1\nproperty list int int vertex_indices\n\
+                end_header\n0 0 0\n0 1 0\n1 0 0\n1 1 0\n2 0 0\n2 1 0\n\
+                11 0 1 2 3 -1 2 2 2 3 4 5\n";
+    let file = ply::parse(text.as_bytes(), "strips.ply").unwrap();
+    let mesh = &file.parts[0].mesh;
+    // Strip 1: (0,1,2), (1,2,3)→(2,1,3). Strip 2 starts with two zero-area triangles,
+    // (2,2,2) and (2,2,3), which still count for the parity: (2,3,4), then (3,4,5)→(4,3,5).
+    assert_eq!(mesh.triangle_count(), 4);
+    let normals: Vec<f32> = (0..mesh.triangle_count())
+        .map(|t| {
+            let [a, b, c] = mesh.vertices(t as u32);
+            (b - a).cross(c - a).z
+        })
+        .collect();
+    assert!(
+        normals.iter().all(|&z| z < 0.0),
+        "every triangle faces the same way: {normals:?}"
+    );
+}
+
+#[test]
+fn a_strip_index_out_of_range_names_the_strip_and_the_rule() {
+    let text = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                property float z\nelement tristrips 1\nproperty list int int vertex_indices\n\
+                end_header\n0 0 0\n0 1 0\n1 0 0\n4 0 1 2 7\n";
+    let err = ply::parse(text.as_bytes(), "bad.ply")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("strip list 0"), "{err}");
+    assert!(err.contains("or -1 between strips"), "{err}");
+}

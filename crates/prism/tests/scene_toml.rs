@@ -326,9 +326,9 @@ const MALFORMED: &[(&str, &str, usize, &str)] = &[
     ),
     (
         "unknown light type",
-        "[[lights]]\ntype = \"spot\"\nposition = [0, 0, 0]\n",
+        "[[lights]]\ntype = \"area\"\nposition = [0, 0, 0]\n",
         2,
-        "expected `point` or `directional`",
+        "`directional`, `spot`",
     ),
     (
         "light without position",
@@ -867,4 +867,44 @@ proptest! {
             Err(other) => prop_assert!(false, "unlocated error: {other}"),
         }
     }
+}
+
+#[test]
+fn spot_lights_read_their_cone_in_degrees_and_refuse_an_inverted_one() {
+    let scene = parse(
+        "[[lights]]\ntype = \"spot\"\nposition = [0, 5, 0]\ndirection = [0, -2, 0]\n\
+         inner_angle = 20\nouter_angle = 30\nintensity = 2\n",
+    )
+    .unwrap();
+    match scene.lights[..] {
+        [prism::light::Light::Spot {
+            position,
+            direction,
+            color,
+            cos_inner,
+            cos_outer,
+        }] => {
+            assert_eq!(position, prism::math::Vec3::new(0.0, 5.0, 0.0));
+            assert_eq!(direction, prism::math::Vec3::NEG_Y);
+            assert_eq!(color, prism::math::Color::splat(2.0));
+            assert!((cos_inner - 20f32.to_radians().cos()).abs() < 1e-6);
+            assert!((cos_outer - 30f32.to_radians().cos()).abs() < 1e-6);
+        }
+        ref other => panic!("expected one spot light, got {other:?}"),
+    }
+    let err = parse(
+        "[[lights]]\ntype = \"spot\"\nposition = [0, 5, 0]\ndirection = [0, -1, 0]\n\
+         inner_angle = 40\nouter_angle = 30\n",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains(":5:"), "names the inner_angle line: {err}");
+    assert!(err.contains("expected inner ≤ outer"), "{err}");
+    let err = parse(
+        "[[lights]]\ntype = \"spot\"\nposition = [0, 5, 0]\ndirection = [0, -1, 0]\n\
+         outer_angle = 120\n",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("expected 0 to 90 degrees"), "{err}");
 }

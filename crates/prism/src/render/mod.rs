@@ -216,3 +216,33 @@ pub fn render(
         rays: traced.rays,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::SamplerKind;
+
+    #[test]
+    fn a_render_never_starts_more_workers_than_pieces_of_work() {
+        let options = RenderOptions {
+            width: 20,
+            height: 20,
+            tile_size: 16,
+            threads: 64,
+            ..RenderOptions::default()
+        };
+        // 2 × 2 tiles.
+        assert_eq!(worker_threads(&options), 4);
+        let lattice = RenderOptions {
+            sampler: SamplerKind::Adaptive,
+            ..options.clone()
+        };
+        // Rows, and the bottom corners' row.
+        assert_eq!(worker_threads(&lattice), 21);
+        let few = RenderOptions {
+            threads: 3,
+            ..options
+        };
+        assert_eq!(worker_threads(&few), 3);
+    }
+}

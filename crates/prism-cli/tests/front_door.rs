@@ -1,0 +1,567 @@
+//! The front door (issue 9): what a newcomer types works, fails early and cleanly, or says
+//! why. Each test names the case it holds; all of them failed on the main branch before.
+
+mod common;
+
+use common::prism;
+use std::fs;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::Duration;
+
+fn work_dir(test: &str) -> PathBuf {
+    common::work_dir("front-door", test)
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Asserts the exit code and that the program did not panic; returns stderr.
+#[track_caller]
+fn expect_exit(out: &Output, code: i32, what: &str) -> String {
+    let err = stderr(out);
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "{what}: expected exit {code}, got {:?}; stderr:\n{err}",
+        out.status
+    );
+    assert!(!err.contains("panicked"), "{what} panicked:\n{err}");
+    err
+}
+
+/// The names in `dir`, sorted (hidden temporary files included).
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+// 1. A huge thread count is refused, and a render never starts more workers than tiles.
+#[test]
+fn a_huge_thread_count_is_refused_with_the_limit() {
+    let dir = work_dir("threads");
+    let out = prism(&dir, &["render", "--threads", "1000000000000", "-q"]);
+    let err = expect_exit(&out, 1, "--threads 1e12");
+    assert!(err.contains("threads must be between 0"), "{err}");
+    assert!(err.contains("1024"), "{err}");
+    assert!(
+        listing(&dir).is_empty(),
+        "nothing written: {:?}",
+        listing(&dir)
+    );
+}
+
+#[test]
+fn more_threads_than_cores_get_a_note_and_still_render() {
+    let dir = work_dir("threads-note");
+    let out = prism(
+        &dir,
+        &[
+            "render",
+            "-b",
+            "cornell",
+            "-W",
+            "8",
+            "-H",
+            "8",
+            "--threads",
+            "1024",
+            "-q",
+        ],
+    );
+    let err = expect_exit(&out, 0, "--threads 1024 on an 8×8 image");
+    assert!(err.contains("1024 worker threads on"), "{err}");
+}
+
+// 2. An image too large for memory is refused with the bytes it needs, not an abort.
+#[test]
+fn an_image_too_large_for_memory_names_the_bytes_needed() {
+    let dir = work_dir("memory");
+    let out = prism(&dir, &["render", "-W", "65536", "-H", "65536", "-q"]);
+    let err = expect_exit(&out, 1, "-W 65536 -H 65536");
+    assert!(err.contains("render needs about"), "{err}");
+    assert!(err.contains("GB"), "{err}");
+    assert!(err.contains("film"), "{err}");
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
+}
+
+// 3. `prism` alone is `prism render`.
+#[test]
+fn no_arguments_render_the_default_scene_like_render() {
+    let bare = work_dir("bare");
+    let out = prism(&bare, &[]);
+    expect_exit(&out, 0, "prism");
+    let typed = work_dir("bare-typed");
+    let out = prism(&typed, &["render"]);
+    expect_exit(&out, 0, "prism render");
+    let a = fs::read(bare.join("prism.png")).expect("prism alone writes prism.png");
+    let b = fs::read(typed.join("prism.png")).unwrap();
+    assert!(a == b, "`prism` and `prism render` write the same image");
+}
+
+// 4. A closed standard output ends the program quietly.
+#[test]
+fn a_closed_stdout_ends_quietly() {
+    let dir = work_dir("pipe");
+    for args in [
+        &["info", "builtin:cornell"][..],
+        &["list"][..],
+        &[
+            "bench",
+            "--quick",
+            "--scenes",
+            "cornell",
+            "--methods",
+            "bvh",
+        ][..],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_prism"))
+            .args(args)
+            .current_dir(&dir)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Close the reading end before prism writes: every write meets a broken pipe.
+        drop(child.stdout.take());
+        let mut err = String::new();
+        child
+            .stderr
+            .take()
+            .unwrap()
+            .read_to_string(&mut err)
+            .unwrap();
+        let status = child.wait().unwrap();
+        assert!(!err.contains("panicked"), "prism {args:?} panicked:\n{err}");
+        assert_ne!(status.code(), Some(101), "prism {args:?}: {err}");
+        #[cfg(unix)]
+        {
+            use std::os::unix::process::ExitStatusExt;
+            // Ended by SIGPIPE, as `cat` and `grep` are, or done before writing at all.
+            assert!(
+                status.signal() == Some(13) || status.success(),
+                "prism {args:?}: {status:?} {err}"
+            );
+        }
+    }
+}
+
+// 5. Outputs are checked before any work; one bad extra output means nothing is written.
+#[test]
+fn unwritable_outputs_fail_before_the_render_and_write_nothing() {
+    let dir = work_dir("outputs");
+    fs::create_dir(dir.join("folder")).unwrap();
+    fs::write(dir.join("plain-file"), b"").unwrap();
+    let base = ["render", "-b", "sphereflake", "-q", "-W", "64", "-H", "64"];
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["-o", "missing/out.png"],
+            "the directory missing does not exist",
+        ),
+        (&["-o", "folder"], "it is a directory"),
+        (&["-o", "plain-file/out.png"], "does not exist"),
+        (&["--cost", "missing/cost.png"], "missing does not exist"),
+        (&["--density", "folder"], "the density view"),
+        (
+            &["--stats-json", "missing/stats.json"],
+            "missing does not exist",
+        ),
+        (&["--cost", "prism.png"], "named twice"),
+        #[cfg(target_os = "linux")]
+        (
+            &["-o", "/proc/prism-out.png"],
+            "cannot write /proc/prism-out.png",
+        ),
+    ];
+    for (extra, expected) in cases {
+        let mut args = base.to_vec();
+        args.extend_from_slice(extra);
+        let out = prism(&dir, &args);
+        let err = expect_exit(&out, 1, &format!("{extra:?}"));
+        assert!(err.contains(expected), "{extra:?}: {err}");
+        assert_eq!(
+            listing(&dir),
+            ["folder", "plain-file"],
+            "{extra:?} wrote something"
+        );
+    }
+}
+
+#[test]
+fn other_commands_check_their_outputs_first() {
+    let dir = work_dir("outputs-other");
+    let a = dir.join("a.pfm");
+    let out = prism(&dir, &["render", "-q", "-W", "8", "-H", "8", "-o", "a.pfm"]);
+    expect_exit(&out, 0, "render a.pfm");
+    assert!(a.exists());
+    let out = prism(
+        &dir,
+        &[
+            "compare",
+            "a.pfm",
+            "a.pfm",
+            "--flip-map",
+            "missing/flip.png",
+        ],
+    );
+    let err = expect_exit(&out, 1, "compare --flip-map into a missing folder");
+    assert!(err.contains("does not exist"), "{err}");
+    let out = prism(
+        &dir,
+        &["reference", "-o", "missing/ref.exr", "-W", "8", "-H", "8"],
+    );
+    let err = expect_exit(&out, 1, "reference into a missing folder");
+    assert!(err.contains("does not exist"), "{err}");
+}
+
+// 6. A write that fails half way (a full disk, a file-size limit) leaves no temporary file.
+#[cfg(unix)]
+#[test]
+fn a_failed_write_leaves_no_temporary_file() {
+    let dir = work_dir("full-disk");
+    for (output, extra) in [
+        ("out.exr", ""),
+        ("out.png", ""),
+        ("out.pfm", "--stats-json s.json"),
+    ] {
+        // ulimit -f 1: no file may grow past 1 KiB, as on a disk that is full.
+        let script = format!(
+            "ulimit -f 1; exec \"{}\" render -b cornell -q -W 96 -H 96 -o {output} {extra}",
+            env!("CARGO_BIN_EXE_prism")
+        );
+        let out = Command::new("sh")
+            .args(["-c", &script])
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        let err = expect_exit(&out, 1, output);
+        assert!(err.contains(&format!("cannot write {output}")), "{err}");
+        assert!(
+            listing(&dir).is_empty(),
+            "{output}: files left: {:?}",
+            listing(&dir)
+        );
+    }
+}
+
+// 7. SIGTERM stops like Ctrl-C, keeps the finished tiles and exits with 143; a second
+// signal stops at once.
+#[cfg(unix)]
+fn spawn_long_render(dir: &Path, output: &str) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_prism"))
+        // Minutes of work: the signal always arrives mid-render.
+        .args(["render", "-b", "sphereflake", "-W", "1600", "-H", "1600"])
+        .args(["--spp", "64", "--threads", "1", "-o", output])
+        .current_dir(dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+#[cfg(unix)]
+fn signal(child: &std::process::Child, name: &str) {
+    let ok = Command::new("kill")
+        .args([&format!("-{name}"), &child.id().to_string()])
+        .status()
+        .unwrap()
+        .success();
+    assert!(ok, "kill -{name}");
+}
+
+#[cfg(unix)]
+fn finish(mut child: std::process::Child) -> (Option<i32>, String) {
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    (child.wait().unwrap().code(), err)
+}
+
+#[cfg(unix)]
+#[test]
+fn sigterm_writes_the_finished_tiles_and_exits_143() {
+    let dir = work_dir("sigterm");
+    let child = spawn_long_render(&dir, "out.pfm");
+    // Let the scene load and the render start; the signal is handled whenever it comes.
+    std::thread::sleep(Duration::from_millis(1500));
+    signal(&child, "TERM");
+    let (code, err) = finish(child);
+    assert_eq!(code, Some(143), "{err}");
+    assert!(err.contains("terminated (SIGTERM)"), "{err}");
+    assert!(err.contains("wrote the finished tiles to out.pfm"), "{err}");
+    let bytes = fs::read(dir.join("out.pfm")).unwrap();
+    assert!(bytes.starts_with(b"PF\n1600 1600\n"), "a whole-size image");
+    assert_eq!(listing(&dir), ["out.pfm"]);
+}
+
+#[cfg(unix)]
+#[test]
+fn a_second_signal_stops_at_once_with_a_message() {
+    let dir = work_dir("second-signal");
+    let child = spawn_long_render(&dir, "out.png");
+    std::thread::sleep(Duration::from_millis(1500));
+    signal(&child, "INT");
+    std::thread::sleep(Duration::from_millis(50));
+    signal(&child, "INT");
+    let (code, err) = finish(child);
+    // The tiles in flight at 64 spp can finish between the two signals; either way the run
+    // ends as interrupted, and without a panic.
+    assert_eq!(code, Some(130), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("stopped at once on a second signal") || err.contains("interrupted"),
+        "{err}"
+    );
+}
+
+// 8. PLY triangle strips render.
+const STRIP_PLY: &str = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n\
+                         property float y\nproperty float z\nelement tristrips 1\n\
+                         property list int int vertex_indices\nend_header\n\
+                         0 0 0\n0 1 0\n1 0 0\n1 1 0\n4 0 1 2 3\n";
+
+#[test]
+fn a_ply_of_triangle_strips_renders() {
+    let dir = work_dir("tristrips");
+    fs::write(dir.join("strip.ply"), STRIP_PLY).unwrap();
+    let out = prism(&dir, &["render", "strip.ply", "-q", "-W", "16", "-H", "16"]);
+    expect_exit(&out, 0, "render strip.ply");
+    let out = prism(&dir, &["info", "strip.ply"]);
+    expect_exit(&out, 0, "info strip.ply");
+    let text = String::from_utf8_lossy(&out.stdout);
+    let triangles = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("triangle "))
+        .unwrap_or_default();
+    assert_eq!(triangles.split_whitespace().last(), Some("2"), "{text}");
+}
+
+// 9. A missing MTL file is a warning; --strict makes it an error.
+#[test]
+fn an_obj_without_its_mtl_renders_with_a_warning_unless_strict() {
+    let dir = work_dir("missing-mtl");
+    let obj = "mtllib gone.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    fs::write(dir.join("model.obj"), obj).unwrap();
+    let out = prism(&dir, &["render", "model.obj", "-q", "-W", "16", "-H", "16"]);
+    let err = expect_exit(&out, 0, "model.obj without its MTL");
+    assert!(
+        err.contains("warning: model.obj:1:8: the material library"),
+        "{err}"
+    );
+    assert!(err.contains("gone.mtl is missing"), "{err}");
+    assert!(dir.join("prism.png").exists());
+    fs::remove_file(dir.join("prism.png")).unwrap();
+    let out = prism(
+        &dir,
+        &["render", "model.obj", "--strict", "-q", "-o", "s.png"],
+    );
+    let err = expect_exit(&out, 1, "--strict");
+    assert!(err.contains("--strict"), "{err}");
+    assert_eq!(listing(&dir), ["model.obj"]);
+}
+
+// 10. A file whose content does not match its extension is named for what it is.
+#[test]
+fn a_file_that_is_not_what_its_extension_says_is_named() {
+    let dir = work_dir("sniff");
+    fs::write(
+        dir.join("page.glb"),
+        "<!DOCTYPE html>\n<html><body>Not found</body></html>",
+    )
+    .unwrap();
+    let noise: Vec<u8> = (0..600u32)
+        .map(|i| (i.wrapping_mul(2_654_435_761) >> 11) as u8)
+        .collect();
+    fs::write(dir.join("noise.nff"), &noise).unwrap();
+    fs::write(dir.join("noise.glb"), &noise).unwrap();
+    let lfs = "version https://git-lfs.github.com/spec/v1\noid sha256:0123\nsize 4096\n";
+    fs::write(dir.join("mesh.bin"), lfs).unwrap();
+    let gltf = r#"{"asset":{"version":"2.0"},"buffers":[{"uri":"mesh.bin","byteLength":4096}]}"#;
+    fs::write(dir.join("scene.gltf"), gltf).unwrap();
+    fs::write(dir.join("scene.obj"), lfs).unwrap();
+    let cases = [
+        ("page.glb", "an HTML page"),
+        ("noise.nff", "binary data"),
+        ("noise.glb", "does not start like a glTF file"),
+        ("scene.gltf", "Git LFS pointer"),
+        ("scene.obj", "Git LFS pointer"),
+    ];
+    for (file, expected) in cases {
+        let out = prism(&dir, &["render", file, "-q", "-o", "x.png"]);
+        let err = expect_exit(&out, 1, file);
+        assert!(err.contains(expected), "{file}: {err}");
+    }
+    assert!(!dir.join("x.png").exists());
+}
+
+// 11. What prism reads but cannot render gets a warning.
+#[test]
+fn features_read_but_not_rendered_are_warned_about() {
+    let dir = work_dir("unrendered");
+    fs::write(
+        dir.join("glow.mtl"),
+        "newmtl glow\nKd 0.5 0.5 0.5\nKe 1 0.5 0\n",
+    )
+    .unwrap();
+    fs::write(
+        dir.join("glow.obj"),
+        "mtllib glow.mtl\nusemtl glow\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let out = prism(&dir, &["render", "glow.obj", "-q", "-W", "8", "-H", "8"]);
+    let err = expect_exit(&out, 0, "MTL Ke");
+    assert!(err.contains("glow.mtl:3: the emission colour Ke"), "{err}");
+
+    let ortho = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
+        "nodes":[{"camera":0}],
+        "cameras":[{"type":"orthographic","orthographic":{"xmag":1,"ymag":1,"znear":0.1,"zfar":10}}]}"#;
+    fs::write(dir.join("ortho.gltf"), ortho).unwrap();
+    let out = prism(&dir, &["render", "ortho.gltf", "-q", "-W", "8", "-H", "8"]);
+    let err = expect_exit(&out, 0, "orthographic camera");
+    assert!(err.contains("camera 0 is orthographic"), "{err}");
+
+    let out = prism(
+        &dir,
+        &[
+            "render", "-q", "-W", "8", "-H", "8", "--half", "-o", "h.png",
+        ],
+    );
+    let err = expect_exit(&out, 0, "--half with PNG");
+    assert!(err.contains("--half applies to EXR output only"), "{err}");
+}
+
+// 12. An empty scene warns; a directory as the scene says so.
+#[test]
+fn an_empty_scene_warns_and_a_directory_is_named() {
+    let dir = work_dir("empty");
+    fs::write(
+        dir.join("empty.toml"),
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n",
+    )
+    .unwrap();
+    let out = prism(&dir, &["render", "empty.toml", "-q", "-W", "8", "-H", "8"]);
+    let err = expect_exit(&out, 0, "empty scene");
+    assert!(err.contains("empty.toml has no objects"), "{err}");
+    fs::create_dir(dir.join("scenes")).unwrap();
+    let out = prism(&dir, &["render", "scenes", "-q"]);
+    let err = expect_exit(&out, 1, "a directory as the scene");
+    assert!(err.contains("is a directory"), "{err}");
+}
+
+// Small things people notice.
+#[test]
+fn numbers_are_echoed_as_typed_and_negative_ones_reach_the_range_check() {
+    let dir = work_dir("numbers");
+    let out = prism(&dir, &["render", "--spp", "1000000", "-q"]);
+    let err = expect_exit(&out, 1, "--spp 1000000");
+    assert!(err.contains("--spp 1000000"), "{err}");
+    assert!(!err.contains("got 1000\n"), "{err}");
+    for (flag, value) in [
+        ("--adaptive-threshold", "-0.5"),
+        ("--min-weight", "-1"),
+        ("--filter-radius", "-2"),
+        ("--adaptive-jitter", "-0.25"),
+    ] {
+        let out = prism(&dir, &["render", flag, value, "-q"]);
+        let err = expect_exit(&out, 1, flag);
+        assert!(
+            err.contains(&format!("got {value}")),
+            "{flag} {value}: {err}"
+        );
+    }
+}
+
+#[test]
+fn the_closing_line_names_every_file_written() {
+    let dir = work_dir("closing");
+    let out = prism(
+        &dir,
+        &[
+            "render",
+            "-b",
+            "cornell",
+            "-W",
+            "16",
+            "-H",
+            "16",
+            "-o",
+            "a.png",
+            "--cost",
+            "c.png",
+            "--density",
+            "d.pfm",
+            "--stats-json",
+            "s.json",
+        ],
+    );
+    let err = expect_exit(&out, 0, "render with every output");
+    assert!(
+        err.contains("prism: wrote a.png, d.pfm, c.png and s.json (16×16"),
+        "{err}"
+    );
+}
+
+#[test]
+fn exr_files_are_byte_identical_for_any_thread_count() {
+    let dir = work_dir("exr-threads");
+    let mut files = Vec::new();
+    for threads in ["1", "2", "3"] {
+        let name = format!("t{threads}.exr");
+        let out = prism(
+            &dir,
+            &[
+                "render",
+                "-b",
+                "cornell",
+                "-q",
+                "-W",
+                "200",
+                "-H",
+                "150",
+                "--threads",
+                threads,
+                "-o",
+                &name,
+            ],
+        );
+        expect_exit(&out, 0, &name);
+        files.push(fs::read(dir.join(&name)).unwrap());
+    }
+    assert!(
+        files[0] == files[1] && files[1] == files[2],
+        "EXR bytes differ between thread counts"
+    );
+}
+
+#[test]
+fn render_help_names_the_default_scene_and_defaults() {
+    let dir = work_dir("help");
+    let out = prism(&dir, &["render", "--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("the built-in `whitted` scene"), "{text}");
+    assert!(
+        text.contains("Seed for random decisions [default: 0]"),
+        "{text}"
+    );
+    assert!(
+        text.contains("obb|dop14"),
+        "no stray space in the volume list: {text}"
+    );
+    let out = prism(&dir, &["sweep", "--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        text.matches("[default: neighbourhood:1]").count(),
+        1,
+        "one default for --adaptive-variants: {text}"
+    );
+}
