@@ -55,12 +55,15 @@ pub fn print(scene: &Scene, name: &str, accel: &AccelSpec) -> Result<()> {
         );
     }
     let c = &scene.camera;
+    let view = match c.projection {
+        prism::camera::Projection::Perspective => format!("fov {}°", c.fov_degrees),
+        prism::camera::Projection::Orthographic { size } => format!("orthographic, {size} across"),
+    };
     println!(
-        "camera             eye {:?} look-at {:?} up {:?} fov {}°",
+        "camera             eye {:?} look-at {:?} up {:?} {view}",
         c.eye.to_array(),
         c.look_at.to_array(),
         c.up.to_array(),
-        c.fov_degrees
     );
     println!(
         "image              {}×{}, depth {}, min weight {}",

@@ -8,7 +8,7 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use prism::accel::{AccelSpec, SceneIntersector};
-use prism::camera::Camera;
+use prism::camera::{Camera, Projection};
 use prism::geometry::generate;
 use prism::math::{Ray, Vec3};
 use prism::render::render;
@@ -34,6 +34,7 @@ fn knot_scene() -> Scene {
             look_at: Vec3::ZERO,
             up: Vec3::Z,
             fov_degrees: 45.0,
+            projection: Projection::Perspective,
         },
         ..Scene::default()
     };

@@ -8,7 +8,7 @@
 
 use prism::accel::volumes::{build_measurable, NodeVolume};
 use prism::accel::{Accel, Bvh, BvhOptions};
-use prism::camera::Camera;
+use prism::camera::{Camera, Projection};
 use prism::geometry::{Geometry, TriangleMesh};
 use prism::math::{TraceRay, Vec3};
 use prism::scene::builtin;
@@ -25,6 +25,7 @@ fn diagonal_slivers(count: u32) -> Scene {
             look_at: Vec3::ZERO,
             up: Vec3::Z,
             fov_degrees: 40.0,
+            projection: Projection::Perspective,
         },
         ..Scene::default()
     };

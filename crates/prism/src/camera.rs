@@ -1,4 +1,5 @@
-//! The pinhole camera: eye, look-at point, up vector and field of view.
+//! The camera: eye, look-at point, up vector, and either a pinhole's field of view
+//! (perspective) or the size of a window of parallel rays (orthographic).
 
 use crate::math::{Ray, Vec3};
 
@@ -9,8 +10,21 @@ pub struct Camera {
     /// Need not be unit or perpendicular to the view direction, only not parallel to it.
     pub up: Vec3,
     /// Full field of view in degrees across the shorter image side (the vertical one for
-    /// landscape images; both for square images, as NFF's `angle`).
+    /// landscape images; both for square images, as NFF's `angle`). Perspective only.
     pub fov_degrees: f32,
+    pub projection: Projection,
+}
+
+/// How the image maps onto rays.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Projection {
+    /// Rays from the eye through an image plane, spanning `fov_degrees`.
+    #[default]
+    Perspective,
+    /// Parallel rays along the view direction, leaving a window centred on the eye that is
+    /// `size` world units across the shorter image side (glTF's 2·ymag for a landscape
+    /// image). Nothing behind the eye's plane is seen.
+    Orthographic { size: f32 },
 }
 
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -21,6 +35,8 @@ pub enum CameraError {
     UpParallel,
     #[error("the field of view must be between 0 and 180 degrees, got {0}")]
     FieldOfView(f32),
+    #[error("an orthographic view must be wider than 0 and finite, got {0}")]
+    OrthographicSize(f32),
 }
 
 impl Camera {
@@ -31,8 +47,17 @@ impl Camera {
         fwd.cross(self.up)
             .try_normalize()
             .ok_or(CameraError::UpParallel)?;
-        if !(self.fov_degrees > 0.0 && self.fov_degrees < 180.0) {
-            return Err(CameraError::FieldOfView(self.fov_degrees));
+        match self.projection {
+            Projection::Perspective => {
+                if !(self.fov_degrees > 0.0 && self.fov_degrees < 180.0) {
+                    return Err(CameraError::FieldOfView(self.fov_degrees));
+                }
+            }
+            Projection::Orthographic { size } => {
+                if !(size > 0.0 && size.is_finite()) {
+                    return Err(CameraError::OrthographicSize(size));
+                }
+            }
         }
         Ok(())
     }
@@ -44,16 +69,23 @@ impl Camera {
         // Right-handed: right = forward × up, so +y in the image is `up` and +x is right.
         let right = forward.cross(self.up).normalize();
         let up = right.cross(forward);
-        let half = (self.fov_degrees.to_radians() * 0.5).tan();
         let short = width.min(height).max(1) as f32;
-        // World units per pixel on the plane at distance 1.
-        let pixel = 2.0 * half / short;
+        let (pixel, orthographic) = match self.projection {
+            // World units per pixel on the plane at distance 1.
+            Projection::Perspective => {
+                let half = (self.fov_degrees.to_radians() * 0.5).tan();
+                (2.0 * half / short, false)
+            }
+            // World units per pixel on the window through the eye.
+            Projection::Orthographic { size } => (size / short, true),
+        };
         Ok(CameraRays {
             eye: self.eye,
             forward,
             right: right * pixel,
             up: up * pixel,
             half_size: (width as f32 * 0.5, height as f32 * 0.5),
+            orthographic,
         })
     }
 }
@@ -66,6 +98,7 @@ pub struct CameraRays {
     right: Vec3,
     up: Vec3,
     half_size: (f32, f32),
+    orthographic: bool,
 }
 
 impl CameraRays {
@@ -74,7 +107,59 @@ impl CameraRays {
     pub fn ray(&self, x: f32, y: f32) -> Ray {
         let dx = x - self.half_size.0;
         let dy = self.half_size.1 - y;
-        let dir = (self.forward + dx * self.right + dy * self.up).normalize();
-        Ray::new(self.eye, dir)
+        let offset = dx * self.right + dy * self.up;
+        if self.orthographic {
+            return Ray::new(self.eye + offset, self.forward);
+        }
+        Ray::new(self.eye, (self.forward + offset).normalize())
+    }
+}
+
+#[cfg(test)]
+mod projection_tests {
+    use super::*;
+
+    fn camera(projection: Projection) -> Camera {
+        Camera {
+            eye: Vec3::new(0.0, 0.0, 10.0),
+            look_at: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_degrees: 90.0,
+            projection,
+        }
+    }
+
+    #[test]
+    fn orthographic_rays_are_parallel_and_span_the_window() {
+        let rays = camera(Projection::Orthographic { size: 4.0 })
+            .setup(200, 100)
+            .unwrap();
+        // 4 units over the 100-pixel height: 0.04 per pixel, centred on the eye.
+        let centre = rays.ray(100.0, 50.0);
+        assert_eq!(centre.origin, Vec3::new(0.0, 0.0, 10.0));
+        assert_eq!(centre.dir, Vec3::NEG_Z);
+        let corner = rays.ray(0.0, 0.0);
+        assert!((corner.origin - Vec3::new(-4.0, 2.0, 10.0)).length() < 1e-5);
+        assert_eq!(corner.dir, Vec3::NEG_Z);
+    }
+
+    #[test]
+    fn a_perspective_ray_leaves_the_eye_at_the_field_of_view() {
+        let rays = camera(Projection::Perspective).setup(100, 100).unwrap();
+        let edge = rays.ray(100.0, 50.0);
+        assert_eq!(edge.origin, Vec3::new(0.0, 0.0, 10.0));
+        // 90° across: the right edge is 45° off the axis.
+        assert!((edge.dir - Vec3::new(1.0, 0.0, -1.0).normalize()).length() < 1e-6);
+    }
+
+    #[test]
+    fn an_empty_window_is_refused() {
+        for size in [0.0, -1.0, f32::INFINITY, f32::NAN] {
+            let err = camera(Projection::Orthographic { size }).validate();
+            assert!(
+                matches!(err, Err(CameraError::OrthographicSize(_))),
+                "{size}"
+            );
+        }
     }
 }

@@ -15,6 +15,10 @@ pub fn apply_spd(scene: &mut Scene, options: &mut RenderOptions) {
     let half = (scene.camera.fov_degrees as f64).to_radians() * 0.5;
     let edge_half = (half.tan() * (n + 1.0) / n).atan();
     scene.camera.fov_degrees = (2.0 * edge_half).to_degrees() as f32;
+    // The same widening for a window of parallel rays.
+    if let crate::camera::Projection::Orthographic { size } = &mut scene.camera.projection {
+        *size *= ((n + 1.0) / n) as f32;
+    }
     options.width += 1;
     options.height += 1;
     options.samples = 1;

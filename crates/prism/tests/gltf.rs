@@ -272,6 +272,33 @@ fn the_camera_follows_its_node_and_aspect_ratio() {
 }
 
 #[test]
+fn an_orthographic_camera_takes_its_window_and_shape() {
+    let mut doc = quad_document(Some(&quad_buffer_uri()));
+    doc["cameras"][0] = json!({ "type": "orthographic",
+        "orthographic": { "xmag": 3.0, "ymag": 1.5, "znear": 0.1, "zfar": 100.0 } });
+    let scene = load_doc("camera-ortho", &doc).unwrap();
+    // A window twice as wide as high: the image takes that shape, and the view is
+    // 2·ymag = 3 units across its shorter side.
+    assert_eq!(
+        scene.camera.projection,
+        prism::camera::Projection::Orthographic { size: 3.0 }
+    );
+    assert_eq!((scene.options.width, scene.options.height), (640, 320));
+    assert_eq!(scene.camera.eye, Vec3::new(0.0, 0.0, 6.0));
+    // The quad, turned 30° about y, spans its true width on the film: 2·2·cos 30° = 3.46
+    // units of the 6 across, whatever the camera's distance.
+    let film = render_at(&scene, 64, 32);
+    let lit = (0..64)
+        .filter(|&x| film.get(x, 16) != Default::default())
+        .count();
+    let expected = 64.0 * 4.0 * 30f32.to_radians().cos() / 6.0;
+    assert!(
+        (lit as f32 - expected).abs() <= 2.0,
+        "{lit} columns show the quad, expected about {expected}"
+    );
+}
+
+#[test]
 fn lights_keep_their_colour_ratio_and_are_exposed_for_the_scene() {
     let scene = load_doc("lights", &quad_document(Some(&quad_buffer_uri()))).unwrap();
     let [Light::Point {

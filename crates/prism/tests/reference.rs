@@ -2,7 +2,7 @@
 //! scenes it must refuse, and agreement with brute force, where very many jittered samples
 //! per pixel converge to the same area averages.
 
-use prism::camera::Camera;
+use prism::camera::{Camera, Projection};
 use prism::math::{Color, Vec3};
 use prism::reference::{checkerboard, ReferenceError};
 use prism::render::render;
@@ -21,6 +21,7 @@ fn overhead(shift: f32) -> prism::Scene {
         up: Vec3::Z,
         // tan(fov/2) = 4: the 8-pixel image spans 8 units at height 1.
         fov_degrees: 2.0 * 4f32.atan().to_degrees(),
+        projection: Projection::Perspective,
     };
     scene
 }

@@ -10,7 +10,7 @@
 mod common;
 
 use common::{icosphere, lattice_cube, rotate};
-use prism::camera::Camera;
+use prism::camera::{Camera, Projection};
 use prism::geometry::generate;
 use prism::light::Light;
 use prism::math::{Color, Vec3};
@@ -107,6 +107,7 @@ fn mesh_scene() -> Scene {
             look_at: Vec3::new(0.0, 0.6, 0.0),
             up: Vec3::Y,
             fov_degrees: 45.0,
+            projection: Projection::Perspective,
         },
         background: Color::new(0.2, 0.3, 0.6),
         ambient: Color::splat(0.15),

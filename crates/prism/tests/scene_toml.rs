@@ -908,3 +908,30 @@ fn spot_lights_read_their_cone_in_degrees_and_refuse_an_inverted_one() {
     .to_string();
     assert!(err.contains("expected 0 to 90 degrees"), "{err}");
 }
+
+#[test]
+fn an_orthographic_camera_reads_its_window_and_refuses_an_empty_one() {
+    let scene = parse(
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\northographic = 3.5\n\n\
+         [[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\n\n[[objects]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n",
+    )
+    .unwrap();
+    assert_eq!(
+        scene.camera.projection,
+        prism::camera::Projection::Orthographic { size: 3.5 }
+    );
+    // The sphere of radius 1 fills 2/3.5 of the view's height, whatever the distance.
+    let film = render_at(&scene, 70, 70);
+    let lit = (0..70)
+        .filter(|&y| film.get(35, y) != film.get(0, 0))
+        .count();
+    assert!(
+        (39..=41).contains(&lit),
+        "{lit} rows show the sphere, expected about 40"
+    );
+    let err = parse("[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\northographic = 0\n")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains(":4:"), "{err}");
+    assert!(err.contains("expected orthographic ="), "{err}");
+}

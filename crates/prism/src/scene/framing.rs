@@ -5,7 +5,7 @@
 //! a directional light shines from above left.
 
 use super::Scene;
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
 
@@ -37,6 +37,7 @@ pub fn frame(scene: &mut Scene) -> Result<(), String> {
         look_at: center,
         up: Vec3::Y,
         fov_degrees: FOV_DEGREES,
+        projection: Projection::Perspective,
     };
     camera
         .validate()

@@ -23,7 +23,7 @@ pub use load::{load, LoadError};
 pub use mesh_file::{load_mesh_file, mesh_scene, MeshFile, MeshPart};
 
 use crate::accel::{AccelSpec, SceneIntersector};
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::Geometry;
 use crate::light::Light;
 use crate::math::{Color, Vec3};
@@ -69,6 +69,7 @@ impl Default for Scene {
                 look_at: Vec3::ZERO,
                 up: Vec3::Y,
                 fov_degrees: 45.0,
+                projection: Projection::Perspective,
             },
             background: Color::ZERO,
             ambient: Color::splat(0.1),

@@ -4,7 +4,7 @@
 
 use super::load::LoadError;
 use super::Scene;
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::{polygon, Cone, Shape, Sphere, TriangleMesh};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
@@ -347,6 +347,7 @@ impl<'a> Parser<'a> {
             look_at,
             up,
             fov_degrees: angle,
+            projection: Projection::Perspective,
         };
         camera
             .validate()

@@ -3,6 +3,7 @@
 //! at 1e-3 and 1e3 must render the same picture.
 
 use super::Scene;
+use crate::camera::Projection;
 use crate::geometry::{AaBox, Cone, Plane, Shape, Sphere};
 use crate::light::Light;
 use crate::shading::{CheckerSpace, Texture};
@@ -23,6 +24,9 @@ impl Scene {
         let mut scene = self.clone();
         scene.camera.eye *= factor;
         scene.camera.look_at *= factor;
+        if let Projection::Orthographic { size } = &mut scene.camera.projection {
+            *size *= factor;
+        }
         for light in &mut scene.lights {
             if let Light::Point { position, .. } | Light::Spot { position, .. } = light {
                 *position *= factor;

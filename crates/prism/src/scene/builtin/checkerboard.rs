@@ -2,7 +2,7 @@
 //! alone so every pixel is exactly the area average of the pattern it covers: the classic
 //! aliasing test, with an exact reference that sampling can be measured against.
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::{Plane, Shape};
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
@@ -15,6 +15,7 @@ pub fn checkerboard() -> Scene {
             look_at: Vec3::new(0.0, 0.75, 4.0),
             up: Vec3::Y,
             fov_degrees: 50.0,
+            projection: Projection::Perspective,
         },
         background: Color::new(0.55, 0.7, 0.9),
         ambient: Color::ONE,

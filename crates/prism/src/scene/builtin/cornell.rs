@@ -1,7 +1,7 @@
 //! A Cornell box lit by one point light below the ceiling, with a mirror sphere and a glass
 //! sphere: every Whitted effect in a closed room.
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::{generate, Shape, Sphere};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
@@ -15,6 +15,7 @@ pub fn cornell() -> Scene {
             look_at: Vec3::new(0.5, 0.5, 0.5),
             up: Vec3::Y,
             fov_degrees: 38.0,
+            projection: Projection::Perspective,
         },
         background: Color::ZERO,
         ambient: Color::splat(0.15),

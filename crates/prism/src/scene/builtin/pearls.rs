@@ -4,7 +4,7 @@
 //! refuses (more references than it saves) and leaves every pearl in the root leaf. A
 //! kd-tree or BVH cuts the string along its length instead.
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::{Shape, Sphere};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
@@ -23,6 +23,7 @@ pub fn pearls() -> Scene {
             look_at: Vec3::new(start + 3.0, 0.0, 0.0),
             up: Vec3::Z,
             fov_degrees: 45.0,
+            projection: Projection::Perspective,
         },
         background: Color::new(0.1, 0.1, 0.14),
         ambient: Color::splat(0.15),

@@ -4,7 +4,7 @@
 //! and memory explode, where a BVH just lets its boxes overlap.
 
 use super::random::unit;
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::TriangleMesh;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
@@ -21,6 +21,7 @@ pub fn shards() -> Scene {
             look_at: Vec3::ZERO,
             up: Vec3::Z,
             fov_degrees: 45.0,
+            projection: Projection::Perspective,
         },
         background: Color::new(0.08, 0.08, 0.1),
         ambient: Color::splat(0.15),

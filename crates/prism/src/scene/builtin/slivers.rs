@@ -4,7 +4,7 @@
 //! triangles than a ray comes near.
 
 use super::random::unit;
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::TriangleMesh;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
@@ -21,6 +21,7 @@ pub fn slivers() -> Scene {
             look_at: Vec3::new(0.0, 0.0, -0.2),
             up: Vec3::Z,
             fov_degrees: 40.0,
+            projection: Projection::Perspective,
         },
         background: Color::new(0.05, 0.05, 0.08),
         ambient: Color::splat(0.15),

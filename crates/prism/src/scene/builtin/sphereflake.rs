@@ -1,7 +1,7 @@
 //! Haines' sphereflake (the SPD "balls" database, re-derived): a sphere with nine spheres of
 //! a third its radius on it, recursively. Level n has (9^(n+1) − 1)/8 spheres.
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::{generate, Shape, Sphere};
 use crate::light::Light;
 use crate::math::{Color, Frame, Vec3};
@@ -15,6 +15,7 @@ pub fn sphereflake(level: u32) -> Scene {
             look_at: Vec3::ZERO,
             up: Vec3::Z,
             fov_degrees: 45.0,
+            projection: Projection::Perspective,
         },
         background: Color::new(0.078, 0.361, 0.753),
         ambient: Color::splat(0.15),

@@ -3,7 +3,7 @@
 //! large triangles. A uniform grid sized for the whole stadium puts the knot into a
 //! handful of cells holding thousands of triangles each, while most cells stay empty.
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::{generate, TriangleMesh};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
@@ -22,6 +22,7 @@ pub fn stadium() -> Scene {
             look_at: Vec3::new(0.0, 0.0, 0.3),
             up: Vec3::Z,
             fov_degrees: 45.0,
+            projection: Projection::Perspective,
         },
         background: Color::new(0.35, 0.5, 0.75),
         ambient: Color::splat(0.2),

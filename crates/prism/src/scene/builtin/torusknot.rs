@@ -1,7 +1,7 @@
 //! A bumpy torus knot of about a million smooth-shaded triangles over a mirror floor: the
 //! large-mesh scene for throughput and BVH build measurements.
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::{generate, Plane, Shape};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
@@ -15,6 +15,7 @@ pub fn torusknot(triangles: u32) -> Scene {
             look_at: Vec3::new(0.0, 0.0, -0.1),
             up: Vec3::Z,
             fov_degrees: 40.0,
+            projection: Projection::Perspective,
         },
         background: Color::new(0.05, 0.05, 0.08),
         ambient: Color::splat(0.15),

@@ -1,7 +1,7 @@
 //! A homage to the picture in Whitted's 1980 paper: a red and yellow checkerboard, a mirror
 //! sphere behind a hollow glass sphere, two point lights and a blue sky.
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::{generate, Shape, Sphere};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
@@ -15,6 +15,7 @@ pub fn whitted() -> Scene {
             look_at: Vec3::new(0.0, 0.9, 0.0),
             up: Vec3::Y,
             fov_degrees: 42.0,
+            projection: Projection::Perspective,
         },
         background: Color::new(0.12, 0.28, 0.75),
         ambient: Color::splat(0.2),

@@ -1,11 +1,13 @@
-//! The view: the first perspective camera among the scene's nodes, or a default camera
-//! that frames the scene's bounds.
+//! The view: the first camera among the scene's nodes, or a default camera that frames
+//! the scene's bounds.
 //!
-//! A glTF camera looks down its node's −Z axis with +Y up, and `yfov` is its vertical
-//! field of view. Prism's camera takes eye, look-at point, up vector and the field of view
-//! across the shorter image side, which for a portrait image is the horizontal one.
+//! A glTF camera looks down its node's −Z axis with +Y up. A perspective one's `yfov` is its
+//! vertical field of view; an orthographic one's `xmag` and `ymag` are half the width and
+//! height of its window. Prism's camera takes eye, look-at point, up vector and the field of
+//! view (or the window's size) across the shorter image side, which for a portrait image is
+//! the horizontal one.
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::math::{Aabb, Vec3};
 use crate::options::RenderOptions;
 use glam::{DAffine3, DVec3};
@@ -26,24 +28,53 @@ pub fn camera(
     options: &mut RenderOptions,
 ) -> Result<Camera, String> {
     match placed {
-        Some((index, world)) => perspective(root, index, &world, bounds, options)
+        Some((index, world)) => from_node(root, index, &world, bounds, options)
             .map_err(|e| format!("camera {index}: {e}")),
         None => Ok(framing(bounds)),
     }
 }
 
-fn perspective(
+fn from_node(
     root: &Root,
     index: usize,
     world: &DAffine3,
     bounds: Aabb,
     options: &mut RenderOptions,
 ) -> Result<Camera, String> {
-    let p = root
+    let camera = root
         .cameras
         .get(index)
-        .and_then(|c| c.perspective.as_ref())
-        .ok_or("a perspective camera needs a 'perspective' object")?;
+        .ok_or_else(|| format!("does not exist (the file has {})", root.cameras.len()))?;
+    let (fov, projection) = match (&camera.perspective, &camera.orthographic) {
+        (Some(p), _) => (perspective_fov(p, options)?, Projection::Perspective),
+        (None, Some(o)) => (0.0, orthographic(o, options)?),
+        (None, None) => {
+            return Err("expected a 'perspective' or an 'orthographic' object".into());
+        }
+    };
+    let mut camera = pose(world, bounds)?;
+    camera.fov_degrees = fov.to_degrees();
+    camera.projection = projection;
+    Ok(camera)
+}
+
+/// Shapes the image to `aspect` (width / height), keeping its longer side.
+fn shape_image(aspect: f32, options: &mut RenderOptions) {
+    let long = options.width.max(options.height) as f32;
+    let (w, h) = if aspect >= 1.0 {
+        (long, long / aspect)
+    } else {
+        (long * aspect, long)
+    };
+    options.width = (w.round() as u32).max(1);
+    options.height = (h.round() as u32).max(1);
+}
+
+/// The field of view across the shorter image side, in radians.
+fn perspective_fov(
+    p: &gltf::json::camera::Perspective,
+    options: &mut RenderOptions,
+) -> Result<f32, String> {
     let yfov = p.yfov;
     if !(yfov > 0.0 && yfov < std::f32::consts::PI) {
         return Err(format!(
@@ -54,24 +85,38 @@ fn perspective(
         if !(a > 0.0 && a.is_finite()) {
             return Err(format!("aspectRatio is {a}; expected a number > 0"));
         }
-        // Keep the longer image side, shape the other to the camera's aspect ratio.
-        let long = options.width.max(options.height) as f32;
-        let (w, h) = if a >= 1.0 {
-            (long, long / a)
-        } else {
-            (long * a, long)
-        };
-        options.width = (w.round() as u32).max(1);
-        options.height = (h.round() as u32).max(1);
+        shape_image(a, options);
     }
     let aspect = options.width as f32 / options.height as f32;
     // Portrait images: prism's field of view spans the width, the shorter side.
-    let fov = if aspect >= 1.0 {
+    Ok(if aspect >= 1.0 {
         yfov
     } else {
         2.0 * (aspect * (yfov * 0.5).tan()).atan()
-    };
+    })
+}
 
+/// An orthographic window: the image takes its shape, and the projection its size across
+/// the shorter side.
+fn orthographic(
+    o: &gltf::json::camera::Orthographic,
+    options: &mut RenderOptions,
+) -> Result<Projection, String> {
+    let (x, y) = (o.xmag.abs(), o.ymag.abs());
+    if !(x > 0.0 && x.is_finite() && y > 0.0 && y.is_finite()) {
+        return Err(format!(
+            "xmag {} and ymag {}; expected non-zero finite half-sizes of the view",
+            o.xmag, o.ymag
+        ));
+    }
+    shape_image(x / y, options);
+    Ok(Projection::Orthographic {
+        size: 2.0 * x.min(y),
+    })
+}
+
+/// Eye, look-at point and up vector from the camera node's world transform.
+fn pose(world: &DAffine3, bounds: Aabb) -> Result<Camera, String> {
     let eye = world.translation.as_vec3();
     let forward = world.transform_vector3(DVec3::NEG_Z).try_normalize();
     let up = world.transform_vector3(DVec3::Y).try_normalize();
@@ -96,7 +141,8 @@ fn perspective(
         eye,
         look_at: eye + forward.as_vec3() * distance,
         up: up.as_vec3(),
-        fov_degrees: fov.to_degrees(),
+        fov_degrees: DEFAULT_FOV_DEGREES,
+        projection: Projection::Perspective,
     })
 }
 
@@ -121,5 +167,6 @@ fn framing(bounds: Aabb) -> Camera {
         look_at: center,
         up: Vec3::Y,
         fov_degrees: DEFAULT_FOV_DEGREES,
+        projection: Projection::Perspective,
     }
 }

@@ -137,16 +137,7 @@ fn build(
 
     let bounds = scene.geometry.world_bounds();
     scene.camera = camera::camera(root, placed.camera, bounds, &mut scene.options)?;
-    if let Some(&first) = placed.orthographic_cameras.first() {
-        let instead = match placed.camera {
-            Some((index, _)) => format!("the perspective camera {index}"),
-            None => "a default perspective view that frames the scene".to_string(),
-        };
-        scene.warnings.push(format!(
-            "camera {first} is orthographic, which prism does not render; using \
-             {instead}"
-        ));
-    }
+
     scene.lights = lights::lights(root, &placed.lights, bounds)?;
     if scene.lights.is_empty() {
         scene.lights.push(lights::default_light(&scene.camera));

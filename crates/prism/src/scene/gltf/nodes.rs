@@ -4,8 +4,6 @@
 
 use super::transform;
 use glam::DAffine3;
-use gltf::json::camera::Type as CameraType;
-use gltf::json::validation::Checked;
 use gltf::json::Root;
 
 /// What the scene's nodes place in the world.
@@ -13,13 +11,10 @@ use gltf::json::Root;
 pub struct Placed {
     /// Node index, mesh index and world transform, one entry per node that has a mesh.
     pub meshes: Vec<(usize, usize, DAffine3)>,
-    /// The first perspective camera met in the walk, with its world transform.
+    /// The first camera met in the walk, with its world transform.
     pub camera: Option<(usize, DAffine3)>,
     /// KHR_lights_punctual light index and world transform.
     pub lights: Vec<(usize, DAffine3)>,
-    /// Orthographic cameras met in the walk, which prism passes over (it renders
-    /// perspective views only).
-    pub orthographic_cameras: Vec<usize>,
 }
 
 /// The nodes to start from: the file's `scene`, else its first scene, else (a file
@@ -73,15 +68,7 @@ pub fn walk(root: &Root) -> Result<Placed, String> {
             placed.meshes.push((index, mesh.value(), world));
         }
         if let Some(camera) = node.camera {
-            let perspective = root
-                .cameras
-                .get(camera.value())
-                .is_some_and(|c| matches!(c.type_, Checked::Valid(CameraType::Perspective)));
-            if perspective && placed.camera.is_none() {
-                placed.camera = Some((camera.value(), world));
-            } else if !perspective {
-                placed.orthographic_cameras.push(camera.value());
-            }
+            placed.camera.get_or_insert((camera.value(), world));
         }
         if let Some(light) = node
             .extensions

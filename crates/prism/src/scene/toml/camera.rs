@@ -3,7 +3,7 @@
 
 use super::diagnostics::Problem;
 use super::schema::CameraDef;
-use crate::camera::{Camera, CameraError};
+use crate::camera::{Camera, CameraError, Projection};
 use std::ops::Range;
 use toml::Spanned;
 
@@ -22,6 +22,11 @@ pub fn camera(def: Spanned<CameraDef>, defaults: Camera) -> Result<Camera, Probl
             .fov
             .as_ref()
             .map_or(defaults.fov_degrees, |v| v.get_ref().0),
+        projection: def.orthographic.as_ref().map_or(defaults.projection, |v| {
+            Projection::Orthographic {
+                size: v.get_ref().0,
+            }
+        }),
     };
     let span_of = |key: Option<Range<usize>>| key.unwrap_or_else(|| table.clone());
     camera.validate().map_err(|e| {
@@ -37,6 +42,10 @@ pub fn camera(def: Spanned<CameraDef>, defaults: Camera) -> Result<Camera, Probl
             CameraError::FieldOfView(_) => (
                 span_of(def.fov.as_ref().map(Spanned::span)),
                 "expected fov in degrees, greater than 0 and less than 180",
+            ),
+            CameraError::OrthographicSize(_) => (
+                span_of(def.orthographic.as_ref().map(Spanned::span)),
+                "expected orthographic = the view's size across the shorter image side, > 0",
             ),
         };
         Problem::at(span, format!("invalid camera: {e}; {hint}"))

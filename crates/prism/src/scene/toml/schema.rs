@@ -35,6 +35,8 @@ pub struct CameraDef {
     pub look_at: Option<Spanned<Point>>,
     pub up: Option<Spanned<Direction>>,
     pub fov: Option<Spanned<Finite>>,
+    /// Makes the camera orthographic, its view this many units across the shorter side.
+    pub orthographic: Option<Spanned<Finite>>,
 }
 
 #[derive(Debug, Default, Deserialize)]
