@@ -121,7 +121,7 @@ fn a_closed_stdout_ends_quietly() {
             "bvh",
         ][..],
     ] {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_prism"))
+        let mut child = Command::new(common::bin())
             .args(args)
             .current_dir(&dir)
             .stdout(Stdio::piped())
@@ -233,7 +233,7 @@ fn a_failed_write_leaves_no_temporary_file() {
         // ulimit -f 1: no file may grow past 1 KiB, as on a disk that is full.
         let script = format!(
             "ulimit -f 1; exec \"{}\" render -b cornell -q -W 96 -H 96 -o {output} {extra}",
-            env!("CARGO_BIN_EXE_prism")
+            common::bin().to_string_lossy()
         );
         let out = Command::new("sh")
             .args(["-c", &script])
@@ -254,7 +254,7 @@ fn a_failed_write_leaves_no_temporary_file() {
 // signal stops at once.
 #[cfg(unix)]
 fn spawn_long_render(dir: &Path, output: &str) -> std::process::Child {
-    Command::new(env!("CARGO_BIN_EXE_prism"))
+    Command::new(common::bin())
         // Minutes of work: the signal always arrives mid-render.
         .args(["render", "-b", "sphereflake", "-W", "1600", "-H", "1600"])
         .args(["--spp", "64", "--threads", "1", "-o", output])

@@ -14,9 +14,15 @@ pub fn work_dir(suite: &str, test: &str) -> PathBuf {
     dir
 }
 
+/// The binary under test: the one cargo built, or another one named by `PRISM_BIN` (to run
+/// the suite against an older build for a before/after comparison).
+pub fn bin() -> std::ffi::OsString {
+    std::env::var_os("PRISM_BIN").unwrap_or_else(|| env!("CARGO_BIN_EXE_prism").into())
+}
+
 /// Runs `prism ARGS` in `dir`.
 pub fn prism(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_prism"))
+    Command::new(bin())
         .args(args)
         .current_dir(dir)
         .output()
