@@ -2,43 +2,6 @@
 //! hit, over the bounded primitives of a `Geometry`; the brute-force list is the oracle the
 //! tests hold the others to.
 
-/// Implements `Accel` for a structure whose two queries are one inherent walk,
-/// `traverse(geometry, ray, t_max, stats, any)`, that stops at the first hit when `any`
-/// is set, and which describes itself with an inherent `info()`.
-macro_rules! accel_from_traverse {
-    (impl<$($param:ident: $bound:path),*> $structure:ty) => {
-        impl<$($param: $bound),*> $crate::accel::Accel for $structure {
-            fn intersect(
-                &self,
-                geometry: &$crate::geometry::Geometry,
-                ray: &$crate::math::TraceRay,
-                t_max: f32,
-                stats: &mut $crate::stats::Stats,
-            ) -> Option<$crate::accel::Hit> {
-                self.traverse(geometry, ray, t_max, stats, false)
-            }
-
-            fn occluded(
-                &self,
-                geometry: &$crate::geometry::Geometry,
-                ray: &$crate::math::TraceRay,
-                t_max: f32,
-                stats: &mut $crate::stats::Stats,
-            ) -> bool {
-                self.traverse(geometry, ray, t_max, stats, true).is_some()
-            }
-
-            fn info(&self) -> $crate::accel::AccelInfo {
-                self.info()
-            }
-        }
-    };
-    ($structure:ty) => {
-        $crate::accel::accel_from_traverse!(impl<> $structure);
-    };
-}
-pub(crate) use accel_from_traverse;
-
 mod brute;
 pub mod bvh;
 mod cells;
@@ -47,7 +10,9 @@ mod info;
 pub mod kdtree;
 mod mailbox;
 pub mod octree;
+mod query;
 mod spec;
+mod stack;
 pub mod volumes;
 
 pub use brute::BruteForce;
@@ -56,34 +21,34 @@ pub use grid::{Grid, GridOptions};
 pub use info::AccelInfo;
 pub use kdtree::{KdTree, KdTreeOptions};
 pub use octree::{Octree, OctreeOptions};
+pub use query::{Hit, QueryMode};
 pub use spec::AccelSpec;
 
 use crate::geometry::Geometry;
 use crate::math::{Ray, TraceRay};
 use crate::stats::Stats;
+use query::HitSearch;
 use serde::{Deserialize, Serialize};
 
-/// The nearest intersection found along a ray.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Hit {
-    pub t: f32,
-    pub prim: u32,
-    /// Shape-specific hit parameters (see `ShapeHit`).
-    pub u: f32,
-    pub v: f32,
-}
-
-impl Hit {
-    pub fn shape_hit(&self) -> crate::geometry::ShapeHit {
-        crate::geometry::ShapeHit {
-            t: self.t,
-            u: self.u,
-            v: self.v,
-        }
-    }
-}
-
+/// An acceleration structure: answers ray queries over the bounded primitives it was
+/// built on. A method implements `query` (and `info`); `intersect` and `occluded` are the
+/// two modes of it that the renderer asks for. Implementations mark `query`
+/// `#[inline(always)]` so each mode compiles to its own specialised walk.
 pub trait Accel: Send + Sync {
+    /// Hits with `0 < t < t_max`: the nearest (exact ties to the lower primitive id, see
+    /// `HitSearch`) or, for `QueryMode::Any`, whichever is found first.
+    fn query(
+        &self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        t_max: f32,
+        mode: QueryMode,
+        stats: &mut Stats,
+    ) -> Option<Hit>;
+
+    /// What was built: node counts, depth, leaf sizes, SAH cost, memory.
+    fn info(&self) -> AccelInfo;
+
     /// Nearest hit with `0 < t < t_max`.
     fn intersect(
         &self,
@@ -91,13 +56,15 @@ pub trait Accel: Send + Sync {
         ray: &TraceRay,
         t_max: f32,
         stats: &mut Stats,
-    ) -> Option<Hit>;
+    ) -> Option<Hit> {
+        self.query(geometry, ray, t_max, QueryMode::Nearest, stats)
+    }
 
     /// Whether anything is hit with `0 < t < t_max`; may stop at the first hit found.
-    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool;
-
-    /// What was built: node counts, depth, leaf sizes, SAH cost, memory.
-    fn info(&self) -> AccelInfo;
+    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
+        self.query(geometry, ray, t_max, QueryMode::Any, stats)
+            .is_some()
+    }
 
     /// A one-line description for `--stats` and `prism info`.
     fn describe(&self) -> String {
@@ -199,20 +166,14 @@ impl SceneIntersector {
         stats: &mut Stats,
     ) -> Option<Hit> {
         let tr = TraceRay::new(*ray);
-        let mut best = self.accel.intersect(geometry, &tr, t_max, stats);
-        let mut t_max = best.map_or(t_max, |h| h.t);
-        for &prim in &self.unbounded {
-            if let Some(h) = geometry.intersect_counted(prim, &tr, t_max, stats) {
-                t_max = h.t;
-                best = Some(Hit {
-                    t: h.t,
-                    prim,
-                    u: h.u,
-                    v: h.v,
-                });
-            }
+        let mut search = HitSearch::new(t_max, QueryMode::Nearest);
+        if let Some(hit) = self.accel.intersect(geometry, &tr, t_max, stats) {
+            search.offer(hit);
         }
-        best
+        for &prim in &self.unbounded {
+            search.test_unbounded(geometry, &tr, prim, stats);
+        }
+        search.best()
     }
 
     pub fn occluded(&self, geometry: &Geometry, ray: &Ray, t_max: f32, stats: &mut Stats) -> bool {

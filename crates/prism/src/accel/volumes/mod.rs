@@ -30,7 +30,7 @@ pub use sphere::BoundingSphere;
 pub use traverse::CULL_SLACK;
 pub use volume::Volume;
 
-use crate::accel::{Accel, AccelInfo, Bvh, BvhOptions, Hit};
+use crate::accel::{Accel, AccelInfo, Bvh, BvhOptions, Hit, QueryMode};
 use crate::geometry::Geometry;
 use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
@@ -157,6 +157,18 @@ pub fn build_measurable(
 }
 
 impl Accel for Box<dyn VolumeAccel> {
+    fn query(
+        &self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        t_max: f32,
+        mode: QueryMode,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
+        self.accel().query(geometry, ray, t_max, mode, stats)
+    }
+
+    // The two modes forwarded as well, so they reach the walks specialised for them.
     fn intersect(
         &self,
         geometry: &Geometry,
