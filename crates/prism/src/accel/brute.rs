@@ -1,11 +1,27 @@
 //! Brute force: test every primitive. Slow and obviously right, the oracle for the others.
 
+use super::params::{Key, Method};
 use super::query::HitSearch;
 use super::{Accel, AccelInfo, Hit, QueryMode};
 use crate::geometry::Geometry;
 use crate::math::TraceRay;
 use crate::stats::Stats;
 
+/// Brute force has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BruteForceOptions;
+
+impl Method for BruteForceOptions {
+    const NAME: &'static str = "brute-force";
+    const SUMMARY: &'static str = "test every primitive: the reference";
+    const KEYS: &'static [Key<Self>] = &[];
+
+    fn build(&self, _geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
+        Box::new(BruteForce::new(prims))
+    }
+}
+
+/// The primitives in a list, tested one by one.
 pub struct BruteForce {
     prims: Vec<u32>,
 }

@@ -10,25 +10,26 @@ mod info;
 pub mod kdtree;
 mod mailbox;
 pub mod octree;
+mod params;
 mod query;
 mod spec;
 mod stack;
 pub mod volumes;
 
-pub use brute::BruteForce;
+pub use brute::{BruteForce, BruteForceOptions};
 pub use bvh::{Bvh, BvhBuilder, BvhOptions};
 pub use grid::{Grid, GridOptions};
 pub use info::AccelInfo;
 pub use kdtree::{KdTree, KdTreeOptions};
 pub use octree::{Octree, OctreeOptions};
+pub use params::{help_text, markdown, method_doc, Accepts, Key, KeyDoc, Method, MethodDoc, Value};
 pub use query::{Hit, QueryMode};
-pub use spec::AccelSpec;
+pub use spec::{parse_params, AccelKind, AccelSpec};
 
 use crate::geometry::Geometry;
 use crate::math::{Ray, TraceRay};
 use crate::stats::Stats;
 use query::HitSearch;
-use serde::{Deserialize, Serialize};
 
 /// An acceleration structure: answers ray queries over the bounded primitives it was
 /// built on. A method implements `query` (and `info`); `intersect` and `occluded` are the
@@ -81,65 +82,6 @@ pub trait Accel: Send + Sync {
 /// SPD rings, where cylinders meet spheres, showed it). 2⁻¹³ covers the 10⁻⁴-relative
 /// errors the tests provoke; 2⁻¹⁰ cost ~15 % more primitive tests on closed meshes.
 pub const CULL_SLACK: f32 = 1.0 + 1.0 / 8192.0;
-
-/// Which accelerator to build.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum AccelKind {
-    /// Test every primitive: the reference.
-    BruteForce,
-    /// Bounding volume hierarchy, binned SAH build.
-    #[default]
-    Bvh,
-    /// Uniform grid walked by 3D-DDA, with mailboxing.
-    Grid,
-    /// kd-tree, SAH event-sweep build.
-    #[serde(rename = "kdtree")]
-    KdTree,
-    /// Adaptive octree.
-    Octree,
-}
-
-impl AccelKind {
-    pub const ALL: [AccelKind; 5] = [
-        AccelKind::BruteForce,
-        AccelKind::Bvh,
-        AccelKind::Grid,
-        AccelKind::KdTree,
-        AccelKind::Octree,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            AccelKind::BruteForce => "brute-force",
-            AccelKind::Bvh => "bvh",
-            AccelKind::Grid => "grid",
-            AccelKind::KdTree => "kdtree",
-            AccelKind::Octree => "octree",
-        }
-    }
-
-    /// Builds over the given (bounded) primitive indices, with default parameters.
-    pub fn build(self, geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
-        AccelSpec::from(self).build(geometry, prims)
-    }
-}
-
-impl std::str::FromStr for AccelKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        AccelKind::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = AccelKind::ALL.iter().map(|k| k.name()).collect();
-                format!(
-                    "unknown accelerator '{s}', expected one of: {}",
-                    names.join(", ")
-                )
-            })
-    }
-}
 
 /// The whole scene's ray queries: an accelerator over bounded primitives plus a plain list
 /// of unbounded ones (planes), which no bounding structure can hold.

@@ -150,25 +150,19 @@ pub enum ShapeKind {
     Box,
 }
 
-impl ShapeKind {
-    pub const COUNT: usize = 5;
-    pub const ALL: [ShapeKind; Self::COUNT] = [
-        ShapeKind::Sphere,
-        ShapeKind::Triangle,
-        ShapeKind::Plane,
-        ShapeKind::Cone,
-        ShapeKind::Box,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            ShapeKind::Sphere => "sphere",
-            ShapeKind::Triangle => "triangle",
-            ShapeKind::Plane => "plane",
-            ShapeKind::Cone => "cone",
-            ShapeKind::Box => "box",
-        }
+named_kinds! {
+    ShapeKind, "shape kind" {
+        Sphere => "sphere",
+        Triangle => "triangle",
+        Plane => "plane",
+        Cone => "cone",
+        Box => "box",
     }
+}
+
+impl ShapeKind {
+    /// How many kinds there are (the length of per-kind counters).
+    pub const COUNT: usize = ShapeKind::ALL.len();
 }
 
 /// A shape with its material: the unit every accelerator indexes.

@@ -47,47 +47,14 @@ pub enum NodeVolume {
     Hull,
 }
 
-impl NodeVolume {
-    pub const ALL: [NodeVolume; 6] = [
-        NodeVolume::Aabb,
-        NodeVolume::Sphere,
-        NodeVolume::Obb,
-        NodeVolume::Dop14,
-        NodeVolume::Dop26,
-        NodeVolume::Hull,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            NodeVolume::Aabb => "aabb",
-            NodeVolume::Sphere => "sphere",
-            NodeVolume::Obb => "obb",
-            NodeVolume::Dop14 => "dop14",
-            NodeVolume::Dop26 => "dop26",
-            NodeVolume::Hull => "hull",
-        }
-    }
-}
-
-impl std::fmt::Display for NodeVolume {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for NodeVolume {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        NodeVolume::ALL
-            .into_iter()
-            .find(|v| v.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = NodeVolume::ALL.iter().map(|v| v.name()).collect();
-                format!(
-                    "unknown node volume '{s}', expected one of: {}",
-                    names.join(", ")
-                )
-            })
+named_kinds! {
+    NodeVolume, "node volume" {
+        Aabb => "aabb",
+        Sphere => "sphere",
+        Obb => "obb",
+        Dop14 => "dop14",
+        Dop26 => "dop26",
+        Hull => "hull",
     }
 }
 
