@@ -120,10 +120,11 @@ impl SceneIntersector {
 
     pub fn occluded(&self, geometry: &Geometry, ray: &Ray, t_max: f32, stats: &mut Stats) -> bool {
         let tr = TraceRay::new(*ray);
-        self.unbounded.iter().any(|&prim| {
-            geometry
-                .intersect_counted(prim, &tr, t_max, stats)
-                .is_some()
-        }) || self.accel.occluded(geometry, &tr, t_max, stats)
+        // The planes first: a few tests that may spare the walk.
+        let mut planes = HitSearch::new(t_max, QueryMode::Any);
+        self.unbounded
+            .iter()
+            .any(|&prim| planes.test_unbounded(geometry, &tr, prim, stats))
+            || self.accel.occluded(geometry, &tr, t_max, stats)
     }
 }

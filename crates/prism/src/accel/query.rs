@@ -109,7 +109,7 @@ impl HitSearch {
             Some(b) if prim < b.prim => next_up(self.t_max),
             _ => self.t_max,
         };
-        match geometry.intersect_counted(prim, ray, limit, stats) {
+        match counted_test(geometry, prim, ray, limit, stats) {
             Some(h) => self.keep(Hit::new(prim, h)),
             None => false,
         }
@@ -128,7 +128,7 @@ impl HitSearch {
         prim: u32,
         stats: &mut Stats,
     ) -> bool {
-        match geometry.intersect_counted(prim, ray, self.t_max, stats) {
+        match counted_test(geometry, prim, ray, self.t_max, stats) {
             Some(h) => self.keep(Hit::new(prim, h)),
             None => false,
         }
@@ -167,4 +167,19 @@ impl HitSearch {
         self.best = Some(hit);
         self.mode == QueryMode::Any
     }
+}
+
+/// Primitive `prim`'s intersection test, counted in `stats` by shape kind: every test an
+/// accelerator makes goes through here, so the statistics and cost views see them all.
+#[inline(always)]
+fn counted_test(
+    geometry: &Geometry,
+    prim: u32,
+    ray: &TraceRay,
+    t_max: f32,
+    stats: &mut Stats,
+) -> Option<ShapeHit> {
+    let shape = &geometry.primitives[prim as usize].shape;
+    stats.count_test(shape.kind());
+    shape.intersect(&geometry.meshes, ray, t_max)
 }

@@ -20,7 +20,6 @@ pub use sphere::Sphere;
 pub use triangle::{intersect_triangle, TriangleHit};
 
 use crate::math::{Aabb, Ray, TraceRay, Vec2, Vec3};
-use crate::stats::Stats;
 
 /// What an intersection routine reports: the distance and two shape-specific parameters
 /// (barycentrics for triangles, the hit face for boxes, the part hit for cones).
@@ -204,20 +203,6 @@ impl Geometry {
         self.primitives[prim as usize]
             .shape
             .intersect(&self.meshes, ray, t_max)
-    }
-
-    /// `intersect`, recorded in `stats` by shape kind.
-    #[inline]
-    pub fn intersect_counted(
-        &self,
-        prim: u32,
-        ray: &TraceRay,
-        t_max: f32,
-        stats: &mut Stats,
-    ) -> Option<ShapeHit> {
-        let shape = &self.primitives[prim as usize].shape;
-        stats.count_test(shape.kind());
-        shape.intersect(&self.meshes, ray, t_max)
     }
 
     pub fn bounds(&self, prim: u32) -> Option<Aabb> {

@@ -27,7 +27,7 @@
 //! pattern into noise at a fixed cost; with `texture_n` = 0 it is refined to depth − 1
 //! everywhere and one level further where it differs, as before.
 
-use super::hash::uniform;
+use crate::math::hash::uniform;
 use crate::math::{Color, Vec2};
 use serde::{Deserialize, Serialize};
 

@@ -1,13 +1,12 @@
 //! Where a pixel's camera rays go. Per-pixel patterns (centre, grid, random, jittered,
 //! relaxed) give each pixel its own samples; lattice patterns (corners, adaptive) put
 //! samples on pixel corners and edges that neighbouring pixels share. Every random number
-//! comes from `hash`, a function of (pixel, sample index, dimension, seed).
+//! comes from `math::hash`, a function of (pixel, sample index, dimension, seed).
 //!
 //! Filters and the film, which turn samples into pixels, live in `render`.
 
 pub mod adaptive;
 mod grid;
-pub mod hash;
 mod jittered;
 mod random;
 pub mod relaxed;
