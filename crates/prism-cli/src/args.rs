@@ -164,12 +164,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
 
-    /// Acceleration structure and its parameters, METHOD[:KEY=VALUE,...]: bvh (the
-    /// default; keys build=binned|sweep|median|lbvh, reinsert,
-    /// volume=aabb|sphere|obb|dop14|dop26|hull, bins, leaf, trav, split), grid (lambda,
-    /// cells), kdtree (trav, isect, empty-bonus, depth), octree (leaf, depth) or
-    /// brute-force. Example: bvh:build=sweep,reinsert.
-    #[arg(long, value_name = "SPEC")]
+    // The help lists every method's keys from their tables (`Method::KEYS`).
+    #[arg(long, value_name = "SPEC", help = AccelSpec::help())]
     pub accel: Option<AccelSpec>,
 
     /// Apply a published testing procedure: `spd` = Haines' SPD rules (corner rays, depth

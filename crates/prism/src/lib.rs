@@ -6,6 +6,9 @@
 //! parallel through the [`integrator::Whitted`] integrator into a [`render::Film`]; and
 //! [`output::write_image`] encodes it. ARCHITECTURE.md maps the modules.
 
+#[macro_use]
+mod kinds;
+
 pub mod accel;
 pub mod bench;
 pub mod camera;

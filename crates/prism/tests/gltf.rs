@@ -14,6 +14,7 @@ use prism::shading::{FresnelMode, Highlight, Texture};
 use prism::Scene;
 mod common;
 
+use common::mutate::{apply, Mutation};
 use common::scratch::ScratchDir;
 use proptest::prelude::*;
 use serde_json::{json, Value};
@@ -776,27 +777,6 @@ fn points_and_lines_are_skipped() {
 
 // ---- robustness --------------------------------------------------------------------------
 
-#[derive(Clone, Debug)]
-enum Mutation {
-    Delete {
-        at: usize,
-        len: usize,
-    },
-    Duplicate {
-        at: usize,
-        len: usize,
-    },
-    Replace {
-        at: usize,
-        byte: u8,
-    },
-    /// Replaces the first number at or after `at`.
-    Number {
-        at: usize,
-        value: &'static str,
-    },
-}
-
 const MUTATION_BYTES: &[u8] = b"[]{}:\",.-+ 0123456789eE\"\x00\xff";
 const MUTATION_VALUES: &[&str] = &[
     "-1",
@@ -823,44 +803,6 @@ fn mutation() -> impl Strategy<Value = Mutation> {
         (any::<usize>(), prop::sample::select(MUTATION_VALUES))
             .prop_map(|(at, value)| Mutation::Number { at, value }),
     ]
-}
-
-fn apply(bytes: &mut Vec<u8>, m: &Mutation) {
-    if bytes.is_empty() {
-        return;
-    }
-    match *m {
-        Mutation::Delete { at, len } => {
-            let at = at % bytes.len();
-            let end = (at + len).min(bytes.len());
-            bytes.drain(at..end);
-        }
-        Mutation::Duplicate { at, len } => {
-            let at = at % bytes.len();
-            let end = (at + len).min(bytes.len());
-            let copy = bytes[at..end].to_vec();
-            bytes.splice(end..end, copy);
-        }
-        Mutation::Replace { at, byte } => {
-            let at = at % bytes.len();
-            bytes[at] = byte;
-        }
-        Mutation::Number { at, value } => {
-            let at = at % bytes.len();
-            let Some(start) = bytes[at..]
-                .iter()
-                .position(u8::is_ascii_digit)
-                .map(|i| at + i)
-            else {
-                return;
-            };
-            let end = bytes[start..]
-                .iter()
-                .position(|b| !(b.is_ascii_digit() || b"-+.eE".contains(b)))
-                .map_or(bytes.len(), |i| start + i);
-            bytes.splice(start..end, value.bytes());
-        }
-    }
 }
 
 proptest! {

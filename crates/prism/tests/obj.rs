@@ -5,7 +5,20 @@
 
 mod common;
 
-use common::mesh_files::{apply, render_at, temp_dir, write, Mutation, TestMesh};
+use common::mesh_files::{render_at, temp_dir, write, TestMesh};
+use common::mutate::{apply, Mutation};
+use common::work::{allocated_by, Counting};
+
+#[global_allocator]
+static COUNTING: Counting = Counting;
+
+/// What parsing an OBJ text may allocate per byte of it: tobj's vectors of positions,
+/// normals, uvs and indices (f32 or u32 from as little as two bytes each), prism's mesh
+/// built from them and the growth of the vectors, with room to spare.
+const BYTES_PER_INPUT_BYTE: usize = 512;
+
+/// Allowance for fixed costs (a default material, small tables) on top of that.
+const BASE_BYTES: usize = 1 << 20;
 use common::scratch::ScratchDir;
 use prism::math::{Color, Vec3};
 use prism::scene::mesh_file::{load_mesh_file, Materials, MeshFile};
@@ -13,7 +26,6 @@ use prism::scene::{load, obj, parse_toml, LoadError};
 use prism::shading::{FresnelMode, Highlight, Texture};
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -21,24 +33,21 @@ fn repo() -> PathBuf {
 
 #[test]
 fn the_stanford_bunny_loads_with_its_counts() {
-    let path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/meshes/stanford-bunny.obj");
-    if !path.exists() {
-        eprintln!(
-            "skipped: {} is absent (the shared meshes folder sits beside the repository)",
-            path.display()
-        );
+    let Some(path) = common::shared_data("meshes/stanford-bunny.obj") else {
         return;
-    }
-    let start = Instant::now();
-    let file = load_mesh_file(&path, Materials::Read).unwrap_or_else(|e| panic!("{e}"));
-    let elapsed = start.elapsed();
+    };
+    let (file, allocated) = allocated_by(|| load_mesh_file(&path, Materials::Read));
+    let file = file.unwrap_or_else(|e| panic!("{e}"));
+    let size = std::fs::metadata(&path).unwrap().len() as usize;
     assert_eq!(file.defined_vertices, 35_947);
     assert_eq!(file.triangle_count(), 69_451);
     // 1,113 of the file's vertices belong to no face; tobj keeps only the used ones.
     assert_eq!(file.vertex_count(), 34_834);
     assert_eq!((file.parts.len(), file.parts[0].material), (1, None));
-    assert!(elapsed < Duration::from_secs(5), "loading took {elapsed:?}");
+    assert!(
+        allocated <= BASE_BYTES + BYTES_PER_INPUT_BYTE * size,
+        "{allocated} bytes allocated for a {size}-byte file"
+    );
 
     let scene = load(&path).expect("the bunny is a scene");
     assert!(scene.camera.validate().is_ok());
@@ -711,9 +720,11 @@ proptest! {
             apply(&mut bytes, m);
         }
         let text = String::from_utf8_lossy(&bytes);
-        let start = Instant::now();
-        let result = obj::parse(&text, &gems, Materials::Read);
-        prop_assert!(start.elapsed() < Duration::from_secs(2), "took {:?}", start.elapsed());
+        let (result, allocated) = allocated_by(|| obj::parse(&text, &gems, Materials::Read));
+        prop_assert!(
+            allocated <= BASE_BYTES + BYTES_PER_INPUT_BYTE * bytes.len(),
+            "{} bytes allocated for a {}-byte file", allocated, bytes.len()
+        );
         check_result(result, bytes.len())?;
     }
 

@@ -5,11 +5,23 @@
 
 mod common;
 
-use common::mesh_files::{apply, max_difference, render_at, temp_dir, write, Mutation, TestMesh};
+use common::mesh_files::{max_difference, render_at, temp_dir, write, TestMesh};
+use common::mutate::{apply, Mutation};
+use common::work::{allocated_by, Counting};
+
+#[global_allocator]
+static COUNTING: Counting = Counting;
+
+/// What refusing a small hostile file may allocate: a few pages, whatever the header claims.
+const REFUSAL_BYTES: usize = 1 << 20;
+
+/// What parsing a damaged file may allocate per byte of it: the values of every property
+/// as f64 (8 bytes from as little as one), the mesh built from them and the growth of the
+/// vectors, with room to spare.
+const BYTES_PER_INPUT_BYTE: usize = 512;
 use prism::scene::mesh_file::{load_mesh_file, Materials};
 use prism::scene::{load, ply, LoadError};
 use proptest::prelude::*;
-use std::time::{Duration, Instant};
 
 const SCENE: &str = r#"
 [render]
@@ -551,9 +563,9 @@ fn counts_the_file_cannot_hold_are_refused_before_allocating() {
     // A header that declares a billion vertices over a ten-byte body.
     let mut bytes = binary_header(1_000_000_000, 0, "uchar");
     bytes.extend([0u8; 10]);
-    let start = Instant::now();
-    let error = ply::parse(&bytes, "huge.ply").expect_err("cannot hold them");
-    assert!(start.elapsed() < Duration::from_secs(1));
+    let (result, allocated) = allocated_by(|| ply::parse(&bytes, "huge.ply"));
+    let error = result.expect_err("cannot hold them");
+    assert!(allocated < REFUSAL_BYTES, "allocated {allocated} bytes");
     let message = error.to_string();
     assert!(
         message.starts_with(
@@ -602,9 +614,9 @@ fn counts_the_file_cannot_hold_are_refused_before_allocating() {
     for i in [0i32, 1, 2] {
         bytes.extend(i.to_le_bytes());
     }
-    let start = Instant::now();
-    let file = ply::parse(&bytes, "empty-element.ply").unwrap_or_else(|e| panic!("{e}"));
-    assert!(start.elapsed() < Duration::from_secs(1));
+    let (result, allocated) = allocated_by(|| ply::parse(&bytes, "empty-element.ply"));
+    let file = result.unwrap_or_else(|e| panic!("{e}"));
+    assert!(allocated < REFUSAL_BYTES, "allocated {allocated} bytes");
     assert_eq!(file.triangle_count(), 1);
 }
 
@@ -701,9 +713,11 @@ proptest! {
         for m in &mutations {
             apply(&mut bytes, m);
         }
-        let start = Instant::now();
-        let result = ply::parse(&bytes, "fuzz.ply");
-        prop_assert!(start.elapsed() < Duration::from_secs(2), "took {:?}", start.elapsed());
+        let (result, allocated) = allocated_by(|| ply::parse(&bytes, "fuzz.ply"));
+        prop_assert!(
+            allocated <= REFUSAL_BYTES + BYTES_PER_INPUT_BYTE * bytes.len(),
+            "{} bytes allocated for a {}-byte file", allocated, bytes.len()
+        );
         match result {
             Ok(file) => {
                 // Nothing is made from nothing: every vertex and corner came from the file.

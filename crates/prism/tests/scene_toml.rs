@@ -4,6 +4,7 @@
 
 mod common;
 
+use common::mutate::{apply, Mutation};
 use common::scratch::ScratchDir;
 use prism::geometry::ShapeHit;
 use prism::math::{Color, Vec3};
@@ -762,27 +763,6 @@ const MUTATION_VALUES: &[&str] = &[
     "-0.0",
 ];
 
-#[derive(Clone, Debug)]
-enum Mutation {
-    Delete {
-        at: usize,
-        len: usize,
-    },
-    Duplicate {
-        at: usize,
-        len: usize,
-    },
-    Replace {
-        at: usize,
-        byte: u8,
-    },
-    /// Replaces the first number at or after `at` with another value.
-    Number {
-        at: usize,
-        value: &'static str,
-    },
-}
-
 fn mutation() -> impl Strategy<Value = Mutation> {
     prop_oneof![
         (any::<usize>(), 1usize..24).prop_map(|(at, len)| Mutation::Delete { at, len }),
@@ -793,44 +773,6 @@ fn mutation() -> impl Strategy<Value = Mutation> {
         (any::<usize>(), prop::sample::select(MUTATION_VALUES))
             .prop_map(|(at, value)| Mutation::Number { at, value }),
     ]
-}
-
-fn apply(bytes: &mut Vec<u8>, m: &Mutation) {
-    if bytes.is_empty() {
-        return;
-    }
-    match *m {
-        Mutation::Delete { at, len } => {
-            let at = at % bytes.len();
-            let end = (at + len).min(bytes.len());
-            bytes.drain(at..end);
-        }
-        Mutation::Duplicate { at, len } => {
-            let at = at % bytes.len();
-            let end = (at + len).min(bytes.len());
-            let copy = bytes[at..end].to_vec();
-            bytes.splice(end..end, copy);
-        }
-        Mutation::Replace { at, byte } => {
-            let at = at % bytes.len();
-            bytes[at] = byte;
-        }
-        Mutation::Number { at, value } => {
-            let is_number = |b: &u8| b.is_ascii_digit() || b"-+.eE".contains(b);
-            let Some(start) = bytes[at % bytes.len()..]
-                .iter()
-                .position(|b| b.is_ascii_digit())
-                .map(|i| at % bytes.len() + i)
-            else {
-                return;
-            };
-            let end = bytes[start..]
-                .iter()
-                .position(|b| !is_number(b))
-                .map_or(bytes.len(), |i| start + i);
-            bytes.splice(start..end, value.bytes());
-        }
-    }
 }
 
 proptest! {

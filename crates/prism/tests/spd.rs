@@ -1,7 +1,10 @@
 //! The Standard Procedural Databases (../shared/scenes/spd, beside the repository): every
 //! file loads with the primitive counts its text implies, and the SPD testing procedure's
 //! ray counts agree with the reference counts in SPD's Readme within the 10 % it allows.
-//! Skipped, with a message, where the shared folder is absent (a user's clone).
+//! Skipped, with a message on the terminal, where the shared folder is absent (a user's
+//! clone); under CI a missing folder fails the tests instead.
+
+mod common;
 
 use prism::geometry::{Shape, ShapeKind};
 use prism::render::render;
@@ -9,16 +12,7 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 
 fn spd_dir() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes/spd");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "skipped: {} not found (SPD scenes live outside the repository)",
-            dir.display()
-        );
-        None
-    }
+    common::shared_data("scenes/spd")
 }
 
 /// Spheres, cones and triangles an NFF text describes (an n-gon is n − 2 triangles),

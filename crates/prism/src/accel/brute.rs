@@ -1,10 +1,27 @@
 //! Brute force: test every primitive. Slow and obviously right, the oracle for the others.
 
-use super::{Accel, AccelInfo, Hit};
+use super::params::{Key, Method};
+use super::query::HitSearch;
+use super::{Accel, AccelInfo, Hit, QueryMode};
 use crate::geometry::Geometry;
 use crate::math::TraceRay;
 use crate::stats::Stats;
 
+/// Brute force has no parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BruteForceOptions;
+
+impl Method for BruteForceOptions {
+    const NAME: &'static str = "brute-force";
+    const SUMMARY: &'static str = "test every primitive: the reference";
+    const KEYS: &'static [Key<Self>] = &[];
+
+    fn build(&self, _geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
+        Box::new(BruteForce::new(prims))
+    }
+}
+
+/// The primitives in a list, tested one by one.
 pub struct BruteForce {
     prims: Vec<u32>,
 }
@@ -16,38 +33,22 @@ impl BruteForce {
 }
 
 impl Accel for BruteForce {
-    fn intersect(
+    #[inline(always)]
+    fn query(
         &self,
         geometry: &Geometry,
         ray: &TraceRay,
-        mut t_max: f32,
+        t_max: f32,
+        mode: QueryMode,
         stats: &mut Stats,
     ) -> Option<Hit> {
-        let mut best = None;
+        let mut search = HitSearch::new(t_max, mode);
         for &prim in &self.prims {
-            if let Some(h) = geometry.intersect_counted(prim, ray, t_max, stats) {
-                t_max = h.t;
-                best = Some(Hit {
-                    t: h.t,
-                    prim,
-                    u: h.u,
-                    v: h.v,
-                });
+            if search.test(geometry, ray, prim, stats) {
+                break;
             }
         }
-        best
-    }
-
-    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
-        for &prim in &self.prims {
-            if geometry
-                .intersect_counted(prim, ray, t_max, stats)
-                .is_some()
-            {
-                return true;
-            }
-        }
-        false
+        search.best()
     }
 
     fn info(&self) -> AccelInfo {

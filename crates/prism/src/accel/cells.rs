@@ -3,9 +3,9 @@
 //! through a box, and the cell-by-cell search for the nearest hit.
 
 use super::mailbox::Mailbox;
-use super::Hit;
+use super::query::{HitSearch, QueryMode};
 use crate::geometry::Geometry;
-use crate::math::robust::{gamma, next_up};
+use crate::math::robust::gamma;
 use crate::math::{Aabb, TraceRay, Vec3};
 use crate::stats::Stats;
 
@@ -80,7 +80,8 @@ pub(crate) fn plane_crossing(ray: &TraceRay, axis: usize, position: f32) -> f32 
     }
 }
 
-/// The state of one nearest- or any-hit query as it walks cells front to back.
+/// The state of one nearest- or any-hit query as it walks cells front to back: the shared
+/// `HitSearch` plus a mailbox.
 ///
 /// Hits are kept even when they lie beyond the cell being searched (the primitive reaches
 /// into later cells): the mailbox stops those primitives from being tested again, so the
@@ -88,18 +89,15 @@ pub(crate) fn plane_crossing(ray: &TraceRay, axis: usize, position: f32) -> f32 
 /// current cell's exit, because everything not yet tested lies beyond that exit. That is
 /// the classic "a hit only counts inside its cell" rule, without dropping hits.
 pub(crate) struct CellSearch {
-    pub(crate) best: Option<Hit>,
-    pub(crate) t_max: f32,
-    any: bool,
+    pub(crate) hits: HitSearch,
     mailbox: Mailbox,
 }
 
 impl CellSearch {
-    pub(crate) fn new(t_max: f32, any: bool) -> Self {
+    #[inline(always)]
+    pub(crate) fn new(t_max: f32, mode: QueryMode) -> Self {
         CellSearch {
-            best: None,
-            t_max,
-            any,
+            hits: HitSearch::new(t_max, mode),
             mailbox: Mailbox::new(),
         }
     }
@@ -117,31 +115,10 @@ impl CellSearch {
         stats: &mut Stats,
     ) -> bool {
         for &prim in prims {
-            if !self.mailbox.first_visit(prim) {
-                continue;
-            }
-            // Exact ties go to the lower primitive id, as in the brute-force list, so the
-            // answer does not depend on the order cells are walked in: a lower id is tested
-            // against a bound one ulp farther and kept if it reaches the best distance.
-            let lower = self.best.is_some_and(|b| prim < b.prim);
-            let t_max = if lower {
-                next_up(self.t_max)
-            } else {
-                self.t_max
-            };
-            if let Some(h) = geometry.intersect_counted(prim, ray, t_max, stats) {
-                self.t_max = h.t;
-                self.best = Some(Hit {
-                    t: h.t,
-                    prim,
-                    u: h.u,
-                    v: h.v,
-                });
-                if self.any {
-                    return true;
-                }
+            if self.mailbox.first_visit(prim) && self.hits.test(geometry, ray, prim, stats) {
+                return true;
             }
         }
-        self.best.is_some() && self.t_max <= t_exit
+        self.hits.settled_by(t_exit)
     }
 }

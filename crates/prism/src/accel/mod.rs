@@ -2,43 +2,6 @@
 //! hit, over the bounded primitives of a `Geometry`; the brute-force list is the oracle the
 //! tests hold the others to.
 
-/// Implements `Accel` for a structure whose two queries are one inherent walk,
-/// `traverse(geometry, ray, t_max, stats, any)`, that stops at the first hit when `any`
-/// is set, and which describes itself with an inherent `info()`.
-macro_rules! accel_from_traverse {
-    (impl<$($param:ident: $bound:path),*> $structure:ty) => {
-        impl<$($param: $bound),*> $crate::accel::Accel for $structure {
-            fn intersect(
-                &self,
-                geometry: &$crate::geometry::Geometry,
-                ray: &$crate::math::TraceRay,
-                t_max: f32,
-                stats: &mut $crate::stats::Stats,
-            ) -> Option<$crate::accel::Hit> {
-                self.traverse(geometry, ray, t_max, stats, false)
-            }
-
-            fn occluded(
-                &self,
-                geometry: &$crate::geometry::Geometry,
-                ray: &$crate::math::TraceRay,
-                t_max: f32,
-                stats: &mut $crate::stats::Stats,
-            ) -> bool {
-                self.traverse(geometry, ray, t_max, stats, true).is_some()
-            }
-
-            fn info(&self) -> $crate::accel::AccelInfo {
-                self.info()
-            }
-        }
-    };
-    ($structure:ty) => {
-        $crate::accel::accel_from_traverse!(impl<> $structure);
-    };
-}
-pub(crate) use accel_from_traverse;
-
 mod brute;
 pub mod bvh;
 mod cells;
@@ -47,43 +10,46 @@ mod info;
 pub mod kdtree;
 mod mailbox;
 pub mod octree;
+mod params;
+mod query;
 mod spec;
+mod stack;
 pub mod volumes;
 
-pub use brute::BruteForce;
+pub use brute::{BruteForce, BruteForceOptions};
 pub use bvh::{Bvh, BvhBuilder, BvhOptions};
 pub use grid::{Grid, GridOptions};
 pub use info::AccelInfo;
 pub use kdtree::{KdTree, KdTreeOptions};
 pub use octree::{Octree, OctreeOptions};
-pub use spec::AccelSpec;
+pub use params::{help_text, markdown, method_doc, Accepts, Key, KeyDoc, Method, MethodDoc, Value};
+pub use query::{Hit, QueryMode};
+pub use spec::{parse_params, AccelKind, AccelSpec};
 
 use crate::geometry::Geometry;
 use crate::math::{Ray, TraceRay};
 use crate::stats::Stats;
-use serde::{Deserialize, Serialize};
+use query::HitSearch;
 
-/// The nearest intersection found along a ray.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Hit {
-    pub t: f32,
-    pub prim: u32,
-    /// Shape-specific hit parameters (see `ShapeHit`).
-    pub u: f32,
-    pub v: f32,
-}
-
-impl Hit {
-    pub fn shape_hit(&self) -> crate::geometry::ShapeHit {
-        crate::geometry::ShapeHit {
-            t: self.t,
-            u: self.u,
-            v: self.v,
-        }
-    }
-}
-
+/// An acceleration structure: answers ray queries over the bounded primitives it was
+/// built on. A method implements `query` (and `info`); `intersect` and `occluded` are the
+/// two modes of it that the renderer asks for. Implementations mark `query`
+/// `#[inline(always)]` so each mode compiles to its own specialised walk.
 pub trait Accel: Send + Sync {
+    /// Hits with `0 < t < t_max`: the nearest (exact ties to the lower primitive id, see
+    /// `HitSearch`) or, for `QueryMode::Any`, whichever is found first.
+    fn query(
+        &self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        t_max: f32,
+        mode: QueryMode,
+        stats: &mut Stats,
+    ) -> Option<Hit>;
+
+    /// What was built: node counts, depth, leaf sizes, SAH cost, memory.
+    fn info(&self) -> AccelInfo;
+
     /// Nearest hit with `0 < t < t_max`.
     fn intersect(
         &self,
@@ -91,13 +57,15 @@ pub trait Accel: Send + Sync {
         ray: &TraceRay,
         t_max: f32,
         stats: &mut Stats,
-    ) -> Option<Hit>;
+    ) -> Option<Hit> {
+        self.query(geometry, ray, t_max, QueryMode::Nearest, stats)
+    }
 
     /// Whether anything is hit with `0 < t < t_max`; may stop at the first hit found.
-    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool;
-
-    /// What was built: node counts, depth, leaf sizes, SAH cost, memory.
-    fn info(&self) -> AccelInfo;
+    fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
+        self.query(geometry, ray, t_max, QueryMode::Any, stats)
+            .is_some()
+    }
 
     /// A one-line description for `--stats` and `prism info`.
     fn describe(&self) -> String {
@@ -114,65 +82,6 @@ pub trait Accel: Send + Sync {
 /// SPD rings, where cylinders meet spheres, showed it). 2⁻¹³ covers the 10⁻⁴-relative
 /// errors the tests provoke; 2⁻¹⁰ cost ~15 % more primitive tests on closed meshes.
 pub const CULL_SLACK: f32 = 1.0 + 1.0 / 8192.0;
-
-/// Which accelerator to build.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum AccelKind {
-    /// Test every primitive: the reference.
-    BruteForce,
-    /// Bounding volume hierarchy, binned SAH build.
-    #[default]
-    Bvh,
-    /// Uniform grid walked by 3D-DDA, with mailboxing.
-    Grid,
-    /// kd-tree, SAH event-sweep build.
-    #[serde(rename = "kdtree")]
-    KdTree,
-    /// Adaptive octree.
-    Octree,
-}
-
-impl AccelKind {
-    pub const ALL: [AccelKind; 5] = [
-        AccelKind::BruteForce,
-        AccelKind::Bvh,
-        AccelKind::Grid,
-        AccelKind::KdTree,
-        AccelKind::Octree,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            AccelKind::BruteForce => "brute-force",
-            AccelKind::Bvh => "bvh",
-            AccelKind::Grid => "grid",
-            AccelKind::KdTree => "kdtree",
-            AccelKind::Octree => "octree",
-        }
-    }
-
-    /// Builds over the given (bounded) primitive indices, with default parameters.
-    pub fn build(self, geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
-        AccelSpec::from(self).build(geometry, prims)
-    }
-}
-
-impl std::str::FromStr for AccelKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        AccelKind::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = AccelKind::ALL.iter().map(|k| k.name()).collect();
-                format!(
-                    "unknown accelerator '{s}', expected one of: {}",
-                    names.join(", ")
-                )
-            })
-    }
-}
 
 /// The whole scene's ray queries: an accelerator over bounded primitives plus a plain list
 /// of unbounded ones (planes), which no bounding structure can hold.
@@ -199,28 +108,23 @@ impl SceneIntersector {
         stats: &mut Stats,
     ) -> Option<Hit> {
         let tr = TraceRay::new(*ray);
-        let mut best = self.accel.intersect(geometry, &tr, t_max, stats);
-        let mut t_max = best.map_or(t_max, |h| h.t);
-        for &prim in &self.unbounded {
-            if let Some(h) = geometry.intersect_counted(prim, &tr, t_max, stats) {
-                t_max = h.t;
-                best = Some(Hit {
-                    t: h.t,
-                    prim,
-                    u: h.u,
-                    v: h.v,
-                });
-            }
+        let mut search = HitSearch::new(t_max, QueryMode::Nearest);
+        if let Some(hit) = self.accel.intersect(geometry, &tr, t_max, stats) {
+            search.offer(hit);
         }
-        best
+        for &prim in &self.unbounded {
+            search.test_unbounded(geometry, &tr, prim, stats);
+        }
+        search.best()
     }
 
     pub fn occluded(&self, geometry: &Geometry, ray: &Ray, t_max: f32, stats: &mut Stats) -> bool {
         let tr = TraceRay::new(*ray);
-        self.unbounded.iter().any(|&prim| {
-            geometry
-                .intersect_counted(prim, &tr, t_max, stats)
-                .is_some()
-        }) || self.accel.occluded(geometry, &tr, t_max, stats)
+        // The planes first: a few tests that may spare the walk.
+        let mut planes = HitSearch::new(t_max, QueryMode::Any);
+        self.unbounded
+            .iter()
+            .any(|&prim| planes.test_unbounded(geometry, &tr, prim, stats))
+            || self.accel.occluded(geometry, &tr, t_max, stats)
     }
 }

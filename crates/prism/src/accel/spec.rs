@@ -2,347 +2,256 @@
 //! string so the command line (`--accel`) and the scene file (`accel = "…"`) say it the
 //! same way: `METHOD[:KEY=VALUE,…]`, e.g. `bvh`, `bvh:leaf=4,bins=32`, `grid:lambda=2`,
 //! `kdtree:isect=80`, `bvh:volume=dop14`. A key without a value means `true` for switches.
+//!
+//! The methods are one list (`accel_methods!` below); each method's keys are its own
+//! table (`Method::KEYS`, in the method's files), from which parsing, printing, help and
+//! the documentation check are all derived.
 
-use super::volumes::{self, NodeVolume};
-use super::{
-    Accel, AccelKind, BruteForce, Bvh, BvhOptions, Grid, GridOptions, KdTree, KdTreeOptions,
-    Octree, OctreeOptions,
-};
-use crate::geometry::Geometry;
-use serde::{Deserialize, Serialize};
-use std::fmt;
-use std::str::FromStr;
+use super::params::{help_text, MethodDoc};
+use super::{BruteForceOptions, BvhOptions, GridOptions, KdTreeOptions, OctreeOptions};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-/// An accelerator and its build parameters.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "String", into = "String")]
-pub enum AccelSpec {
-    BruteForce,
+/// Declares the acceleration methods: one line per method, `Variant(OptionsType)`, where
+/// the options type implements `Method`. It makes `AccelKind` (the method alone) and
+/// `AccelSpec` (the method with its parameters), their names, parsing and printing, and
+/// `build`. Exported so a test can declare a list with a toy method of its own.
+#[macro_export]
+macro_rules! accel_methods {
+    ($($(#[$meta:meta])* $variant:ident($options:ty)),+ $(,)?) => {
+        /// Which accelerator to build.
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+        pub enum AccelKind {
+            $($(#[$meta])* $variant,)+
+        }
+
+        impl AccelKind {
+            /// Every method, in the order help texts list them.
+            pub const ALL: [AccelKind; [$(stringify!($variant)),+].len()] =
+                [$(AccelKind::$variant),+];
+
+            /// The method's name as `--accel` writes it.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(AccelKind::$variant => <$options as $crate::accel::Method>::NAME,)+
+                }
+            }
+
+            /// Builds over the given (bounded) primitive indices, with default parameters.
+            pub fn build(
+                self,
+                geometry: &$crate::geometry::Geometry,
+                prims: Vec<u32>,
+            ) -> Box<dyn $crate::accel::Accel> {
+                AccelSpec::from(self).build(geometry, prims)
+            }
+
+            /// Every method's name, summary and keys, read from their tables.
+            pub fn docs() -> Vec<$crate::accel::MethodDoc> {
+                vec![$($crate::accel::method_doc::<$options>()),+]
+            }
+        }
+
+        impl ::std::fmt::Display for AccelKind {
+            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+
+        impl ::std::str::FromStr for AccelKind {
+            type Err = String;
+            fn from_str(s: &str) -> Result<Self, String> {
+                AccelKind::ALL
+                    .into_iter()
+                    .find(|k| k.name() == s)
+                    .ok_or_else(|| {
+                        let names: Vec<_> = AccelKind::ALL.iter().map(|k| k.name()).collect();
+                        format!(
+                            "unknown accelerator '{s}', expected one of: {}",
+                            names.join(", ")
+                        )
+                    })
+            }
+        }
+
+        /// An accelerator and its build parameters.
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum AccelSpec {
+            $(
+                #[doc = concat!("`", stringify!($variant), "` with its parameters.")]
+                $variant($options),
+            )+
+        }
+
+        impl Default for AccelSpec {
+            fn default() -> Self {
+                AccelSpec::from(AccelKind::default())
+            }
+        }
+
+        impl From<AccelKind> for AccelSpec {
+            /// The method with its default parameters.
+            fn from(kind: AccelKind) -> Self {
+                match kind {
+                    $(AccelKind::$variant => AccelSpec::$variant(<$options>::default()),)+
+                }
+            }
+        }
+
+        impl AccelSpec {
+            /// The method without its parameters.
+            pub fn kind(&self) -> AccelKind {
+                match self {
+                    $(AccelSpec::$variant(_) => AccelKind::$variant,)+
+                }
+            }
+
+            /// Builds over the given (bounded) primitive indices.
+            pub fn build(
+                &self,
+                geometry: &$crate::geometry::Geometry,
+                prims: Vec<u32>,
+            ) -> Box<dyn $crate::accel::Accel> {
+                match self {
+                    $(AccelSpec::$variant(o) => $crate::accel::Method::build(o, geometry, prims),)+
+                }
+            }
+
+            fn set_param(&mut self, key: &str, value: Option<&str>) -> Result<(), String> {
+                match self {
+                    $(AccelSpec::$variant(o) => $crate::accel::Method::set_param(o, key, value),)+
+                }
+            }
+
+            fn non_default_params(&self) -> Vec<String> {
+                match self {
+                    $(AccelSpec::$variant(o) => $crate::accel::Method::non_default_params(o),)+
+                }
+            }
+        }
+
+        impl ::std::fmt::Display for AccelSpec {
+            /// The canonical spelling, which parses back to the same spec.
+            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
+                f.write_str(self.kind().name())?;
+                let params = self.non_default_params();
+                if !params.is_empty() {
+                    write!(f, ":{}", params.join(","))?;
+                }
+                Ok(())
+            }
+        }
+
+        impl ::std::str::FromStr for AccelSpec {
+            type Err = String;
+
+            fn from_str(s: &str) -> Result<Self, String> {
+                let (name, params) = match s.split_once(':') {
+                    Some((name, params)) => (name.trim(), Some(params)),
+                    None => (s.trim(), None),
+                };
+                let mut spec = AccelSpec::from(name.parse::<AccelKind>()?);
+                $crate::accel::parse_params(s, params, |key, value| spec.set_param(key, value))?;
+                Ok(spec)
+            }
+        }
+    };
+}
+
+accel_methods! {
+    /// Test every primitive: the reference.
+    BruteForce(BruteForceOptions),
+    /// Bounding volume hierarchy, binned SAH build.
+    #[default]
     Bvh(BvhOptions),
-    /// The same SAH tree with other node volumes than boxes (`bvh:volume=…`); boxes are
-    /// `Bvh` itself.
-    BvhVolume {
-        options: BvhOptions,
-        volume: NodeVolume,
-    },
+    /// Uniform grid walked by 3D-DDA, with mailboxing.
     Grid(GridOptions),
+    /// kd-tree, SAH event-sweep build.
     KdTree(KdTreeOptions),
+    /// Adaptive octree.
     Octree(OctreeOptions),
 }
 
-impl Default for AccelSpec {
-    fn default() -> Self {
-        AccelSpec::from(AccelKind::default())
-    }
-}
-
-impl From<AccelKind> for AccelSpec {
-    /// The method with its default parameters.
-    fn from(kind: AccelKind) -> Self {
-        match kind {
-            AccelKind::BruteForce => AccelSpec::BruteForce,
-            AccelKind::Bvh => AccelSpec::Bvh(BvhOptions::default()),
-            AccelKind::Grid => AccelSpec::Grid(GridOptions::default()),
-            AccelKind::KdTree => AccelSpec::KdTree(KdTreeOptions::default()),
-            AccelKind::Octree => AccelSpec::Octree(OctreeOptions::default()),
+/// Splits `params` (the text after the method's colon, if any) into `KEY[=VALUE]` pairs
+/// and hands each to `set`, rejecting empty and repeated keys; `whole` is the full spec,
+/// for messages.
+pub fn parse_params(
+    whole: &str,
+    params: Option<&str>,
+    mut set: impl FnMut(&str, Option<&str>) -> Result<(), String>,
+) -> Result<(), String> {
+    let mut seen: Vec<&str> = Vec::new();
+    for param in params.into_iter().flat_map(|p| p.split(',')) {
+        let param = param.trim();
+        if param.is_empty() {
+            return Err(format!(
+                "empty parameter in '{whole}': expected KEY=VALUE pairs separated by commas"
+            ));
         }
-    }
-}
-
-impl AccelSpec {
-    pub fn kind(&self) -> AccelKind {
-        match self {
-            AccelSpec::BruteForce => AccelKind::BruteForce,
-            AccelSpec::Bvh(_) | AccelSpec::BvhVolume { .. } => AccelKind::Bvh,
-            AccelSpec::Grid(_) => AccelKind::Grid,
-            AccelSpec::KdTree(_) => AccelKind::KdTree,
-            AccelSpec::Octree(_) => AccelKind::Octree,
-        }
-    }
-
-    /// Builds over the given (bounded) primitive indices.
-    pub fn build(&self, geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
-        match self {
-            AccelSpec::BruteForce => Box::new(BruteForce::new(prims)),
-            AccelSpec::Bvh(o) => Box::new(Bvh::build(geometry, prims, o)),
-            AccelSpec::BvhVolume { options, volume } => {
-                volumes::build(geometry, prims, options, *volume)
-            }
-            AccelSpec::Grid(o) => Box::new(Grid::build(geometry, prims, o)),
-            AccelSpec::KdTree(o) => Box::new(KdTree::build(geometry, prims, o)),
-            AccelSpec::Octree(o) => Box::new(Octree::build(geometry, prims, o)),
-        }
-    }
-
-    /// The parameters that differ from the method's defaults, as `key=value` pairs in the
-    /// order the parser documents them.
-    fn non_default_params(&self) -> Vec<String> {
-        let mut out = Vec::new();
-        let mut put = |key: &str, value: String, default: String| {
-            if value != default {
-                out.push(format!("{key}={value}"));
-            }
+        let (key, value) = match param.split_once('=') {
+            Some((k, v)) => (k.trim(), Some(v.trim())),
+            None => (param, None),
         };
-        match self {
-            AccelSpec::BruteForce => {}
-            AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. } => {
-                let d = BvhOptions::default();
-                put("bins", o.bins.to_string(), d.bins.to_string());
-                put(
-                    "leaf",
-                    o.max_leaf_size.to_string(),
-                    d.max_leaf_size.to_string(),
-                );
-                put(
-                    "trav",
-                    o.traversal_cost.to_string(),
-                    d.traversal_cost.to_string(),
-                );
-                put("build", o.builder.to_string(), d.builder.to_string());
-                put("split", o.presplit.to_string(), d.presplit.to_string());
-                if let AccelSpec::BvhVolume { volume, .. } = self {
-                    put("volume", volume.to_string(), NodeVolume::Aabb.to_string());
-                }
-                if o.reinsert {
-                    out.push("reinsert".to_string());
-                }
-            }
-            AccelSpec::Grid(o) => {
-                let d = GridOptions::default();
-                put("lambda", o.lambda.to_string(), d.lambda.to_string());
-                put("cells", o.max_cells.to_string(), d.max_cells.to_string());
-            }
-            AccelSpec::KdTree(o) => {
-                let d = KdTreeOptions::default();
-                put(
-                    "trav",
-                    o.traversal_cost.to_string(),
-                    d.traversal_cost.to_string(),
-                );
-                put(
-                    "isect",
-                    o.intersection_cost.to_string(),
-                    d.intersection_cost.to_string(),
-                );
-                put(
-                    "empty-bonus",
-                    o.empty_bonus.to_string(),
-                    d.empty_bonus.to_string(),
-                );
-                put("depth", o.max_depth.to_string(), d.max_depth.to_string());
-            }
-            AccelSpec::Octree(o) => {
-                let d = OctreeOptions::default();
-                put(
-                    "leaf",
-                    o.max_leaf_size.to_string(),
-                    d.max_leaf_size.to_string(),
-                );
-                put("depth", o.max_depth.to_string(), d.max_depth.to_string());
-            }
+        if seen.contains(&key) {
+            return Err(format!("'{key}' is given twice in '{whole}'"));
         }
-        out
+        seen.push(key);
+        set(key, value)?;
     }
-}
-
-impl fmt::Display for AccelSpec {
-    /// The canonical spelling, which parses back to the same spec.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.kind().name())?;
-        let params = self.non_default_params();
-        if !params.is_empty() {
-            write!(f, ":{}", params.join(","))?;
-        }
-        Ok(())
-    }
-}
-
-impl From<AccelSpec> for String {
-    fn from(spec: AccelSpec) -> String {
-        spec.to_string()
-    }
-}
-
-impl TryFrom<String> for AccelSpec {
-    type Error = String;
-    fn try_from(s: String) -> Result<Self, String> {
-        s.parse()
-    }
-}
-
-impl FromStr for AccelSpec {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, String> {
-        let (name, params) = match s.split_once(':') {
-            Some((name, params)) => (name.trim(), Some(params)),
-            None => (s.trim(), None),
-        };
-        let mut spec = AccelSpec::from(name.parse::<AccelKind>()?);
-        let mut seen: Vec<&str> = Vec::new();
-        for param in params.into_iter().flat_map(|p| p.split(',')) {
-            let param = param.trim();
-            if param.is_empty() {
-                return Err(format!(
-                    "empty parameter in '{s}': expected KEY=VALUE pairs separated by commas"
-                ));
-            }
-            let (key, value) = match param.split_once('=') {
-                Some((k, v)) => (k.trim(), Some(v.trim())),
-                None => (param, None),
-            };
-            if seen.contains(&key) {
-                return Err(format!("'{key}' is given twice in '{s}'"));
-            }
-            seen.push(key);
-            spec.set(key, Param { key, value })?;
-        }
-        Ok(spec)
-    }
-}
-
-/// One `key=value` pair being applied, with the parsing rules for its value.
-struct Param<'a> {
-    key: &'a str,
-    value: Option<&'a str>,
-}
-
-impl Param<'_> {
-    fn text(&self, expected: &str) -> Result<&str, String> {
-        self.value
-            .filter(|v| !v.is_empty())
-            .ok_or_else(|| format!("'{}' needs a value: expected {expected}", self.key))
-    }
-
-    /// An integer in `lo..=hi`.
-    fn int(&self, lo: usize, hi: usize) -> Result<usize, String> {
-        let expected = format!("an integer from {lo} to {hi}");
-        let text = self.text(&expected)?;
-        match text.parse::<usize>() {
-            Ok(v) if (lo..=hi).contains(&v) => Ok(v),
-            _ => Err(format!(
-                "bad value '{text}' for '{}': expected {expected}",
-                self.key
-            )),
-        }
-    }
-
-    /// A switch: given alone or as `true` means on, `false` off.
-    fn switch(&self) -> Result<bool, String> {
-        match self.value {
-            None | Some("true") => Ok(true),
-            Some("false") => Ok(false),
-            Some(text) => Err(format!(
-                "bad value '{text}' for '{}': expected true or false (or the key alone)",
-                self.key
-            )),
-        }
-    }
-
-    /// A name its type parses (whose error lists the choices).
-    fn choice<T: FromStr<Err = String>>(&self) -> Result<T, String> {
-        self.text("a name")?
-            .parse()
-            .map_err(|e| format!("bad value for '{}': {e}", self.key))
-    }
-
-    /// A node volume by name.
-    fn volume(&self) -> Result<NodeVolume, String> {
-        let names: Vec<&str> = NodeVolume::ALL.iter().map(|v| v.name()).collect();
-        let expected = format!("one of {}", names.join(", "));
-        let text = self.text(&expected)?;
-        text.parse()
-            .map_err(|_| format!("bad value '{text}' for '{}': expected {expected}", self.key))
-    }
-
-    /// A finite number in `lo..=hi`.
-    fn number(&self, lo: f32, hi: f32) -> Result<f32, String> {
-        let expected = format!("a number from {lo} to {hi}");
-        let text = self.text(&expected)?;
-        match text.parse::<f32>() {
-            Ok(v) if v.is_finite() && (lo..=hi).contains(&v) => Ok(v),
-            _ => Err(format!(
-                "bad value '{text}' for '{}': expected {expected}",
-                self.key
-            )),
-        }
-    }
+    Ok(())
 }
 
 impl AccelSpec {
     /// The keys each method takes, for error messages and `--help`.
-    pub fn keys(kind: AccelKind) -> &'static [&'static str] {
-        match kind {
-            AccelKind::BruteForce => &[],
-            AccelKind::Bvh => &[
-                "bins", "leaf", "trav", "build", "reinsert", "split", "volume",
-            ],
-            AccelKind::Grid => &["lambda", "cells"],
-            AccelKind::KdTree => &["trav", "isect", "empty-bonus", "depth"],
-            AccelKind::Octree => &["leaf", "depth"],
-        }
+    pub fn keys(kind: AccelKind) -> Vec<&'static str> {
+        AccelKind::docs()[kind.index()]
+            .keys
+            .iter()
+            .map(|k| k.name)
+            .collect()
     }
 
-    fn set(&mut self, key: &str, p: Param) -> Result<(), String> {
-        if let (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "volume") =
-            (&*self, key)
-        {
-            let options = o.clone();
-            let volume = p.volume()?;
-            *self = match volume {
-                NodeVolume::Aabb => AccelSpec::Bvh(options),
-                volume => AccelSpec::BvhVolume { options, volume },
-            };
-            return Ok(());
-        }
-        match (self, key) {
-            (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "bins") => {
-                o.bins = p.int(2, 256)?
-            }
-            (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "leaf") => {
-                o.max_leaf_size = p.int(1, 1024)?
-            }
-            (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "trav") => {
-                o.traversal_cost = p.number(0.0, 1000.0)?
-            }
-            (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "build") => {
-                o.builder = p.choice()?
-            }
-            (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "reinsert") => {
-                o.reinsert = p.switch()?
-            }
-            (AccelSpec::Bvh(o) | AccelSpec::BvhVolume { options: o, .. }, "split") => {
-                o.presplit = p.number(0.0, 4.0)?
-            }
-            (AccelSpec::Grid(o), "lambda") => o.lambda = p.number(0.01, 100.0)?,
-            (AccelSpec::Grid(o), "cells") => o.max_cells = p.int(1, 1 << 24)?,
-            (AccelSpec::KdTree(o), "trav") => o.traversal_cost = p.number(0.0, 1000.0)?,
-            (AccelSpec::KdTree(o), "isect") => o.intersection_cost = p.number(0.001, 1000.0)?,
-            (AccelSpec::KdTree(o), "empty-bonus") => o.empty_bonus = p.number(0.0, 1.0)?,
-            (AccelSpec::KdTree(o), "depth") => o.max_depth = p.int(0, 60)?,
-            (AccelSpec::Octree(o), "leaf") => o.max_leaf_size = p.int(1, 1024)?,
-            (AccelSpec::Octree(o), "depth") => o.max_depth = p.int(1, 20)?,
-            (spec, _) => {
-                let kind = spec.kind();
-                let keys = AccelSpec::keys(kind);
-                return Err(if keys.is_empty() {
-                    format!("{} takes no parameters, got '{key}'", kind.name())
-                } else {
-                    format!(
-                        "unknown parameter '{key}' for {}, expected one of: {}",
-                        kind.name(),
-                        keys.join(", ")
-                    )
-                });
-            }
-        }
-        Ok(())
+    /// `--accel`'s help: the syntax, then every method with its keys, from their tables.
+    pub fn help() -> String {
+        format!(
+            "Acceleration structure and its parameters, METHOD[:KEY=VALUE,...] \
+             (e.g. bvh:build=sweep,reinsert):{}",
+            help_text(&AccelKind::docs())
+        )
+    }
+
+    /// Every method's name, summary and keys.
+    pub fn docs() -> Vec<MethodDoc> {
+        AccelKind::docs()
+    }
+}
+
+impl AccelKind {
+    /// The position in `ALL`.
+    pub fn index(self) -> usize {
+        AccelKind::ALL
+            .iter()
+            .position(|&k| k == self)
+            .expect("ALL lists every method")
+    }
+}
+
+impl Serialize for AccelSpec {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(&self.to_string())
+    }
+}
+
+impl<'de> Deserialize<'de> for AccelSpec {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let text = String::deserialize(deserializer)?;
+        text.parse().map_err(serde::de::Error::custom)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::volumes::{self, NodeVolume};
     use crate::accel::BvhBuilder;
 
     #[test]
@@ -414,7 +323,7 @@ mod tests {
             ("bvh:leaf", "'leaf' needs a value"),
             (
                 "bvh:build=octopus",
-                "unknown BVH builder 'octopus', expected one of: median, binned, sweep, lbvh",
+                "bad value 'octopus' for 'build': expected one of: median, binned, sweep, lbvh",
             ),
             ("bvh:build", "'build' needs a value"),
             ("bvh:reinsert=yes", "expected true or false"),
@@ -425,7 +334,8 @@ mod tests {
             ("grid:lambda=nan", "expected a number from"),
             (
                 "bvh:volume=cube",
-                "expected one of aabb, sphere, obb, dop14, dop26, hull",
+                "bad value 'cube' for 'volume': expected one of: aabb, sphere, obb, dop14, dop26, \
+                 hull",
             ),
             ("bvh:volume", "'volume' needs a value"),
             ("grid:volume=obb", "unknown parameter 'volume' for grid"),

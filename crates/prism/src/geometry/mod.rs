@@ -20,7 +20,6 @@ pub use sphere::Sphere;
 pub use triangle::{intersect_triangle, TriangleHit};
 
 use crate::math::{Aabb, Ray, TraceRay, Vec2, Vec3};
-use crate::stats::Stats;
 
 /// What an intersection routine reports: the distance and two shape-specific parameters
 /// (barycentrics for triangles, the hit face for boxes, the part hit for cones).
@@ -150,25 +149,19 @@ pub enum ShapeKind {
     Box,
 }
 
-impl ShapeKind {
-    pub const COUNT: usize = 5;
-    pub const ALL: [ShapeKind; Self::COUNT] = [
-        ShapeKind::Sphere,
-        ShapeKind::Triangle,
-        ShapeKind::Plane,
-        ShapeKind::Cone,
-        ShapeKind::Box,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            ShapeKind::Sphere => "sphere",
-            ShapeKind::Triangle => "triangle",
-            ShapeKind::Plane => "plane",
-            ShapeKind::Cone => "cone",
-            ShapeKind::Box => "box",
-        }
+named_kinds! {
+    ShapeKind, "shape kind" {
+        Sphere => "sphere",
+        Triangle => "triangle",
+        Plane => "plane",
+        Cone => "cone",
+        Box => "box",
     }
+}
+
+impl ShapeKind {
+    /// How many kinds there are (the length of per-kind counters).
+    pub const COUNT: usize = ShapeKind::ALL.len();
 }
 
 /// A shape with its material: the unit every accelerator indexes.
@@ -210,20 +203,6 @@ impl Geometry {
         self.primitives[prim as usize]
             .shape
             .intersect(&self.meshes, ray, t_max)
-    }
-
-    /// `intersect`, recorded in `stats` by shape kind.
-    #[inline]
-    pub fn intersect_counted(
-        &self,
-        prim: u32,
-        ray: &TraceRay,
-        t_max: f32,
-        stats: &mut Stats,
-    ) -> Option<ShapeHit> {
-        let shape = &self.primitives[prim as usize].shape;
-        stats.count_test(shape.kind());
-        shape.intersect(&self.meshes, ray, t_max)
     }
 
     pub fn bounds(&self, prim: u32) -> Option<Aabb> {

@@ -4,21 +4,16 @@
 //! light, cast a shadow ray and keep only lights it reaches; add the local illumination
 //! from those. If depth < max depth, trace the reflected and the refracted ray. Result:
 //! I = Ia·ka·C + Σ (Id + Is) + wr·I_R + wt·I_T, with (wr, wt) from the material
-//! (constant, or split by Fresnel reflectance).
-//!
-//! Shadow rays that meet a transparent surface continue through it, attenuated by its kt,
-//! as POV-Ray does; refraction of the shadow ray itself is ignored (no caustics).
+//! (constant, or split by Fresnel reflectance). Shadow rays are `shadow.rs`.
 
+use super::shadow;
 use crate::accel::Hit;
 use crate::math::robust::offset_ray_origin;
-use crate::math::{Color, Ray, Vec3};
+use crate::math::{Color, Ray};
 use crate::options::RenderOptions;
 use crate::scene::PreparedScene;
 use crate::shading::optics::{reflect, refract};
 use crate::stats::Stats;
-
-/// Upper bound on transparent surfaces one shadow ray passes through.
-const MAX_SHADOW_SEGMENTS: u32 = 64;
 
 pub struct Whitted<'a> {
     scene: &'a PreparedScene<'a>,
@@ -101,9 +96,7 @@ impl<'a> Whitted<'a> {
             if ng.dot(ls.to_light) <= 0.0 {
                 continue;
             }
-            stats.shadow_rays += 1;
-            let origin = offset_ray_origin(sp.p, sp.p_error, ng, ls.to_light);
-            let visibility = self.transmittance(origin, ls.to_light, ls.distance, stats);
+            let visibility = shadow::visibility(self.scene, &sp, ng, &ls, stats);
             if visibility <= 0.0 {
                 continue;
             }
@@ -156,44 +149,5 @@ impl<'a> Whitted<'a> {
             }
         }
         radiance
-    }
-
-    /// Fraction of a light's radiance that reaches `origin` along `dir` within `distance`:
-    /// 0 behind an opaque surface, the product of kt over the transparent ones otherwise.
-    fn transmittance(&self, origin: Vec3, dir: Vec3, distance: f32, stats: &mut Stats) -> f32 {
-        let s = self.scene;
-        let geometry = &s.scene.geometry;
-        if !s.has_transmissive {
-            let blocked = s
-                .intersector
-                .occluded(geometry, &Ray::new(origin, dir), distance, stats);
-            return if blocked { 0.0 } else { 1.0 };
-        }
-        let mut atten = 1.0;
-        let mut origin = origin;
-        let mut remaining = distance;
-        for segment in 0..MAX_SHADOW_SEGMENTS {
-            if segment > 0 {
-                stats.shadow_continuations += 1;
-            }
-            let ray = Ray::new(origin, dir);
-            let Some(hit) = self.nearest(&ray, remaining, stats) else {
-                return atten;
-            };
-            let prim = &geometry.primitives[hit.prim as usize];
-            let kt = s.scene.materials[prim.material as usize].transmit;
-            atten *= kt;
-            if atten <= 0.0 {
-                return 0.0;
-            }
-            let sp = geometry.surface(hit.prim, &ray, &hit.shape_hit());
-            let next = offset_ray_origin(sp.p, sp.p_error, sp.ng, dir);
-            remaining -= (next - origin).dot(dir);
-            origin = next;
-            if remaining <= 0.0 {
-                return atten;
-            }
-        }
-        0.0
     }
 }

@@ -1,10 +1,12 @@
-//! Small geometric vocabulary shared by every other module: rays, boxes, frames and the
-//! floating-point error bookkeeping that keeps secondary rays off the surface they leave.
+//! Small vocabulary shared by every other module: rays, boxes, frames, the floating-point
+//! error bookkeeping that keeps secondary rays off the surface they leave, and `hash`, the
+//! one source of random numbers (sampling patterns, procedural scenes, measurements).
 //!
 //! Vector arithmetic itself is glam's; nothing here re-implements it.
 
 mod aabb;
 mod frame;
+pub mod hash;
 mod ray;
 pub mod robust;
 

@@ -30,7 +30,7 @@ pub struct TraceRay {
     pub kx: usize,
     pub ky: usize,
     pub kz: usize,
-    /// Shear that maps `dir` onto +z: (dir[kx]/dir[kz], dir[ky]/dir[kz], 1/dir[kz]).
+    /// Shear that maps `dir` onto +z: `(dir[kx]/dir[kz], dir[ky]/dir[kz], 1/dir[kz])`.
     pub shear: Vec3,
 }
 

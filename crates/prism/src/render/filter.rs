@@ -18,23 +18,16 @@ pub enum FilterKind {
     Mitchell,
 }
 
-impl FilterKind {
-    pub const ALL: [FilterKind; 4] = [
-        FilterKind::Box,
-        FilterKind::Tent,
-        FilterKind::Gaussian,
-        FilterKind::Mitchell,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            FilterKind::Box => "box",
-            FilterKind::Tent => "tent",
-            FilterKind::Gaussian => "gaussian",
-            FilterKind::Mitchell => "mitchell",
-        }
+named_kinds! {
+    FilterKind, "filter" {
+        Box => "box",
+        Tent => "tent",
+        Gaussian => "gaussian",
+        Mitchell => "mitchell",
     }
+}
 
+impl FilterKind {
     /// Radius in pixels when the options give none.
     pub fn default_radius(self) -> f32 {
         match self {
@@ -43,28 +36,6 @@ impl FilterKind {
             FilterKind::Gaussian => 1.5,
             FilterKind::Mitchell => 2.0,
         }
-    }
-}
-
-impl std::str::FromStr for FilterKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        FilterKind::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = FilterKind::ALL.iter().map(|k| k.name()).collect();
-                format!(
-                    "unknown filter '{s}', expected one of: {}",
-                    names.join(", ")
-                )
-            })
-    }
-}
-
-impl std::fmt::Display for FilterKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
     }
 }
 

@@ -27,7 +27,7 @@
 //! pattern into noise at a fixed cost; with `texture_n` = 0 it is refined to depth − 1
 //! everywhere and one level further where it differs, as before.
 
-use super::hash::uniform;
+use crate::math::hash::uniform;
 use crate::math::{Color, Vec2};
 use serde::{Deserialize, Serialize};
 
@@ -56,38 +56,12 @@ pub enum AdaptiveRule {
     Neighbourhood,
 }
 
-impl AdaptiveRule {
-    pub const ALL: [AdaptiveRule; 2] = [AdaptiveRule::Corners, AdaptiveRule::Neighbourhood];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            AdaptiveRule::Corners => "corners",
-            AdaptiveRule::Neighbourhood => "neighbourhood",
-        }
+named_kinds! {
+    AdaptiveRule, "adaptive rule" {
+        Corners => "corners",
+        Neighbourhood => "neighbourhood",
     }
-}
-
-impl std::str::FromStr for AdaptiveRule {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        let s = if s == "neighborhood" {
-            "neighbourhood"
-        } else {
-            s
-        };
-        AdaptiveRule::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                format!("unknown adaptive rule '{s}', expected corners or neighbourhood")
-            })
-    }
-}
-
-impl std::fmt::Display for AdaptiveRule {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
+    aliases { "neighborhood" => "neighbourhood" }
 }
 
 /// The refinement rule and where it traces.

@@ -1,7 +1,7 @@
 //! Jittered (stratified) sampling: the pixel cut into n×n strata with one uniform random
 //! point in each. Keeps the grid's even coverage and turns its aliasing into noise.
 
-use super::hash::uniform;
+use crate::math::hash::uniform;
 use crate::math::Vec2;
 
 /// Hash dimensions of the jitter; distinct from the random pattern's so that the two
@@ -40,7 +40,7 @@ mod tests {
     fn a_point_at_the_top_of_a_stratum_stays_in_it() {
         for n in 1..40 {
             for i in 0..n {
-                let x = in_stratum(i, n, super::super::hash::BELOW_ONE);
+                let x = in_stratum(i, n, crate::math::hash::BELOW_ONE);
                 let (lo, hi) = (i as f32 / n as f32, (i + 1) as f32 / n as f32);
                 assert!(x >= lo && x < hi, "n {n} stratum {i}: {x}");
                 assert!(x > 0.0 && x < 1.0);

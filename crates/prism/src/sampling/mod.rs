@@ -1,13 +1,12 @@
 //! Where a pixel's camera rays go. Per-pixel patterns (centre, grid, random, jittered,
 //! relaxed) give each pixel its own samples; lattice patterns (corners, adaptive) put
 //! samples on pixel corners and edges that neighbouring pixels share. Every random number
-//! comes from `hash`, a function of (pixel, sample index, dimension, seed).
+//! comes from `math::hash`, a function of (pixel, sample index, dimension, seed).
 //!
 //! Filters and the film, which turn samples into pixels, live in `render`.
 
 pub mod adaptive;
 mod grid;
-pub mod hash;
 mod jittered;
 mod random;
 pub mod relaxed;
@@ -42,29 +41,20 @@ pub enum SamplerKind {
     Adaptive,
 }
 
-impl SamplerKind {
-    pub const ALL: [SamplerKind; 7] = [
-        SamplerKind::Centre,
-        SamplerKind::Grid,
-        SamplerKind::Corners,
-        SamplerKind::Random,
-        SamplerKind::Jittered,
-        SamplerKind::Relaxed,
-        SamplerKind::Adaptive,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            SamplerKind::Centre => "centre",
-            SamplerKind::Grid => "grid",
-            SamplerKind::Corners => "corners",
-            SamplerKind::Random => "random",
-            SamplerKind::Jittered => "jittered",
-            SamplerKind::Relaxed => "relaxed",
-            SamplerKind::Adaptive => "adaptive",
-        }
+named_kinds! {
+    SamplerKind, "sampler" {
+        Centre => "centre",
+        Grid => "grid",
+        Corners => "corners",
+        Random => "random",
+        Jittered => "jittered",
+        Relaxed => "relaxed",
+        Adaptive => "adaptive",
     }
+    aliases { "center" => "centre" }
+}
 
+impl SamplerKind {
     /// Whether the pattern takes `samples` (n per axis, n² per pixel); the others choose
     /// their own count.
     pub fn uses_sample_count(self) -> bool {
@@ -72,29 +62,6 @@ impl SamplerKind {
             self,
             SamplerKind::Grid | SamplerKind::Random | SamplerKind::Jittered | SamplerKind::Relaxed
         )
-    }
-}
-
-impl std::str::FromStr for SamplerKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        let s = if s == "center" { "centre" } else { s };
-        SamplerKind::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = SamplerKind::ALL.iter().map(|k| k.name()).collect();
-                format!(
-                    "unknown sampler '{s}', expected one of: {}",
-                    names.join(", ")
-                )
-            })
-    }
-}
-
-impl std::fmt::Display for SamplerKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
     }
 }
 

@@ -1,7 +1,7 @@
 //! Uniform random samples: each point anywhere in the pixel, independent of the others.
 //! No aliasing, but clumps and holes make it the noisiest pattern.
 
-use super::hash::uniform;
+use crate::math::hash::uniform;
 use crate::math::Vec2;
 
 /// Hash dimensions of the random pattern.

@@ -10,9 +10,9 @@
 //! the image shows the tile shifted by whole pixels and mirrored or transposed, chosen by
 //! the hash of the block.
 
-use super::hash::{hash, inside_unit};
 use super::jittered::jittered;
 use super::voronoi::Cell;
+use crate::math::hash::{hash, inside_unit};
 use crate::math::Vec2;
 use glam::DVec2;
 use rayon::prelude::*;

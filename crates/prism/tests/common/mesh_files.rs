@@ -1,6 +1,6 @@
 //! Helpers shared by the mesh-file tests: one small mesh written out in every format
 //! prism reads (OBJ, ASCII and binary PLY, inline TOML), temporary folders, rendering, and
-//! the byte mutations of the fuzzing properties.
+//! the numbers the fuzzing properties write into mesh files (the mutations are `mutate.rs`).
 
 use prism::render::{render, Film};
 use prism::Scene;
@@ -204,80 +204,6 @@ pub fn max_difference(a: &Film, b: &Film) -> f32 {
         .zip(&b.pixels)
         .map(|(p, q)| (*p - *q).abs().max_element())
         .fold(0.0, f32::max)
-}
-
-/// Ways to damage a file, for the fuzzing properties.
-#[derive(Clone, Debug)]
-pub enum Mutation {
-    Delete {
-        at: usize,
-        len: usize,
-    },
-    Duplicate {
-        at: usize,
-        len: usize,
-    },
-    Replace {
-        at: usize,
-        byte: u8,
-    },
-    /// Overwrites four bytes with a 32-bit word (a count, an index, a float).
-    Word {
-        at: usize,
-        word: u32,
-    },
-    Truncate {
-        at: usize,
-    },
-    /// Replaces the first number at or after `at` with `value`.
-    Number {
-        at: usize,
-        value: &'static str,
-    },
-}
-
-pub fn apply(bytes: &mut Vec<u8>, m: &Mutation) {
-    if bytes.is_empty() {
-        return;
-    }
-    let n = bytes.len();
-    match *m {
-        Mutation::Delete { at, len } => {
-            let at = at % n;
-            bytes.drain(at..(at + len).min(n));
-        }
-        Mutation::Duplicate { at, len } => {
-            let at = at % n;
-            let end = (at + len).min(n);
-            let copy = bytes[at..end].to_vec();
-            bytes.splice(end..end, copy);
-        }
-        Mutation::Replace { at, byte } => bytes[at % n] = byte,
-        Mutation::Word { at, word } => {
-            let at = at % n;
-            for (k, b) in word.to_le_bytes().into_iter().enumerate() {
-                if let Some(slot) = bytes.get_mut(at + k) {
-                    *slot = b;
-                }
-            }
-        }
-        Mutation::Truncate { at } => bytes.truncate(at % n),
-        Mutation::Number { at, value } => {
-            let is_number = |b: &u8| b.is_ascii_digit() || b"-+.eE".contains(b);
-            let Some(start) = bytes[at % n..]
-                .iter()
-                .position(|b| b.is_ascii_digit())
-                .map(|i| at % n + i)
-            else {
-                return;
-            };
-            let end = bytes[start..]
-                .iter()
-                .position(|b| !is_number(b))
-                .map_or(n, |i| start + i);
-            bytes.splice(start..end, value.bytes());
-        }
-    }
 }
 
 /// Numbers that break a mesh file's rules: huge counts and indices, zero, negatives, NaN.

@@ -5,8 +5,10 @@
 #![allow(dead_code)]
 
 pub mod mesh_files;
+pub mod mutate;
 pub mod oracle;
 pub mod scratch;
+pub mod work;
 
 use prism::geometry::TriangleMesh;
 use prism::math::{Ray, TraceRay, Vec3};
@@ -214,4 +216,28 @@ pub fn rotate(v: Vec3, axis: Vec3, angle: f32) -> Vec3 {
     let k = axis.normalize();
     let (s, c) = angle.sin_cos();
     v * c + k.cross(v) * s + k * k.dot(v) * (1.0 - c)
+}
+
+/// A file or folder of `../shared` (the data beside the repository: the SPD scenes, the
+/// Stanford bunny), given relative to it. Where it is absent the test is skipped with a
+/// line on the terminal (written past the test harness's capture, so it shows even when
+/// the test passes), except under CI (`CI` set), where data that should be there is
+/// missing and the test fails instead.
+pub fn shared_data(relative: &str) -> Option<std::path::PathBuf> {
+    use std::io::Write;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared")
+        .join(relative);
+    if path.exists() {
+        return Some(path);
+    }
+    let reason = format!(
+        "{} is absent (../shared sits beside the repository)",
+        path.display()
+    );
+    if std::env::var_os("CI").is_some() {
+        panic!("{reason}, and CI must not skip tests");
+    }
+    let _ = writeln!(std::io::stderr(), "skipped: {reason}");
+    None
 }

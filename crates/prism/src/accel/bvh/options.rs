@@ -1,8 +1,11 @@
 //! How a BVH is built: which builder, its SAH parameters, leaf size, the optional
-//! reinsertion pass and when subtrees are built in parallel.
+//! reinsertion pass and when subtrees are built in parallel; the `bvh:` keys.
 
-use std::fmt;
-use std::str::FromStr;
+use super::Bvh;
+use crate::accel::params::{Accepts, Key, Method, Value};
+use crate::accel::volumes::{self, NodeVolume};
+use crate::accel::Accel;
+use crate::geometry::Geometry;
 
 /// The construction algorithm.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -18,23 +21,16 @@ pub enum BvhBuilder {
     Lbvh,
 }
 
-impl BvhBuilder {
-    pub const ALL: [BvhBuilder; 4] = [
-        BvhBuilder::Median,
-        BvhBuilder::Binned,
-        BvhBuilder::Sweep,
-        BvhBuilder::Lbvh,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            BvhBuilder::Median => "median",
-            BvhBuilder::Binned => "binned",
-            BvhBuilder::Sweep => "sweep",
-            BvhBuilder::Lbvh => "lbvh",
-        }
+named_kinds! {
+    BvhBuilder, "BVH builder" {
+        Median => "median",
+        Binned => "binned",
+        Sweep => "sweep",
+        Lbvh => "lbvh",
     }
+}
 
+impl BvhBuilder {
     /// The method as `prism info` names it, e.g. "full-sweep SAH".
     pub fn description(self) -> &'static str {
         match self {
@@ -43,28 +39,6 @@ impl BvhBuilder {
             BvhBuilder::Sweep => "full-sweep SAH",
             BvhBuilder::Lbvh => "LBVH, 63-bit Morton",
         }
-    }
-}
-
-impl fmt::Display for BvhBuilder {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for BvhBuilder {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        BvhBuilder::ALL
-            .into_iter()
-            .find(|b| b.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = BvhBuilder::ALL.iter().map(|b| b.name()).collect();
-                format!(
-                    "unknown BVH builder '{s}', expected one of: {}",
-                    names.join(", ")
-                )
-            })
     }
 }
 
@@ -82,6 +56,10 @@ pub struct BvhOptions {
     /// Pre-split triangles whose boxes are mostly empty into up to 16 references, this
     /// many extra references per primitive in all (0 = off; `build/presplit.rs`).
     pub presplit: f32,
+    /// The volume the nodes carry when built through `Method::build` (`AccelSpec`): boxes
+    /// are this `Bvh`, other kinds a `VolumeBvh` on the same tree. `Bvh::build` itself
+    /// always builds boxes.
+    pub volume: NodeVolume,
     /// Subtrees with more primitives than this are built on separate threads. The tree does
     /// not depend on it (or on the thread count); `usize::MAX` builds on one thread.
     pub parallel_threshold: usize,
@@ -96,7 +74,74 @@ impl Default for BvhOptions {
             traversal_cost: 1.0,
             reinsert: false,
             presplit: 0.0,
+            volume: NodeVolume::Aabb,
             parallel_threshold: 4096,
+        }
+    }
+}
+
+impl Method for BvhOptions {
+    const NAME: &'static str = "bvh";
+    const SUMMARY: &'static str = "bounding volume hierarchy (the default)";
+    const KEYS: &'static [Key<Self>] = &[
+        Key {
+            name: "bins",
+            help: "candidate planes per axis of the binned SAH",
+            accepts: Accepts::Int { lo: 2, hi: 256 },
+            get: |o| Value::Int(o.bins),
+            set: |o, v| o.bins = v.int(),
+        },
+        Key {
+            name: "leaf",
+            help: "largest leaf",
+            accepts: Accepts::Int { lo: 1, hi: 1024 },
+            get: |o| Value::Int(o.max_leaf_size),
+            set: |o, v| o.max_leaf_size = v.int(),
+        },
+        Key {
+            name: "trav",
+            help: "node cost relative to a primitive test",
+            accepts: Accepts::Number {
+                lo: 0.0,
+                hi: 1000.0,
+            },
+            get: |o| Value::Number(o.traversal_cost),
+            set: |o, v| o.traversal_cost = v.number(),
+        },
+        Key {
+            name: "build",
+            help: "the builder",
+            accepts: Accepts::Choice(&BvhBuilder::NAMES),
+            get: |o| Value::Choice(o.builder.index()),
+            set: |o, v| o.builder = BvhBuilder::ALL[v.choice()],
+        },
+        Key {
+            name: "split",
+            help: "extra references per primitive from pre-splitting triangles (0 = off)",
+            accepts: Accepts::Number { lo: 0.0, hi: 4.0 },
+            get: |o| Value::Number(o.presplit),
+            set: |o, v| o.presplit = v.number(),
+        },
+        Key {
+            name: "volume",
+            help: "the node volume",
+            accepts: Accepts::Choice(&NodeVolume::NAMES),
+            get: |o| Value::Choice(o.volume.index()),
+            set: |o, v| o.volume = NodeVolume::ALL[v.choice()],
+        },
+        Key {
+            name: "reinsert",
+            help: "optimise the tree by reinsertion",
+            accepts: Accepts::Switch,
+            get: |o| Value::Switch(o.reinsert),
+            set: |o, v| o.reinsert = v.switch(),
+        },
+    ];
+
+    fn build(&self, geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
+        match self.volume {
+            NodeVolume::Aabb => Box::new(Bvh::build(geometry, prims, self)),
+            volume => volumes::build(geometry, prims, self, volume),
         }
     }
 }

@@ -7,6 +7,8 @@
 
 use super::Grid;
 use crate::accel::cells::padded_bounds;
+use crate::accel::params::{Accepts, Key, Method, Value};
+use crate::accel::Accel;
 use crate::geometry::Geometry;
 use crate::math::{Aabb, Vec3};
 
@@ -24,6 +26,34 @@ impl Default for GridOptions {
             lambda: 3.0,
             max_cells: 1 << 24,
         }
+    }
+}
+
+impl Method for GridOptions {
+    const NAME: &'static str = "grid";
+    const SUMMARY: &'static str = "uniform grid walked by 3D-DDA";
+    const KEYS: &'static [Key<Self>] = &[
+        Key {
+            name: "lambda",
+            help: "cells along the longest axis per cube root of the primitive count",
+            accepts: Accepts::Number {
+                lo: 0.01,
+                hi: 100.0,
+            },
+            get: |o| Value::Number(o.lambda),
+            set: |o, v| o.lambda = v.number(),
+        },
+        Key {
+            name: "cells",
+            help: "upper bound on the number of cells",
+            accepts: Accepts::Int { lo: 1, hi: 1 << 24 },
+            get: |o| Value::Int(o.max_cells),
+            set: |o, v| o.max_cells = v.int(),
+        },
+    ];
+
+    fn build(&self, geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
+        Box::new(Grid::build(geometry, prims, self))
     }
 }
 

@@ -3,19 +3,20 @@
 
 use super::Grid;
 use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
-use crate::accel::Hit;
+use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
 use crate::geometry::Geometry;
 use crate::math::TraceRay;
 use crate::stats::Stats;
 
-impl Grid {
-    fn traverse(
+impl Accel for Grid {
+    #[inline(always)]
+    fn query(
         &self,
         geometry: &Geometry,
         ray: &TraceRay,
         t_max: f32,
+        mode: QueryMode,
         stats: &mut Stats,
-        any: bool,
     ) -> Option<Hit> {
         if self.refs.is_empty() {
             return None;
@@ -39,7 +40,7 @@ impl Grid {
                 t_next[k] = plane_crossing(ray, k, self.plane(k, cell[k]));
             }
         }
-        let mut search = CellSearch::new(t_max, any);
+        let mut search = CellSearch::new(t_max, mode);
         loop {
             stats.node_visits += 1;
             let axis = if t_next[0] <= t_next[1] && t_next[0] <= t_next[2] {
@@ -51,15 +52,15 @@ impl Grid {
             };
             let cell_exit = t_next[axis].min(t_exit);
             if search.search_cell(geometry, ray, self.cell_prims(cell), cell_exit, stats) {
-                return search.best;
+                return search.hits.best();
             }
-            if t_next[axis] > t_exit.min(search.t_max) {
-                return search.best;
+            if t_next[axis] > t_exit.min(search.hits.t_max()) {
+                return search.hits.best();
             }
             // Step across the face; leaving the grid ends the walk.
             let next = cell[axis] as i32 + step[axis];
             if next < 0 || next >= self.res[axis] as i32 {
-                return search.best;
+                return search.hits.best();
             }
             cell[axis] = next as u32;
             let face = if step[axis] > 0 {
@@ -70,6 +71,8 @@ impl Grid {
             t_next[axis] = plane_crossing(ray, axis, self.plane(axis, face));
         }
     }
-}
 
-crate::accel::accel_from_traverse!(Grid);
+    fn info(&self) -> AccelInfo {
+        self.info()
+    }
+}

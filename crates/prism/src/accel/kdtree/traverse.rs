@@ -4,28 +4,30 @@
 
 use super::{KdTree, MAX_DEPTH};
 use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
-use crate::accel::Hit;
+use crate::accel::stack::TraversalStack;
+use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
 use crate::geometry::Geometry;
 use crate::math::TraceRay;
 use crate::stats::Stats;
 
-impl KdTree {
-    fn traverse(
+impl Accel for KdTree {
+    #[inline(always)]
+    fn query(
         &self,
         geometry: &Geometry,
         ray: &TraceRay,
         t_max: f32,
+        mode: QueryMode,
         stats: &mut Stats,
-        any: bool,
     ) -> Option<Hit> {
         if self.nodes.is_empty() {
             return None;
         }
         stats.node_visits += 1;
         let (mut t_near, mut t_far) = ray_span(&self.bounds, ray, t_max)?;
-        let mut search = CellSearch::new(t_max, any);
-        let mut stack = [(0u32, 0.0f32, 0.0f32); MAX_DEPTH];
-        let mut sp = 0;
+        let mut search = CellSearch::new(t_max, mode);
+        // Far children still to search: (node, t where the ray enters it, t where it leaves).
+        let mut stack = TraversalStack::<(u32, f32, f32), MAX_DEPTH>::new();
         let mut current = 0usize;
         loop {
             let node = self.nodes[current];
@@ -33,16 +35,14 @@ impl KdTree {
                 let (first, count) = node.prims();
                 let prims = &self.refs[first..first + count];
                 if search.search_cell(geometry, ray, prims, t_far, stats) {
-                    return search.best;
+                    return search.hits.best();
                 }
                 // Next pushed child that starts before the best hit so far.
                 loop {
-                    if sp == 0 {
-                        return search.best;
-                    }
-                    sp -= 1;
-                    let (n, a, b) = stack[sp];
-                    if a <= search.t_max {
+                    let Some((n, a, b)) = stack.pop() else {
+                        return search.hits.best();
+                    };
+                    if a <= search.hits.t_max() {
                         (current, t_near, t_far) = (n as usize, a, b);
                         break;
                     }
@@ -65,14 +65,15 @@ impl KdTree {
             } else if t_split < t_near {
                 current = second;
             } else {
-                stack[sp] = (second as u32, t_split, t_far);
-                sp += 1;
+                stack.push((second as u32, t_split, t_far));
                 current = first;
                 t_far = t_split;
             }
             stats.node_visits += 1;
         }
     }
-}
 
-crate::accel::accel_from_traverse!(KdTree);
+    fn info(&self) -> AccelInfo {
+        self.info()
+    }
+}

@@ -3,6 +3,8 @@
 
 use super::{octant, Node, Octree, INTERIOR, MAX_DEPTH};
 use crate::accel::cells::padded_bounds;
+use crate::accel::params::{Accepts, Key, Method, Value};
+use crate::accel::Accel;
 use crate::geometry::Geometry;
 use crate::math::Aabb;
 
@@ -20,6 +22,31 @@ impl Default for OctreeOptions {
             max_leaf_size: 8,
             max_depth: 12,
         }
+    }
+}
+
+impl Method for OctreeOptions {
+    const NAME: &'static str = "octree";
+    const SUMMARY: &'static str = "adaptive octree";
+    const KEYS: &'static [Key<Self>] = &[
+        Key {
+            name: "leaf",
+            help: "a cell with more primitives is subdivided",
+            accepts: Accepts::Int { lo: 1, hi: 1024 },
+            get: |o| Value::Int(o.max_leaf_size),
+            set: |o, v| o.max_leaf_size = v.int(),
+        },
+        Key {
+            name: "depth",
+            help: "depth limit, the root being 1",
+            accepts: Accepts::Int { lo: 1, hi: 20 },
+            get: |o| Value::Int(o.max_depth),
+            set: |o, v| o.max_depth = v.int(),
+        },
+    ];
+
+    fn build(&self, geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
+        Box::new(Octree::build(geometry, prims, self))
     }
 }
 

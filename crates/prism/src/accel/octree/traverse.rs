@@ -6,7 +6,8 @@
 
 use super::{octant, Octree, MAX_DEPTH};
 use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
-use crate::accel::Hit;
+use crate::accel::stack::TraversalStack;
+use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
 use crate::geometry::Geometry;
 use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
@@ -14,29 +15,28 @@ use crate::stats::Stats;
 /// Each level pops one entry and pushes at most four.
 const STACK: usize = 3 * MAX_DEPTH + 4;
 
-impl Octree {
-    fn traverse(
+impl Accel for Octree {
+    #[inline(always)]
+    fn query(
         &self,
         geometry: &Geometry,
         ray: &TraceRay,
         t_max: f32,
+        mode: QueryMode,
         stats: &mut Stats,
-        any: bool,
     ) -> Option<Hit> {
         if self.nodes.is_empty() {
             return None;
         }
         stats.node_visits += 1;
         let (t0, t1) = ray_span(&self.bounds, ray, t_max)?;
-        let mut search = CellSearch::new(t_max, any);
-        let mut stack = [(0u32, Aabb::EMPTY, 0.0f32, 0.0f32); STACK];
-        stack[0] = (0, self.bounds, t0, t1);
-        let mut sp = 1;
+        let mut search = CellSearch::new(t_max, mode);
+        // Octants still to search: (node, its box, the ray's span in it).
+        let mut stack = TraversalStack::<(u32, Aabb, f32, f32), STACK>::new();
+        stack.push((0, self.bounds, t0, t1));
         let (o, d) = (ray.ray.origin, ray.ray.dir);
-        while sp > 0 {
-            sp -= 1;
-            let (index, bounds, t0, t1) = stack[sp];
-            if t0 > search.t_max {
+        while let Some((index, bounds, t0, t1)) = stack.pop() {
+            if t0 > search.hits.t_max() {
                 continue;
             }
             stats.node_visits += 1;
@@ -44,7 +44,7 @@ impl Octree {
             if node.is_leaf() {
                 let prims = &self.refs[node.first as usize..(node.first + node.count) as usize];
                 if search.search_cell(geometry, ray, prims, t1, stats) {
-                    return search.best;
+                    return search.hits.best();
                 }
                 continue;
             }
@@ -80,12 +80,13 @@ impl Octree {
             }
             order[count] = (child, start, t1);
             for &(c, a, b) in order[..=count].iter().rev() {
-                stack[sp] = (node.first + c as u32, octant(&bounds, c), a, b);
-                sp += 1;
+                stack.push((node.first + c as u32, octant(&bounds, c), a, b));
             }
         }
-        search.best
+        search.hits.best()
+    }
+
+    fn info(&self) -> AccelInfo {
+        self.info()
     }
 }
-
-crate::accel::accel_from_traverse!(Octree);

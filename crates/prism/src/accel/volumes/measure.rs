@@ -5,8 +5,8 @@
 
 use super::volume::Volume;
 use crate::geometry::Geometry;
+use crate::math::hash::uniform;
 use crate::math::{Aabb, Ray, TraceRay, Vec3};
-use crate::sampling::hash::uniform;
 
 /// Lines hitting the volume and lines hitting the box, over `lines` isotropic random lines
 /// through a ball around `bounds` that contains the volume too.

@@ -30,7 +30,7 @@ pub use sphere::BoundingSphere;
 pub use traverse::CULL_SLACK;
 pub use volume::Volume;
 
-use crate::accel::{Accel, AccelInfo, Bvh, BvhOptions, Hit};
+use crate::accel::{Accel, AccelInfo, Bvh, BvhOptions, Hit, QueryMode};
 use crate::geometry::Geometry;
 use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
@@ -47,47 +47,14 @@ pub enum NodeVolume {
     Hull,
 }
 
-impl NodeVolume {
-    pub const ALL: [NodeVolume; 6] = [
-        NodeVolume::Aabb,
-        NodeVolume::Sphere,
-        NodeVolume::Obb,
-        NodeVolume::Dop14,
-        NodeVolume::Dop26,
-        NodeVolume::Hull,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            NodeVolume::Aabb => "aabb",
-            NodeVolume::Sphere => "sphere",
-            NodeVolume::Obb => "obb",
-            NodeVolume::Dop14 => "dop14",
-            NodeVolume::Dop26 => "dop26",
-            NodeVolume::Hull => "hull",
-        }
-    }
-}
-
-impl std::fmt::Display for NodeVolume {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for NodeVolume {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        NodeVolume::ALL
-            .into_iter()
-            .find(|v| v.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = NodeVolume::ALL.iter().map(|v| v.name()).collect();
-                format!(
-                    "unknown node volume '{s}', expected one of: {}",
-                    names.join(", ")
-                )
-            })
+named_kinds! {
+    NodeVolume, "node volume" {
+        Aabb => "aabb",
+        Sphere => "sphere",
+        Obb => "obb",
+        Dop14 => "dop14",
+        Dop26 => "dop26",
+        Hull => "hull",
     }
 }
 
@@ -157,6 +124,18 @@ pub fn build_measurable(
 }
 
 impl Accel for Box<dyn VolumeAccel> {
+    fn query(
+        &self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        t_max: f32,
+        mode: QueryMode,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
+        self.accel().query(geometry, ray, t_max, mode, stats)
+    }
+
+    // The two modes forwarded as well, so they reach the walks specialised for them.
     fn intersect(
         &self,
         geometry: &Geometry,

@@ -15,7 +15,7 @@ use super::measure;
 use super::polytope::{hit_polytope, store_planes, Plane};
 use super::volume::magnitude;
 use super::VolumeAccel;
-use crate::accel::{Accel, AccelInfo, Bvh, BvhOptions, Hit};
+use crate::accel::{Accel, AccelInfo, Bvh, BvhOptions, Hit, QueryMode};
 use crate::geometry::{Geometry, Shape};
 use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
@@ -96,33 +96,6 @@ impl ObjectHulls {
         }
     }
 
-    fn traverse(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        stats: &mut Stats,
-        any: bool,
-    ) -> Option<Hit> {
-        self.top.walk(ray, t_max, stats, any, |item, t_max, stats| {
-            if item & OBJECT_BIT == 0 {
-                return geometry
-                    .intersect_counted(item, ray, t_max, stats)
-                    .map(|h| Hit {
-                        t: h.t,
-                        prim: item,
-                        u: h.u,
-                        v: h.v,
-                    });
-            }
-            let object = &self.objects[(item & !OBJECT_BIT) as usize];
-            stats.node_visits += 1;
-            let planes = &self.planes[object.planes.clone()];
-            hit_polytope(planes, ray, t_max * super::CULL_SLACK)?;
-            object.tree.traverse(geometry, ray, t_max, stats, any)
-        })
-    }
-
     pub fn memory_bytes(&self) -> usize {
         self.top.memory_bytes()
             + self.planes.len() * std::mem::size_of::<Plane>()
@@ -175,7 +148,39 @@ fn object_planes(geometry: &Geometry, tris: &[u32], bounds: &Aabb) -> Vec<Plane>
     store_planes(&faces, support_all, magnitude(bounds))
 }
 
-crate::accel::accel_from_traverse!(ObjectHulls);
+impl Accel for ObjectHulls {
+    #[inline(always)]
+    fn query(
+        &self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        t_max: f32,
+        mode: QueryMode,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
+        self.top
+            .walk(ray, t_max, mode, stats, |item, search, stats| {
+                if item & OBJECT_BIT == 0 {
+                    return search.test(geometry, ray, item, stats);
+                }
+                let object = &self.objects[(item & !OBJECT_BIT) as usize];
+                stats.node_visits += 1;
+                let planes = &self.planes[object.planes.clone()];
+                let limit = search.nested_limit();
+                if hit_polytope(planes, ray, limit * super::CULL_SLACK).is_none() {
+                    return false;
+                }
+                match object.tree.query(geometry, ray, limit, mode, stats) {
+                    Some(hit) => search.offer(hit),
+                    None => false,
+                }
+            })
+    }
+
+    fn info(&self) -> AccelInfo {
+        self.info()
+    }
+}
 
 impl ObjectHulls {
     /// The top-level tree's figures with the objects' sub-trees added in.

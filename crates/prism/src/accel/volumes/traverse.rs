@@ -5,9 +5,10 @@
 
 use super::hierarchy::VolumeBvh;
 use super::volume::Volume;
-use crate::accel::Hit;
+use crate::accel::query::HitSearch;
+use crate::accel::stack::TraversalStack;
+use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
 use crate::geometry::Geometry;
-use crate::math::robust::next_up;
 use crate::math::TraceRay;
 use crate::stats::Stats;
 
@@ -17,17 +18,17 @@ const MAX_DEPTH: usize = 64;
 pub use crate::accel::CULL_SLACK;
 
 impl<V: Volume> VolumeBvh<V> {
-    /// The ordered walk; `visit(item, limit, stats)` tests one leaf entry and returns its
-    /// nearest hit before `limit` (for a sub-tree: its nearest, exact ties to the lowest
-    /// primitive id). `any` stops at the first hit.
+    /// The ordered walk; `visit(item, search, stats)` tests one leaf entry (a primitive,
+    /// or for `ObjectHulls` a whole object) into `search` and returns true when the query
+    /// is answered.
     #[inline(always)]
     pub(super) fn walk(
         &self,
         ray: &TraceRay,
-        mut t_max: f32,
+        t_max: f32,
+        mode: QueryMode,
         stats: &mut Stats,
-        any: bool,
-        mut visit: impl FnMut(u32, f32, &mut Stats) -> Option<Hit>,
+        mut visit: impl FnMut(u32, &mut HitSearch, &mut Stats) -> bool,
     ) -> Option<Hit> {
         if self.nodes.is_empty() {
             return None;
@@ -37,41 +38,26 @@ impl<V: Volume> VolumeBvh<V> {
             |i: usize, t_max: f32| self.nodes[i].volume.hit(&prepared, ray, t_max * CULL_SLACK);
         stats.node_visits += 1;
         hit(0, t_max)?;
-        let mut best = None;
-        let mut stack = [(0u32, 0.0f32); MAX_DEPTH];
-        let mut sp = 0;
+        let mut search = HitSearch::new(t_max, mode);
+        // Far children still to search, with the distance where the ray enters them.
+        let mut stack = TraversalStack::<(u32, f32), MAX_DEPTH>::new();
         let mut current = 0usize;
         loop {
             let node = &self.nodes[current];
             if node.is_leaf() {
                 let range = node.first as usize..(node.first + node.count) as usize;
                 for &item in &self.prims[range] {
-                    // Exact ties go to the lower primitive id, as in the brute-force list:
-                    // once something is hit, let ties at t_max through and decide here.
-                    let limit = if best.is_some() {
-                        next_up(t_max)
-                    } else {
-                        t_max
-                    };
-                    if let Some(h) = visit(item, limit, stats) {
-                        let wins = h.t < t_max || best.is_none_or(|b: Hit| h.prim < b.prim);
-                        if wins {
-                            t_max = h.t;
-                            best = Some(h);
-                            if any {
-                                return best;
-                            }
-                        }
+                    if visit(item, &mut search, stats) {
+                        return search.best();
                     }
                 }
             } else {
                 let (l, r) = (node.first as usize, node.first as usize + 1);
                 stats.node_visits += 2;
-                match (hit(l, t_max), hit(r, t_max)) {
+                match (hit(l, search.t_max()), hit(r, search.t_max())) {
                     (Some(tl), Some(tr)) => {
                         let (near, far) = if tl <= tr { (l, r) } else { (r, l) };
-                        stack[sp] = (far as u32, tl.max(tr));
-                        sp += 1;
+                        stack.push((far as u32, tl.max(tr)));
                         current = near;
                         continue;
                     }
@@ -87,40 +73,34 @@ impl<V: Volume> VolumeBvh<V> {
                 }
             }
             loop {
-                if sp == 0 {
-                    return best;
-                }
-                sp -= 1;
-                let (node, t_enter) = stack[sp];
-                if t_enter <= t_max * CULL_SLACK {
+                let Some((node, t_enter)) = stack.pop() else {
+                    return search.best();
+                };
+                if t_enter <= search.t_max() * CULL_SLACK {
                     current = node as usize;
                     break;
                 }
             }
         }
     }
+}
 
-    /// The walk over primitives.
+impl<V: Volume> Accel for VolumeBvh<V> {
     #[inline(always)]
-    pub(super) fn traverse(
+    fn query(
         &self,
         geometry: &Geometry,
         ray: &TraceRay,
         t_max: f32,
+        mode: QueryMode,
         stats: &mut Stats,
-        any: bool,
     ) -> Option<Hit> {
-        self.walk(ray, t_max, stats, any, |prim, t_max, stats| {
-            geometry
-                .intersect_counted(prim, ray, t_max, stats)
-                .map(|h| Hit {
-                    t: h.t,
-                    prim,
-                    u: h.u,
-                    v: h.v,
-                })
+        self.walk(ray, t_max, mode, stats, |prim, search, stats| {
+            search.test(geometry, ray, prim, stats)
         })
     }
-}
 
-crate::accel::accel_from_traverse!(impl<V: Volume> VolumeBvh<V>);
+    fn info(&self) -> AccelInfo {
+        self.info()
+    }
+}

@@ -1,7 +1,7 @@
 //! Reproducible random numbers for procedural built-in scenes: the same hash the samplers
 //! use, so a scene is identical on every run and platform.
 
-use crate::sampling::hash;
+use crate::math::hash;
 
 /// Seed that keeps scene randomness apart from sampling's.
 const SCENE_SEED: u64 = 0x5eed_5ce7e;

@@ -1,0 +1,185 @@
+//! The one ray query every accelerator answers, and the rules all of them share: what a
+//! hit is, when a query is answered, and which of two hits at the same distance wins.
+//!
+//! An accelerator decides only which primitives a ray meets and in what order; it hands
+//! each one to a `HitSearch`, which tests it and keeps the answer. So the tie rule and the
+//! way a hit is built exist once, here, and every method gives the same answer as the
+//! brute-force list whatever order it walks in.
+
+use crate::geometry::{Geometry, ShapeHit};
+use crate::math::robust::next_up;
+use crate::math::TraceRay;
+use crate::stats::Stats;
+
+/// The nearest intersection found along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Ray parameter of the hit point.
+    pub t: f32,
+    /// The primitive hit (an index into `Geometry::primitives`).
+    pub prim: u32,
+    /// Shape-specific hit parameters (see `ShapeHit`).
+    pub u: f32,
+    /// Shape-specific hit parameters (see `ShapeHit`).
+    pub v: f32,
+}
+
+impl Hit {
+    /// The hit of primitive `prim` that its shape reported.
+    #[inline(always)]
+    pub fn new(prim: u32, hit: ShapeHit) -> Hit {
+        Hit {
+            t: hit.t,
+            prim,
+            u: hit.u,
+            v: hit.v,
+        }
+    }
+
+    /// The shape's own view of the hit, for building the surface point.
+    pub fn shape_hit(&self) -> ShapeHit {
+        ShapeHit {
+            t: self.t,
+            u: self.u,
+            v: self.v,
+        }
+    }
+}
+
+/// What a query asks of the primitives a ray meets before `t_max`.
+///
+/// A query for a packet of rays (several rays walked together) would add a method beside
+/// `Accel::query` taking the rays and one mode; the mode and `HitSearch` stay as they are,
+/// one search per ray.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum QueryMode {
+    /// The nearest hit (camera, reflected and refracted rays).
+    Nearest,
+    /// Any hit: the query may stop at the first one found (shadow rays).
+    Any,
+}
+
+/// The state of one query: the best hit so far and the distance a new one must beat.
+///
+/// **The tie rule.** Two primitives hit at exactly the same distance go to the lower
+/// primitive id, as the brute-force list (which tests in id order and keeps only strictly
+/// nearer hits) decides them. A primitive with a lower id than the best so far is therefore
+/// tested against a bound one ulp farther, so that a hit exactly at the best distance is
+/// reported and replaces it; any other primitive must be strictly nearer.
+pub(crate) struct HitSearch {
+    best: Option<Hit>,
+    t_max: f32,
+    mode: QueryMode,
+}
+
+impl HitSearch {
+    /// A query for hits with `0 < t < t_max`.
+    #[inline(always)]
+    pub(crate) fn new(t_max: f32, mode: QueryMode) -> Self {
+        HitSearch {
+            best: None,
+            t_max,
+            mode,
+        }
+    }
+
+    /// The distance a hit must come before (the best hit's, once there is one).
+    #[inline(always)]
+    pub(crate) fn t_max(&self) -> f32 {
+        self.t_max
+    }
+
+    /// The answer so far.
+    #[inline(always)]
+    pub(crate) fn best(&self) -> Option<Hit> {
+        self.best
+    }
+
+    /// Tests primitive `prim` and keeps its hit if it wins; true when the query is
+    /// answered (an any-hit query found something).
+    #[inline(always)]
+    pub(crate) fn test(
+        &mut self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        prim: u32,
+        stats: &mut Stats,
+    ) -> bool {
+        let limit = match self.best {
+            Some(b) if prim < b.prim => next_up(self.t_max),
+            _ => self.t_max,
+        };
+        match counted_test(geometry, prim, ray, limit, stats) {
+            Some(h) => self.keep(Hit::new(prim, h)),
+            None => false,
+        }
+    }
+
+    /// Tests an unbounded primitive (a plane) after the accelerator has answered: its hit
+    /// must be strictly nearer, whatever the ids. The exception to the tie rule is
+    /// deliberate: a plane is typically the floor that objects stand on, and where an
+    /// object's face lies exactly in it (the glass pyramid of scenes/shapes.toml) the
+    /// object's face is the surface the ray meets.
+    #[inline(always)]
+    pub(crate) fn test_unbounded(
+        &mut self,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        prim: u32,
+        stats: &mut Stats,
+    ) -> bool {
+        match counted_test(geometry, prim, ray, self.t_max, stats) {
+            Some(h) => self.keep(Hit::new(prim, h)),
+            None => false,
+        }
+    }
+
+    /// The bound for a nested query over a group of primitives whose ids are not known in
+    /// advance (a sub-tree): one ulp beyond the best distance once there is a best hit, so
+    /// that a tie reaches `offer`, which decides it.
+    #[inline(always)]
+    pub(crate) fn nested_limit(&self) -> f32 {
+        if self.best.is_some() {
+            next_up(self.t_max)
+        } else {
+            self.t_max
+        }
+    }
+
+    /// Offers the answer of a nested query made with `nested_limit`, keeping it if it is
+    /// nearer or ties with a lower id; true when the query is answered.
+    #[inline(always)]
+    pub(crate) fn offer(&mut self, hit: Hit) -> bool {
+        let wins = hit.t < self.t_max || self.best.is_none_or(|b| hit.prim < b.prim);
+        wins && self.keep(hit)
+    }
+
+    /// Whether the nearest hit is settled once everything up to `t` has been tested: there
+    /// is a best hit and it lies no farther than `t`.
+    #[inline(always)]
+    pub(crate) fn settled_by(&self, t: f32) -> bool {
+        self.best.is_some() && self.t_max <= t
+    }
+
+    #[inline(always)]
+    fn keep(&mut self, hit: Hit) -> bool {
+        self.t_max = hit.t;
+        self.best = Some(hit);
+        self.mode == QueryMode::Any
+    }
+}
+
+/// Primitive `prim`'s intersection test, counted in `stats` by shape kind: every test an
+/// accelerator makes goes through here, so the statistics and cost views see them all.
+#[inline(always)]
+fn counted_test(
+    geometry: &Geometry,
+    prim: u32,
+    ray: &TraceRay,
+    t_max: f32,
+    stats: &mut Stats,
+) -> Option<ShapeHit> {
+    let shape = &geometry.primitives[prim as usize].shape;
+    stats.count_test(shape.kind());
+    shape.intersect(&geometry.meshes, ray, t_max)
+}
