@@ -168,6 +168,13 @@ pub struct RenderArgs {
     #[arg(long, value_name = "SPEC", help = AccelSpec::help())]
     pub accel: Option<AccelSpec>,
 
+    /// Who answers shadow rays, METHOD[:KEY=VALUE,...]: any-hit (the accelerator, the
+    /// default), cache (the last blocker per light and depth tried first), light-buffer
+    /// (Haines & Greenberg's direction cube per point light; keys res = cells along a face's
+    /// side, budget = MiB for all lights) or both. Every method gives the same image.
+    #[arg(long, value_name = "SPEC")]
+    pub shadows: Option<prism::integrator::ShadowSpec>,
+
     /// Apply a published testing procedure: `spd` = Haines' SPD rules (corner rays, depth
     /// 5, a reflection ray at every reflective or transmitting surface).
     #[arg(long, value_name = "NAME")]
@@ -298,6 +305,9 @@ impl RenderArgs {
         }
         if let Some(v) = &self.accel {
             o.accel = v.clone();
+        }
+        if let Some(v) = self.shadows {
+            o.shadows = v;
         }
         Ok(o)
     }

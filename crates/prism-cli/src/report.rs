@@ -11,6 +11,8 @@ use std::time::Duration;
 
 pub struct Report {
     json: serde_json::Value,
+    /// The shadow rays' lines of the table.
+    shadows: Vec<String>,
     stats: Stats,
     accel: String,
     times: [(&'static str, Duration); 3],
@@ -69,9 +71,30 @@ impl Report {
                 .map(|(k, n)| (k.to_string(), json!(n)))
                 .collect::<serde_json::Map<_, _>>(),
             "node_visits": s.node_visits,
+            "shadows": {
+                "method": options.shadows.to_string(),
+                "rays": s.shadow_rays,
+                "primitive_tests": s.shadow_tests,
+                "node_visits": s.shadow_node_visits,
+                "tests_per_ray": s.shadow_tests as f64 / s.shadow_rays.max(1) as f64,
+                "cache_hits": s.shadow_cache_hits,
+                "light_buffer_queries": s.light_buffer_queries,
+                "light_buffers": result.light_buffers.iter().map(|b| b.map(|b| json!({
+                    "resolution": b.resolution,
+                    "cells": b.cells,
+                    "entries": b.entries,
+                    "mean_list": b.mean_list,
+                    "max_list": b.max_list,
+                    "memory_bytes": b.memory_bytes,
+                    "build_ms": b.build_time.as_secs_f64() * 1e3,
+                }))).collect::<Vec<_>>(),
+                "without_buffer": result.light_buffer_notes,
+            },
         });
+        let shadows = shadow_lines(options, result);
         Report {
             json,
+            shadows,
             stats: s,
             accel,
             times: [
@@ -140,6 +163,9 @@ impl Report {
             s.node_visits,
             s.node_visits as f64 / total
         );
+        for line in &self.shadows {
+            println!("{line}");
+        }
         for (name, t) in self.times {
             println!(
                 "{:<18} {:>11.1} ms",
@@ -165,4 +191,53 @@ impl Report {
         prism::output::write_atomic(path, (text + "\n").as_bytes())
             .with_context(|| format!("cannot write statistics to {}", path.display()))
     }
+}
+
+/// The shadow rays' share of the work, and what their method built.
+fn shadow_lines(options: &RenderOptions, result: &RenderResult) -> Vec<String> {
+    let s = &result.stats;
+    let rays = s.shadow_rays.max(1) as f64;
+    let mut lines = vec![
+        format!("shadows            {}", options.shadows),
+        format!(
+            "{:<18} {:>14} {:>8.2} per shadow ray",
+            "  tests",
+            s.shadow_tests,
+            s.shadow_tests as f64 / rays
+        ),
+        format!(
+            "{:<18} {:>14} {:>8.2} per shadow ray",
+            "  node visits",
+            s.shadow_node_visits,
+            s.shadow_node_visits as f64 / rays
+        ),
+    ];
+    if s.shadow_cache_hits > 0 {
+        lines.push(format!(
+            "{:<18} {:>14} {:>7.1}% of shadow rays",
+            "  cache hits",
+            s.shadow_cache_hits,
+            100.0 * s.shadow_cache_hits as f64 / rays
+        ));
+    }
+    for (i, b) in result.light_buffers.iter().enumerate() {
+        if let Some(b) = b {
+            lines.push(format!(
+                "  light {i} buffer   {}² cells × 6, {} entries (mean list {:.1}, max {}), \
+                 {:.1} MiB, built in {:.1} ms",
+                b.resolution,
+                b.entries,
+                b.mean_list,
+                b.max_list,
+                b.memory_bytes as f64 / (1 << 20) as f64,
+                b.build_time.as_secs_f64() * 1e3
+            ));
+        }
+    }
+    for (i, note) in result.light_buffer_notes.iter().enumerate() {
+        if let Some(note) = note {
+            lines.push(format!("  light {i}: no buffer, {note}"));
+        }
+    }
+    lines
 }

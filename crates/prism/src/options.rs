@@ -77,6 +77,9 @@ pub struct RenderOptions {
     pub seed: u64,
     /// The acceleration structure for ray queries.
     pub accel: AccelSpec,
+    /// Who answers shadow rays: the accelerator's any-hit query, a shadow cache, light
+    /// buffers or both (`integrator::ShadowSpec`); every method gives the same image.
+    pub shadows: crate::integrator::ShadowSpec,
     /// Edge length of the square tiles handed to worker threads.
     pub tile_size: u32,
 }
@@ -101,6 +104,7 @@ impl Default for RenderOptions {
             threads: 0,
             seed: 0,
             accel: AccelSpec::default(),
+            shadows: Default::default(),
             tile_size: 16,
         }
     }

@@ -34,6 +34,14 @@ pub struct Stats {
     pub tests_by_kind: [u64; ShapeKind::COUNT],
     /// Acceleration-structure nodes whose bounds were tested.
     pub node_visits: u64,
+    /// The part of `primitive_tests` made by shadow rays (whatever method answered them).
+    pub shadow_tests: u64,
+    /// The part of `node_visits` made by shadow rays.
+    pub shadow_node_visits: u64,
+    /// Shadow rays answered by the shadow cache's remembered blocker alone.
+    pub shadow_cache_hits: u64,
+    /// Shadow rays answered by a light buffer.
+    pub light_buffer_queries: u64,
 }
 
 impl Stats {
@@ -70,5 +78,9 @@ impl AddAssign for Stats {
         self.total_internal_reflections += o.total_internal_reflections;
         self.primitive_tests += o.primitive_tests;
         self.node_visits += o.node_visits;
+        self.shadow_tests += o.shadow_tests;
+        self.shadow_node_visits += o.shadow_node_visits;
+        self.shadow_cache_hits += o.shadow_cache_hits;
+        self.light_buffer_queries += o.light_buffer_queries;
     }
 }

@@ -23,13 +23,13 @@ pub use info::AccelInfo;
 pub use kdtree::{KdTree, KdTreeOptions};
 pub use octree::{Octree, OctreeOptions};
 pub use params::{help_text, markdown, method_doc, Accepts, Key, KeyDoc, Method, MethodDoc, Value};
+pub(crate) use query::HitSearch;
 pub use query::{Hit, QueryMode};
 pub use spec::{parse_params, AccelKind, AccelSpec};
 
 use crate::geometry::Geometry;
 use crate::math::{Ray, TraceRay};
 use crate::stats::Stats;
-use query::HitSearch;
 
 /// An acceleration structure: answers ray queries over the bounded primitives it was
 /// built on. A method implements `query` (and `info`); `intersect` and `occluded` are the
@@ -116,6 +116,26 @@ impl SceneIntersector {
             search.test_unbounded(geometry, &tr, prim, stats);
         }
         search.best()
+    }
+
+    /// The first blocker an any-hit query finds (planes first, as `occluded`), for the
+    /// shadow cache, which remembers it.
+    pub fn any_hit(
+        &self,
+        geometry: &Geometry,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
+        let tr = TraceRay::new(*ray);
+        let mut planes = HitSearch::new(t_max, QueryMode::Any);
+        for &prim in &self.unbounded {
+            if planes.test_unbounded(geometry, &tr, prim, stats) {
+                return planes.best();
+            }
+        }
+        self.accel
+            .query(geometry, &tr, t_max, QueryMode::Any, stats)
     }
 
     pub fn occluded(&self, geometry: &Geometry, ray: &Ray, t_max: f32, stats: &mut Stats) -> bool {

@@ -1,55 +1,385 @@
 //! Shadow rays: whether a light reaches a surface point, and how much of it.
 //!
-//! A shadow ray runs from the (offset) surface point towards the light and asks the
-//! accelerator's any-hit query, which may stop at the first blocker. In a scene with
-//! transparent surfaces it asks for the nearest hit instead and continues through each
-//! transparent surface it meets, attenuated by its kt, as POV-Ray does; refraction of the
-//! shadow ray itself is ignored (no caustics).
+//! A shadow ray runs from the (offset) surface point towards the light and asks an any-hit
+//! query, which may stop at the first blocker. In a scene with transparent surfaces it asks
+//! for the nearest hit instead and continues through each transparent surface it meets,
+//! attenuated by its kt, as POV-Ray does; refraction of the shadow ray itself is ignored (no
+//! caustics).
 //!
-//! This is where the lecture's shadow-ray accelerations belong when they come: a light
-//! buffer (per light, the candidate blockers in each direction) and a shadow cache (the
-//! last blocker found for each light, tried first).
+//! Who answers the query is the shadow method (`ShadowSpec`), and every method gives the
+//! same answer, bit for bit:
+//! - `any-hit`: the scene's accelerator (the BVH by default);
+//! - `cache`: the last blocker found for the same light at the same depth of the ray tree
+//!   is tested first (ray coherence: neighbouring points are usually shadowed by the same
+//!   object); only in scenes without transparent surfaces, where one hit settles the answer;
+//! - `light-buffer`: a light buffer per point or spot light (`light_buffer.rs`);
+//!   directional lights and lights whose buffer would pass the memory budget keep the
+//!   accelerator;
+//! - `both`: the cache, then the light buffer.
 
+use super::light_buffer::{LightBuffer, LightBufferInfo, Unbuilt};
+use crate::accel::{Hit, QueryMode};
 use crate::geometry::SurfacePoint;
-use crate::light::LightSample;
+use crate::light::{Light, LightSample};
 use crate::math::robust::offset_ray_origin;
-use crate::math::{Ray, Vec3};
+use crate::math::{Ray, TraceRay, Vec3};
 use crate::scene::PreparedScene;
 use crate::stats::Stats;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::cell::RefCell;
+use std::fmt;
+use std::str::FromStr;
 
 /// Upper bound on transparent surfaces one shadow ray passes through.
 const MAX_SHADOW_SEGMENTS: u32 = 64;
+/// The light buffers' memory budget when none is given, in MiB (for all lights).
+pub const DEFAULT_LIGHT_BUFFER_BUDGET_MIB: u32 = 256;
 
-/// The fraction of light `light` that reaches surface point `sp`, whose geometric normal
-/// faces the light as `ng`: one shadow ray, counted in `stats`.
-pub(super) fn visibility(
-    scene: &PreparedScene,
-    sp: &SurfacePoint,
-    ng: Vec3,
-    light: &LightSample,
+/// Who answers shadow rays.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ShadowMethod {
+    #[default]
+    AnyHit,
+    Cache,
+    LightBuffer,
+    Both,
+}
+
+crate::named_kinds! {
+    ShadowMethod, "shadow method" {
+        AnyHit => "any-hit",
+        Cache => "cache",
+        LightBuffer => "light-buffer",
+        Both => "both",
+    }
+}
+
+impl ShadowMethod {
+    fn uses_cache(self) -> bool {
+        matches!(self, ShadowMethod::Cache | ShadowMethod::Both)
+    }
+
+    fn uses_light_buffer(self) -> bool {
+        matches!(self, ShadowMethod::LightBuffer | ShadowMethod::Both)
+    }
+}
+
+/// A shadow method and its parameters, as `--shadows` and the scene file's `shadows` key
+/// write it: `METHOD[:res=N,budget=MIB]`, e.g. `light-buffer:res=64`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ShadowSpec {
+    pub method: ShadowMethod,
+    /// Cells along a light buffer face's side; 0 chooses from the primitive count.
+    pub res: u32,
+    /// The light buffers' memory budget in MiB; 0 takes the default.
+    pub budget_mib: u32,
+}
+
+impl ShadowSpec {
+    /// The resolution a buffer over `primitives` gets.
+    pub fn resolution(&self, primitives: usize) -> u32 {
+        match self.res {
+            0 => LightBuffer::auto_resolution(primitives),
+            r => r,
+        }
+    }
+
+    fn budget_bytes(&self) -> u64 {
+        let mib = match self.budget_mib {
+            0 => DEFAULT_LIGHT_BUFFER_BUDGET_MIB,
+            m => m,
+        };
+        mib as u64 * 1024 * 1024
+    }
+}
+
+impl FromStr for ShadowSpec {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (name, params) = match s.split_once(':') {
+            Some((n, p)) => (n, Some(p)),
+            None => (s, None),
+        };
+        let mut spec = ShadowSpec {
+            method: name.trim().parse()?,
+            ..ShadowSpec::default()
+        };
+        crate::accel::parse_params(s, params, |key, value| {
+            if !spec.method.uses_light_buffer() {
+                return Err(format!(
+                    "'{key}' is a light buffer parameter; {} takes none",
+                    spec.method
+                ));
+            }
+            let number = |range: std::ops::RangeInclusive<u32>| {
+                value
+                    .and_then(|v| v.parse::<u32>().ok())
+                    .filter(|v| range.contains(v))
+                    .ok_or_else(|| {
+                        format!(
+                            "{key} in '{s}' must be a whole number from {} to {}, got {}",
+                            range.start(),
+                            range.end(),
+                            value.unwrap_or("nothing")
+                        )
+                    })
+            };
+            match key {
+                "res" => spec.res = number(1..=1024)?,
+                "budget" => spec.budget_mib = number(1..=1 << 20)?,
+                _ => {
+                    return Err(format!(
+                        "unknown key '{key}' in '{s}': light-buffer takes res (cells along a \
+                         face's side) and budget (MiB)"
+                    ))
+                }
+            }
+            Ok(())
+        })?;
+        Ok(spec)
+    }
+}
+
+impl fmt::Display for ShadowSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.method.name())?;
+        let mut params = Vec::new();
+        if self.res != 0 {
+            params.push(format!("res={}", self.res));
+        }
+        if self.budget_mib != 0 {
+            params.push(format!("budget={}", self.budget_mib));
+        }
+        if !params.is_empty() {
+            write!(f, ":{}", params.join(","))?;
+        }
+        Ok(())
+    }
+}
+
+impl Serialize for ShadowSpec {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(&self.to_string())
+    }
+}
+
+impl<'de> Deserialize<'de> for ShadowSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let text = String::deserialize(d)?;
+        text.parse().map_err(serde::de::Error::custom)
+    }
+}
+
+/// The shadow-ray machinery of one render: the method and, per light, its buffer.
+pub struct Shadows<'a> {
+    scene: &'a PreparedScene<'a>,
+    spec: ShadowSpec,
+    /// Per light; None where the accelerator answers.
+    buffers: Vec<Option<LightBuffer>>,
+    /// Per light, why it has no buffer although the method asked for one.
+    pub unbuilt: Vec<Option<String>>,
+}
+
+impl<'a> Shadows<'a> {
+    /// Builds what `spec` needs for `scene`'s lights.
+    pub fn new(scene: &'a PreparedScene<'a>, spec: ShadowSpec) -> Shadows<'a> {
+        let lights = &scene.scene.lights;
+        let mut buffers = Vec::with_capacity(lights.len());
+        let mut unbuilt = Vec::with_capacity(lights.len());
+        let geometry = &scene.scene.geometry;
+        let res = spec.resolution(geometry.primitives.len());
+        // The budget is shared out among the lights that want a buffer.
+        let wanting = lights
+            .iter()
+            .filter(|l| position(l).is_some())
+            .count()
+            .max(1);
+        for light in lights {
+            let (buffer, why) = match (spec.method.uses_light_buffer(), position(light)) {
+                (false, _) => (None, None),
+                (true, None) => (
+                    None,
+                    Some("a directional light: its shadow rays use the accelerator".into()),
+                ),
+                (true, Some(p)) => {
+                    match LightBuffer::build(geometry, p, res, spec.budget_bytes() / wanting as u64)
+                    {
+                        Ok(b) => (Some(b), None),
+                        Err(Unbuilt::OverBudget {
+                            entries,
+                            budget_bytes,
+                        }) => (
+                            None,
+                            Some(format!(
+                                "its lists would hold over {entries} entries, past the budget \
+                                 of {} MiB for it: its shadow rays use the accelerator",
+                                budget_bytes >> 20
+                            )),
+                        ),
+                    }
+                }
+            };
+            buffers.push(buffer);
+            unbuilt.push(why);
+        }
+        Shadows {
+            scene,
+            spec,
+            buffers,
+            unbuilt,
+        }
+    }
+
+    /// The light buffers' figures, per light (None where a light has none).
+    pub fn buffer_info(&self) -> Vec<Option<LightBufferInfo>> {
+        self.buffers
+            .iter()
+            .map(|b| b.as_ref().map(LightBuffer::info))
+            .collect()
+    }
+
+    /// The fraction of light `light` (the scene's `index`-th) that reaches surface point
+    /// `sp`, whose geometric normal faces the light as `ng`, from a ray at `depth` of the ray
+    /// tree: one shadow ray, counted in `stats`.
+    pub(super) fn visibility(
+        &self,
+        index: usize,
+        depth: u32,
+        sp: &SurfacePoint,
+        ng: Vec3,
+        light: &LightSample,
+        stats: &mut Stats,
+    ) -> f32 {
+        let scene = self.scene;
+        stats.shadow_rays += 1;
+        let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
+        let origin = offset_ray_origin(sp.p, sp.p_error, ng, light.to_light);
+        let query = Query {
+            scene,
+            buffer: self.buffers.get(index).and_then(Option::as_ref),
+        };
+        let v = if scene.has_transmissive {
+            transmittance(&query, origin, light.to_light, light.distance, stats)
+        } else {
+            let ray = Ray::new(origin, light.to_light);
+            let blocked = if self.spec.method.uses_cache() {
+                cached_any_hit(&query, index, depth, &ray, light.distance, stats)
+            } else {
+                query.any(&ray, light.distance, stats).is_some()
+            };
+            if blocked {
+                0.0
+            } else {
+                1.0
+            }
+        };
+        stats.shadow_tests += stats.primitive_tests - tests;
+        stats.shadow_node_visits += stats.node_visits - nodes;
+        v
+    }
+}
+
+/// Where a light's buffer is built around: point and spot lights.
+fn position(light: &Light) -> Option<Vec3> {
+    match *light {
+        Light::Point { position, .. } | Light::Spot { position, .. } => Some(position),
+        Light::Directional { .. } => None,
+    }
+}
+
+/// One shadow query, answered by the light's buffer or by the accelerator.
+struct Query<'a> {
+    scene: &'a PreparedScene<'a>,
+    buffer: Option<&'a LightBuffer>,
+}
+
+impl Query<'_> {
+    fn any(&self, ray: &Ray, t_max: f32, stats: &mut Stats) -> Option<Hit> {
+        let geometry = &self.scene.scene.geometry;
+        match self.buffer {
+            Some(b) => {
+                stats.light_buffer_queries += 1;
+                b.query(geometry, ray, t_max, QueryMode::Any, stats)
+            }
+            None => self.scene.intersector.any_hit(geometry, ray, t_max, stats),
+        }
+    }
+
+    fn nearest(&self, ray: &Ray, t_max: f32, stats: &mut Stats) -> Option<Hit> {
+        let geometry = &self.scene.scene.geometry;
+        match self.buffer {
+            Some(b) => {
+                stats.light_buffer_queries += 1;
+                b.query(geometry, ray, t_max, QueryMode::Nearest, stats)
+            }
+            None => self
+                .scene
+                .intersector
+                .intersect(geometry, ray, t_max, stats),
+        }
+    }
+}
+
+thread_local! {
+    /// The shadow cache of this worker: per (light, depth), the last blocker found, or
+    /// u32::MAX. Cleared at the start of every tile or row (`begin_piece`), so what a
+    /// piece of work counts does not depend on which thread ran what before it.
+    static CACHE: RefCell<Vec<u32>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Depths the cache keeps apart (deeper rays share the last slot).
+const CACHE_DEPTHS: usize = 8;
+
+/// Forgets every remembered blocker of this thread: called when a worker starts a tile or
+/// a row.
+pub fn begin_piece() {
+    CACHE.with(|c| c.borrow_mut().clear());
+}
+
+/// An any-hit query that first tries the blocker last found for this light and depth.
+fn cached_any_hit(
+    query: &Query,
+    light: usize,
+    depth: u32,
+    ray: &Ray,
+    t_max: f32,
     stats: &mut Stats,
-) -> f32 {
-    stats.shadow_rays += 1;
-    let origin = offset_ray_origin(sp.p, sp.p_error, ng, light.to_light);
-    transmittance(scene, origin, light.to_light, light.distance, stats)
+) -> bool {
+    let slot = light * CACHE_DEPTHS + (depth as usize).min(CACHE_DEPTHS) - 1;
+    let remembered = CACHE.with(|c| c.borrow().get(slot).copied().unwrap_or(u32::MAX));
+    if remembered != u32::MAX {
+        let geometry = &query.scene.scene.geometry;
+        let shape = &geometry.primitives[remembered as usize].shape;
+        stats.count_test(shape.kind());
+        if shape
+            .intersect(&geometry.meshes, &TraceRay::new(*ray), t_max)
+            .is_some()
+        {
+            stats.shadow_cache_hits += 1;
+            return true;
+        }
+    }
+    match query.any(ray, t_max, stats) {
+        Some(hit) => {
+            CACHE.with(|c| {
+                let mut c = c.borrow_mut();
+                if c.len() <= slot {
+                    c.resize(slot + 1, u32::MAX);
+                }
+                c[slot] = hit.prim;
+            });
+            true
+        }
+        None => false,
+    }
 }
 
 /// Fraction of a light's radiance that reaches `origin` along `dir` within `distance`:
 /// 0 behind an opaque surface, the product of kt over the transparent ones otherwise.
-fn transmittance(
-    s: &PreparedScene,
-    origin: Vec3,
-    dir: Vec3,
-    distance: f32,
-    stats: &mut Stats,
-) -> f32 {
-    let geometry = &s.scene.geometry;
-    if !s.has_transmissive {
-        let blocked = s
-            .intersector
-            .occluded(geometry, &Ray::new(origin, dir), distance, stats);
-        return if blocked { 0.0 } else { 1.0 };
-    }
+fn transmittance(query: &Query, origin: Vec3, dir: Vec3, distance: f32, stats: &mut Stats) -> f32 {
+    let scene = query.scene.scene;
+    let geometry = &scene.geometry;
     let mut atten = 1.0;
     let mut origin = origin;
     let mut remaining = distance;
@@ -58,11 +388,11 @@ fn transmittance(
             stats.shadow_continuations += 1;
         }
         let ray = Ray::new(origin, dir);
-        let Some(hit) = s.intersector.intersect(geometry, &ray, remaining, stats) else {
+        let Some(hit) = query.nearest(&ray, remaining, stats) else {
             return atten;
         };
         let prim = &geometry.primitives[hit.prim as usize];
-        let kt = s.scene.materials[prim.material as usize].transmit;
+        let kt = scene.materials[prim.material as usize].transmit;
         atten *= kt;
         if atten <= 0.0 {
             return 0.0;
@@ -76,4 +406,31 @@ fn transmittance(
         }
     }
     0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn specs_read_and_print_alike() {
+        for text in [
+            "any-hit",
+            "cache",
+            "light-buffer",
+            "both",
+            "light-buffer:res=64,budget=32",
+        ] {
+            let spec: ShadowSpec = text.parse().unwrap();
+            assert_eq!(spec.to_string(), text);
+        }
+        let err = "cache:res=4".parse::<ShadowSpec>().unwrap_err();
+        assert!(err.contains("cache takes none"), "{err}");
+        let err = "light-buffer:res=0".parse::<ShadowSpec>().unwrap_err();
+        assert!(err.contains("from 1 to 1024, got 0"), "{err}");
+        let err = "light-buffer:size=3".parse::<ShadowSpec>().unwrap_err();
+        assert!(err.contains("unknown key 'size'"), "{err}");
+        let err = "buffer".parse::<ShadowSpec>().unwrap_err();
+        assert!(err.contains("any-hit, cache, light-buffer, both"), "{err}");
+    }
 }

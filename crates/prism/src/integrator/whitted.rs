@@ -6,7 +6,7 @@
 //! I = Ia·ka·C + Σ (Id + Is) + wr·I_R + wt·I_T, with (wr, wt) from the material
 //! (constant, or split by Fresnel reflectance). Shadow rays are `shadow.rs`.
 
-use super::shadow;
+use super::shadow::Shadows;
 use crate::accel::Hit;
 use crate::math::robust::offset_ray_origin;
 use crate::math::{Color, Ray};
@@ -17,6 +17,7 @@ use crate::stats::Stats;
 
 pub struct Whitted<'a> {
     scene: &'a PreparedScene<'a>,
+    shadows: Shadows<'a>,
     max_depth: u32,
     min_weight: f32,
     spd_rules: bool,
@@ -26,6 +27,7 @@ impl<'a> Whitted<'a> {
     pub fn new(scene: &'a PreparedScene<'a>, options: &RenderOptions) -> Self {
         Whitted {
             scene,
+            shadows: Shadows::new(scene, options.shadows),
             max_depth: options.max_depth,
             min_weight: options.min_weight,
             spd_rules: options.spd_rules,
@@ -48,6 +50,12 @@ impl<'a> Whitted<'a> {
             stats.pruned_rays += 1;
             false
         }
+    }
+
+    /// The shadow-ray machinery this render built (light buffers and why some lights have
+    /// none), for reports.
+    pub fn shadows(&self) -> &Shadows<'a> {
+        &self.shadows
     }
 
     /// Radiance along a camera ray (depth 1).
@@ -88,7 +96,7 @@ impl<'a> Whitted<'a> {
 
         // Local illumination.
         let mut radiance = material.ambient * color * scene.ambient;
-        for light in &scene.lights {
+        for (index, light) in scene.lights.iter().enumerate() {
             let Some(ls) = light.sample(sp.p) else {
                 continue;
             };
@@ -96,7 +104,7 @@ impl<'a> Whitted<'a> {
             if ng.dot(ls.to_light) <= 0.0 {
                 continue;
             }
-            let visibility = shadow::visibility(self.scene, &sp, ng, &ls, stats);
+            let visibility = self.shadows.visibility(index, depth, &sp, ng, &ls, stats);
             if visibility <= 0.0 {
                 continue;
             }

@@ -325,6 +325,7 @@ fn trace_corners(
             if job.cancelled() {
                 return None;
             }
+            crate::integrator::begin_piece();
             let mut stats = Stats::default();
             let mut values = Vec::with_capacity(w as usize + 1);
             let mut rays = vec![PixelRays::default(); w as usize];
@@ -370,6 +371,7 @@ fn trace_centres(job: &Job, centres: &mut [Option<Color>], out: &mut Traced) {
             if job.cancelled() {
                 return None;
             }
+            crate::integrator::begin_piece();
             let mut stats = Stats::default();
             let mut values = Vec::with_capacity(w as usize);
             let mut rays = Vec::with_capacity(w as usize);
@@ -425,6 +427,7 @@ fn refine(
             if job.cancelled() {
                 return None;
             }
+            crate::integrator::begin_piece();
             let mut stats = Stats::default();
             let mut values = Vec::with_capacity(w as usize);
             let mut rays = Vec::with_capacity(w as usize);

@@ -107,6 +107,10 @@ pub struct RenderResult {
     pub render_time: Duration,
     /// Rays per pixel, for the sample-density view.
     pub rays: RayCounts,
+    /// Per light, its light buffer's figures (None where the accelerator answered).
+    pub light_buffers: Vec<Option<crate::integrator::LightBufferInfo>>,
+    /// Per light, why it has no light buffer although the shadow method asked for one.
+    pub light_buffer_notes: Vec<Option<String>>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -208,12 +212,16 @@ pub fn render(
         Sampler::Corners => lattice::render_corners(&job),
         Sampler::Adaptive(rule) => lattice::render_adaptive(&job, &rule),
     })?;
+    let render_time = start.elapsed();
+    let shadows = job.integrator.shadows();
     Ok(RenderResult {
         film: traced.film,
         stats: traced.stats,
         complete: traced.complete,
-        render_time: start.elapsed(),
+        render_time,
         rays: traced.rays,
+        light_buffers: shadows.buffer_info(),
+        light_buffer_notes: shadows.unbuilt.clone(),
     })
 }
 

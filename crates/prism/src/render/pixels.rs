@@ -50,6 +50,7 @@ pub(super) fn render(
             if job.cancelled() {
                 return None;
             }
+            crate::integrator::begin_piece();
             let mut stats = Stats::default();
             let mut means = Vec::new();
             let mut rays = Vec::with_capacity(tile.pixel_count() as usize);

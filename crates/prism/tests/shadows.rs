@@ -1,0 +1,326 @@
+//! Shadow methods against the oracle: a light buffer must answer every shadow ray exactly
+//! as the scene's accelerator does (the same any-hit answer, the same nearest hit for the
+//! walk through transparent surfaces), for lights inside the scene, on a surface and far
+//! away, for shading points on surfaces and in free space, for directions on cell borders
+//! and cube edges, at 1, 10⁻³ and 10³ scale; and every method renders the same image.
+
+mod common;
+
+use common::oracle::{random_ray, TestScene};
+use common::{icosphere, Rng};
+use prism::accel::{AccelSpec, QueryMode, SceneIntersector};
+use prism::geometry::{AaBox, Plane, Shape, Sphere};
+use prism::integrator::{LightBuffer, ShadowSpec};
+use prism::math::robust::offset_ray_origin;
+use prism::math::{Aabb, Ray, Vec3};
+use prism::render::render;
+use prism::scene::builtin;
+use prism::Stats;
+use std::sync::atomic::AtomicBool;
+
+/// Shading points per light.
+const POINTS: usize = 4_000;
+
+/// Triangles, spheres, boxes, an icosphere and a floor plane in [-2, 2]³·scale + offset.
+fn scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
+    let mut rng = Rng::new(seed);
+    let mut s = TestScene::new();
+    let p = |rng: &mut Rng| offset + scale * rng.point_in(Vec3::splat(-2.0), Vec3::splat(2.0));
+    let mut tris = Vec::new();
+    for _ in 0..150 {
+        let a = p(&mut rng);
+        let size = scale * rng.range(0.01, 0.8);
+        tris.push([
+            a,
+            a + size * rng.unit_vector(),
+            a + size * rng.unit_vector(),
+        ]);
+    }
+    s.add_triangles(&tris);
+    for _ in 0..40 {
+        let c = p(&mut rng);
+        let r = scale * rng.range(0.02, 0.4);
+        s.geometry.add(Shape::Sphere(Sphere::new(c, r)), 0);
+        s.features.push(c + r * rng.unit_vector());
+    }
+    for _ in 0..10 {
+        let a = p(&mut rng);
+        let b = a + scale * rng.point_in(Vec3::splat(0.05), Vec3::splat(0.8));
+        s.add_box(AaBox::new(a.min(b), a.max(b)));
+    }
+    s.add_mesh(icosphere(offset, 0.7 * scale, 2));
+    s.geometry.add(
+        Shape::Plane(Box::new(
+            Plane::new(offset - Vec3::Y * 2.5 * scale, Vec3::Y).unwrap(),
+        )),
+        0,
+    );
+    s
+}
+
+/// A shading point: a hit of a random ray (with its surface's normal), or a point in free
+/// space (with a random normal).
+fn shading_point(
+    rng: &mut Rng,
+    s: &TestScene,
+    intersector: &SceneIntersector,
+    b: &Aabb,
+) -> (Vec3, Vec3, Vec3) {
+    if rng.chance(0.75) {
+        for _ in 0..8 {
+            let ray = random_ray(rng, s, b);
+            let mut stats = Stats::default();
+            if let Some(hit) = intersector.intersect(&s.geometry, &ray, f32::INFINITY, &mut stats) {
+                let sp = s.geometry.surface(hit.prim, &ray, &hit.shape_hit());
+                return (sp.p, sp.p_error, sp.ng);
+            }
+        }
+    }
+    let p = rng.point_in(b.min, b.max);
+    (p, Vec3::ZERO, rng.unit_vector())
+}
+
+/// Points seen from `light` along cube edges and cell borders of a `res` buffer.
+fn border_points(rng: &mut Rng, light: Vec3, reach: f32, res: u32) -> Vec<Vec3> {
+    let mut out = Vec::new();
+    for _ in 0..200 {
+        let t = rng.range(-1.0, 1.0);
+        let border = 2.0 * rng.below(res as usize + 1) as f32 / res as f32 - 1.0;
+        let mut d = match rng.below(3) {
+            0 => Vec3::new(1.0, 1.0, t),     // a cube edge
+            1 => Vec3::new(1.0, border, t),  // a cell border on the +x face
+            _ => Vec3::new(border, t, -1.0), // one on the −z face
+        };
+        if rng.chance(0.5) {
+            d = -d;
+        }
+        out.push(light + d.normalize() * reach * rng.range(0.01, 1.0));
+    }
+    out
+}
+
+/// Every shadow ray towards `light` gets the same answers from the buffer and from the
+/// accelerator.
+fn check_light(
+    s: &TestScene,
+    intersector: &SceneIntersector,
+    light: Vec3,
+    res: u32,
+    seed: u64,
+) -> (usize, usize) {
+    let g = &s.geometry;
+    let buffer = LightBuffer::build(g, light, res, 1 << 30).expect("within the budget");
+    let bounds = (0..g.primitives.len() as u32)
+        .filter_map(|i| g.bounds(i))
+        .fold(Aabb::EMPTY, |a, b| a.union(&b));
+    let mut rng = Rng::new(seed);
+    let mut points: Vec<(Vec3, Vec3, Vec3)> = (0..POINTS)
+        .map(|_| shading_point(&mut rng, s, intersector, &bounds))
+        .collect();
+    let reach = bounds.extent().length();
+    // Points behind vertices, edge midpoints and box corners as the light sees them: their
+    // shadow rays pass exactly over a primitive's outline, at the edge of its footprint.
+    for _ in 0..POINTS / 2 {
+        let f = s.features[rng.below(s.features.len())];
+        let p = light + (f - light) * rng.range(1.001, 3.0);
+        points.push((p, Vec3::ZERO, rng.unit_vector()));
+    }
+    points.extend(
+        border_points(&mut rng, light, reach, res)
+            .into_iter()
+            .map(|p| (p, Vec3::ZERO, Vec3::Y)),
+    );
+    let mut blocked = 0;
+    let total = points.len();
+    for (p, p_error, n) in points {
+        let d = light - p;
+        let distance = d.length();
+        if distance.is_nan() || distance <= 0.0 {
+            continue;
+        }
+        let dir = d / distance;
+        let ng = if n.dot(dir) < 0.0 { -n } else { n };
+        let ray = Ray::new(offset_ray_origin(p, p_error, ng, dir), dir);
+        let mut stats = Stats::default();
+        let any = buffer.query(g, &ray, distance, QueryMode::Any, &mut stats);
+        let occluded = intersector.occluded(g, &ray, distance, &mut stats);
+        assert_eq!(
+            any.is_some(),
+            occluded,
+            "light {light}, point {p}: the buffer says {any:?}, the accelerator {occluded}"
+        );
+        blocked += occluded as usize;
+        let nearest = buffer.query(g, &ray, distance, QueryMode::Nearest, &mut stats);
+        let expected = intersector.intersect(g, &ray, distance, &mut stats);
+        assert_eq!(
+            nearest, expected,
+            "light {light}, point {p}: nearest hits differ"
+        );
+    }
+    (blocked, total)
+}
+
+fn check_scene(scale: f32, offset: Vec3, seed: u64) {
+    let s = scene(seed, scale, offset);
+    let intersector = SceneIntersector::build(&s.geometry, &AccelSpec::default());
+    let mut rng = Rng::new(seed ^ 0x5eed);
+    let lights = [
+        // Inside the scene's bounds.
+        offset + scale * rng.point_in(Vec3::splat(-1.5), Vec3::splat(1.5)),
+        // On a surface: a triangle vertex, a box corner, a sphere's surface.
+        s.features[rng.below(s.features.len())],
+        s.features[rng.below(s.features.len())],
+        // Far away.
+        offset + scale * 1e3 * Vec3::new(0.3, 1.0, 0.2),
+        // Above, as a lamp over a table.
+        offset + scale * Vec3::new(0.1, 4.0, -0.3),
+    ];
+    let (mut blocked, mut total) = (0, 0);
+    for (i, &light) in lights.iter().enumerate() {
+        for res in [
+            8,
+            64,
+            LightBuffer::auto_resolution(s.geometry.primitives.len()),
+        ] {
+            let seed = seed + i as u64 * 31 + res as u64;
+            let (b, t) = check_light(&s, &intersector, light, res, seed);
+            blocked += b;
+            total += t;
+        }
+    }
+    // Both answers occur often, or the test would prove little.
+    assert!(
+        blocked > total / 10 && blocked < total - total / 10,
+        "{blocked} of {total} shadow rays blocked"
+    );
+}
+
+#[test]
+fn the_light_buffer_answers_as_the_accelerator() {
+    check_scene(1.0, Vec3::ZERO, 1);
+    check_scene(1.0, Vec3::new(3.0, -1.0, 2.0), 2);
+}
+
+#[test]
+fn the_light_buffer_answers_as_the_accelerator_at_every_scale() {
+    check_scene(1e-3, Vec3::new(2e-3, 0.0, -1e-3), 3);
+    check_scene(1e3, Vec3::new(-5e3, 2e3, 0.0), 4);
+}
+
+#[test]
+fn a_budget_too_small_refuses_the_buffer() {
+    let s = scene(5, 1.0, Vec3::ZERO);
+    let err = LightBuffer::build(&s.geometry, Vec3::ZERO, 64, 64);
+    assert!(err.is_err(), "64 bytes cannot hold the lists");
+}
+
+/// Every shadow method renders every built-in scene bit for bit as the accelerator does.
+#[test]
+fn every_shadow_method_renders_the_same_image() {
+    for name in [
+        "whitted",
+        "cornell",
+        "sphereflake:2",
+        "checkerboard",
+        "pearls",
+    ] {
+        let scene = builtin::find(name).unwrap();
+        let mut options = scene.options.clone();
+        options.width = 96;
+        options.height = 72;
+        let prepared = scene.prepare(&options.accel);
+        let mut reference = None;
+        for method in [
+            "any-hit",
+            "cache",
+            "light-buffer",
+            "both",
+            "light-buffer:res=7",
+        ] {
+            options.shadows = method.parse::<ShadowSpec>().unwrap();
+            let result = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
+            let film = result.film.pixels;
+            match &reference {
+                None => reference = Some(film),
+                Some(r) => assert!(
+                    r.iter()
+                        .zip(&film)
+                        .all(|(a, b)| a.to_array().map(f32::to_bits)
+                            == b.to_array().map(f32::to_bits)),
+                    "{name}: {method} renders another image than any-hit"
+                ),
+            }
+            if method != "any-hit" && method != "cache" {
+                assert!(
+                    result.stats.light_buffer_queries > 0 || scene.lights.is_empty(),
+                    "{name}: {method} built no buffer"
+                );
+            }
+        }
+    }
+}
+
+/// The SPD scenes (Haines' own test scenes) render bit for bit alike with every method.
+#[test]
+fn spd_scenes_render_the_same_with_every_shadow_method() {
+    let Some(dir) = common::shared_data("scenes/spd") else {
+        return;
+    };
+    for name in [
+        "balls", "gears", "mount", "rings", "teapot", "tetra", "tree",
+    ] {
+        let mut scene = prism::scene::load(&dir.join(format!("{name}.nff"))).unwrap();
+        let mut options = scene.options.clone();
+        prism::preset::apply_spd(&mut scene, &mut options);
+        options.width = 65;
+        options.height = 65;
+        let prepared = scene.prepare(&options.accel);
+        let mut reference = None;
+        for method in ["any-hit", "both"] {
+            options.shadows = method.parse::<ShadowSpec>().unwrap();
+            let film = render(&prepared, &options, &|_| {}, &AtomicBool::new(false))
+                .unwrap()
+                .film
+                .pixels;
+            match &reference {
+                None => reference = Some(film),
+                Some(r) => assert!(r == &film, "{name}: {method} differs from any-hit"),
+            }
+        }
+    }
+}
+
+/// A box whose outline, seen from the light, lies exactly on cell borders: shadow rays that
+/// graze its edge there must still find it in their cell (the footprints' slack).
+#[test]
+fn outlines_on_cell_borders_are_in_both_cells() {
+    let mut s = TestScene::new();
+    // From the origin, the edge x = 0.5, z = 2 is seen at u = x/z = 0.25, and the edge
+    // y = 0.5, z = 2 at v = 0.25: both borders of a res-8 face (cells 0.25 wide).
+    s.add_box(AaBox::new(
+        Vec3::new(0.5, -0.5, 1.0),
+        Vec3::new(1.0, 0.5, 2.0),
+    ));
+    let g = &s.geometry;
+    let intersector = SceneIntersector::build(g, &AccelSpec::default());
+    let light = Vec3::ZERO;
+    let buffer = LightBuffer::build(g, light, 8, 1 << 20).unwrap();
+    let mut agree = 0;
+    for k in [1.5f32, 2.0, 3.7, 10.0] {
+        for y in [-0.5f32, -0.25, 0.0, 0.3, 0.5] {
+            for step in -3i32..=3 {
+                let x = f32::from_bits((0.5f32 * k).to_bits().wrapping_add_signed(step));
+                let p = Vec3::new(x, y * k, 2.0 * k);
+                let d = light - p;
+                let distance = d.length();
+                let ray = Ray::new(p, d / distance);
+                let mut stats = Stats::default();
+                let a = buffer.query(g, &ray, distance, QueryMode::Any, &mut stats);
+                let b = intersector.occluded(g, &ray, distance, &mut stats);
+                assert_eq!(a.is_some(), b, "point {p}");
+                agree += b as usize;
+            }
+        }
+    }
+    assert!(agree > 0, "some grazing rays touch the box");
+}
