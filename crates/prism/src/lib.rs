@@ -9,6 +9,8 @@
 #[macro_use]
 mod kinds;
 
+// The public API is documented module by module; `accel` is complete and held to it.
+#[warn(missing_docs)]
 pub mod accel;
 pub mod bench;
 pub mod camera;

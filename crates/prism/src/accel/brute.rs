@@ -27,6 +27,7 @@ pub struct BruteForce {
 }
 
 impl BruteForce {
+    /// The list of `prims`, tested in this order.
     pub fn new(prims: Vec<u32>) -> Self {
         BruteForce { prims }
     }

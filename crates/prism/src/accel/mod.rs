@@ -86,11 +86,14 @@ pub const CULL_SLACK: f32 = 1.0 + 1.0 / 8192.0;
 /// The whole scene's ray queries: an accelerator over bounded primitives plus a plain list
 /// of unbounded ones (planes), which no bounding structure can hold.
 pub struct SceneIntersector {
+    /// The accelerator over the bounded primitives.
     pub accel: Box<dyn Accel>,
     unbounded: Vec<u32>,
 }
 
 impl SceneIntersector {
+    /// Builds the method `spec` names over the bounded primitives of `geometry` and keeps
+    /// the unbounded ones (planes) aside.
     pub fn build(geometry: &Geometry, spec: &AccelSpec) -> Self {
         let (bounded, unbounded): (Vec<u32>, Vec<u32>) =
             (0..geometry.primitives.len() as u32).partition(|&i| geometry.bounds(i).is_some());
@@ -100,6 +103,8 @@ impl SceneIntersector {
         }
     }
 
+    /// The nearest hit along `ray` with `0 < t < t_max`, planes included (see
+    /// `HitSearch::test_unbounded` for how a plane ties with an object).
     pub fn intersect(
         &self,
         geometry: &Geometry,
@@ -138,6 +143,7 @@ impl SceneIntersector {
             .query(geometry, &tr, t_max, QueryMode::Any, stats)
     }
 
+    /// Whether anything, planes included, is hit along `ray` with `0 < t < t_max`.
     pub fn occluded(&self, geometry: &Geometry, ray: &Ray, t_max: f32, stats: &mut Stats) -> bool {
         let tr = TraceRay::new(*ray);
         // The planes first: a few tests that may spare the walk.

@@ -52,6 +52,7 @@ impl Stopwatch {
 
 /// CPU time consumed by this process so far.
 #[cfg(unix)]
+#[allow(unsafe_code)] // the libc call; std has no process CPU clock
 fn process_cpu_time() -> Option<Duration> {
     let mut ts = libc::timespec {
         tv_sec: 0,

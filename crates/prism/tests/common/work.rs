@@ -21,8 +21,9 @@ fn count(bytes: usize) {
 /// its new size, the bytes that may be touched).
 pub struct Counting;
 
-// SAFETY: every method forwards to `System` with the caller's arguments unchanged; the
-// counting touches only a const-initialised thread-local `Cell`, which never allocates.
+#[allow(unsafe_code)] // a global allocator cannot be written without it
+                      // SAFETY: every method forwards to `System` with the caller's arguments unchanged; the
+                      // counting touches only a const-initialised thread-local `Cell`, which never allocates.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         count(layout.size());

@@ -103,6 +103,7 @@ impl Bvh {
         }
     }
 
+    /// Nodes of the binary tree as built.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }

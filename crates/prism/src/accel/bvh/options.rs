@@ -42,8 +42,10 @@ impl BvhBuilder {
     }
 }
 
+/// How a BVH is built; also the `bvh:` keys of `--accel` (see `Method`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BvhOptions {
+    /// The construction algorithm.
     pub builder: BvhBuilder,
     /// Bins per axis for the binned SAH sweep.
     pub bins: usize,

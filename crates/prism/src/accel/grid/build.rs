@@ -12,6 +12,7 @@ use crate::accel::Accel;
 use crate::geometry::Geometry;
 use crate::math::{Aabb, Vec3};
 
+/// How the grid resolution is chosen; also the `grid:` keys of `--accel`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GridOptions {
     /// Cells along the longest axis per cube root of the primitive count.
@@ -98,6 +99,7 @@ fn cell_ranges(
 }
 
 impl Grid {
+    /// Builds the grid over `prims` (indices into `geometry.primitives`).
     pub fn build(geometry: &Geometry, prims: Vec<u32>, options: &GridOptions) -> Grid {
         let (boxes, bounds) = padded_bounds(geometry, &prims);
         // Big primitives in fine cells are listed in every cell they touch; coarsen the

@@ -10,6 +10,7 @@ use crate::math::{Aabb, Vec3};
 
 pub use build::GridOptions;
 
+/// A uniform grid over the scene box: cells listing the primitives they overlap.
 pub struct Grid {
     bounds: Aabb,
     /// Cells per axis.
@@ -43,10 +44,12 @@ impl Grid {
         }
     }
 
+    /// Bytes of the cell lists.
     pub fn memory_bytes(&self) -> usize {
         (self.starts.len() + self.refs.len()) * 4
     }
 
+    /// Resolution, cell occupancy and memory.
     pub fn info(&self) -> AccelInfo {
         let cells = self.starts.len().saturating_sub(1);
         let sizes = self.starts.windows(2).map(|w| (w[1] - w[0]) as usize);

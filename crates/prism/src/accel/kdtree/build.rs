@@ -16,6 +16,7 @@ use crate::accel::Accel;
 use crate::geometry::Geometry;
 use crate::math::Aabb;
 
+/// The SAH costs and depth limit of the kd-tree build; also the `kdtree:` keys.
 #[derive(Clone, Debug, PartialEq)]
 pub struct KdTreeOptions {
     /// Cost of one traversal step, relative to...
@@ -133,6 +134,7 @@ struct Split {
 type Side = (Aabb, Vec<u32>);
 
 impl KdTree {
+    /// Builds the tree over `prims` (indices into `geometry.primitives`).
     pub fn build(geometry: &Geometry, prims: Vec<u32>, options: &KdTreeOptions) -> KdTree {
         let (boxes, bounds) = padded_bounds(geometry, &prims);
         let n = prims.len();

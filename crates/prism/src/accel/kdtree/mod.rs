@@ -66,6 +66,8 @@ impl Node {
     }
 }
 
+/// A kd-tree: axis-aligned splitting planes chosen by the SAH, leaves listing the
+/// primitives they overlap.
 pub struct KdTree {
     bounds: Aabb,
     nodes: Vec<Node>,
@@ -75,10 +77,12 @@ pub struct KdTree {
 }
 
 impl KdTree {
+    /// Bytes of the nodes and reference lists.
     pub fn memory_bytes(&self) -> usize {
         self.nodes.len() * std::mem::size_of::<Node>() + self.refs.len() * 4
     }
 
+    /// Shape statistics and the SAH cost of the built tree.
     pub fn info(&self) -> AccelInfo {
         let mut info = AccelInfo {
             method: format!(

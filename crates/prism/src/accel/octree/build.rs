@@ -8,6 +8,7 @@ use crate::accel::Accel;
 use crate::geometry::Geometry;
 use crate::math::Aabb;
 
+/// When a cell splits and how deep; also the `octree:` keys.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OctreeOptions {
     /// A cell with more primitives than this is subdivided.
@@ -64,6 +65,7 @@ struct Builder<'a> {
 }
 
 impl Octree {
+    /// Builds the tree over `prims` (indices into `geometry.primitives`).
     pub fn build(geometry: &Geometry, prims: Vec<u32>, options: &OctreeOptions) -> Octree {
         let (boxes, bounds) = padded_bounds(geometry, &prims);
         let options = OctreeOptions {

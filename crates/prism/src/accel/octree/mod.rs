@@ -44,6 +44,8 @@ fn octant(bounds: &Aabb, child: usize) -> Aabb {
     b
 }
 
+/// An adaptive octree: cells split into eight equal octants while they hold many
+/// primitives.
 pub struct Octree {
     bounds: Aabb,
     nodes: Vec<Node>,
@@ -53,10 +55,12 @@ pub struct Octree {
 }
 
 impl Octree {
+    /// Bytes of the nodes and reference lists.
     pub fn memory_bytes(&self) -> usize {
         self.nodes.len() * std::mem::size_of::<Node>() + self.refs.len() * 4
     }
 
+    /// Shape statistics of the built tree.
     pub fn info(&self) -> AccelInfo {
         let mut info = AccelInfo {
             method: format!(

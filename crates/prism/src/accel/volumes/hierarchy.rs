@@ -25,6 +25,7 @@ impl<V> VolumeNode<V> {
     }
 }
 
+/// The binned-SAH tree of `Bvh` with a volume of kind `V` at every node.
 pub struct VolumeBvh<V: Volume> {
     pub(super) nodes: Vec<VolumeNode<V>>,
     pub(super) prims: Vec<u32>,
@@ -94,6 +95,7 @@ impl<V: Volume> VolumeBvh<V> {
         self.nodes.len() * std::mem::size_of::<VolumeNode<V>>() + self.prims.len() * 4
     }
 
+    /// The tree's figures, named with its volume kind.
     pub fn info(&self) -> AccelInfo {
         self.info.clone()
     }

@@ -13,13 +13,16 @@ use std::collections::HashMap;
 /// from outside.
 #[derive(Clone, Debug)]
 pub struct ConvexHull {
+    /// The hull's faces.
     pub triangles: Vec<[usize; 3]>,
 }
 
 /// A plane `normal·x ≤ offset`, `normal` of unit length.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HalfSpace {
+    /// Outward unit normal.
     pub normal: DVec3,
+    /// Distance of the plane from the origin along `normal`.
     pub offset: f64,
 }
 

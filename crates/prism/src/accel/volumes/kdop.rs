@@ -31,11 +31,15 @@ pub const DIRECTIONS: [Vec3; 13] = [
 /// A k-DOP with N = k/2 slabs: `lo[i] ≤ DIRECTIONS[i]·x ≤ hi[i]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dop<const N: usize> {
+    /// Lower bound along each direction.
     pub lo: [f32; N],
+    /// Upper bound along each direction.
     pub hi: [f32; N],
 }
 
+/// The 14-DOP: the three axes and the four cube diagonals.
 pub type Dop14 = Dop<7>;
+/// The 26-DOP: the 14-DOP's directions and the six face diagonals.
 pub type Dop26 = Dop<13>;
 
 /// A ray prepared for N directions.

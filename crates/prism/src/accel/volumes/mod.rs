@@ -38,10 +38,15 @@ use crate::stats::Stats;
 /// Which volume the nodes carry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum NodeVolume {
+    /// Axis-aligned boxes: the plain BVH.
     Aabb,
+    /// Bounding spheres.
     Sphere,
+    /// Oriented boxes, axes from the principal components of the node's points.
     Obb,
+    /// 14-DOPs: seven slab directions.
     Dop14,
+    /// 26-DOPs: thirteen slab directions.
     Dop26,
     /// Boxes, plus a convex hull around each object of many primitives.
     Hull,
@@ -60,6 +65,7 @@ named_kinds! {
 
 /// An accelerator built with one node volume, which can also say how tight its volumes are.
 pub trait VolumeAccel: Send + Sync {
+    /// The accelerator itself.
     fn accel(&self) -> &dyn Accel;
 
     /// The mean chance that a random line meeting a node's box also meets its volume

@@ -14,15 +14,19 @@ use super::volume::{magnitude, Volume};
 use crate::geometry::Geometry;
 use crate::math::{Aabb, TraceRay, Vec3};
 
+/// An oriented bounding box: `lo[i] ≤ axes[i]·x ≤ hi[i]` for its three axes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Obb {
     /// Unit axes (orthogonal up to f32 rounding, which costs nothing in safety).
     pub axes: [Vec3; 3],
+    /// Lower bound along each axis.
     pub lo: [f32; 3],
+    /// Upper bound along each axis.
     pub hi: [f32; 3],
 }
 
 impl Obb {
+    /// Surface area, for the SAH and tightness figures.
     pub fn surface_area(&self) -> f32 {
         let e: [f32; 3] =
             std::array::from_fn(|i| (self.hi[i] - self.lo[i]) / self.axes[i].length());

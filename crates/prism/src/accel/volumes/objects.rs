@@ -35,6 +35,8 @@ struct Object {
     bounds: Aabb,
 }
 
+/// Boxes everywhere, plus a convex hull around each object of many primitives, which a
+/// ray must hit before that object's own sub-tree is entered.
 pub struct ObjectHulls {
     top: VolumeBvh<Aabb>,
     objects: Vec<Object>,
@@ -43,6 +45,8 @@ pub struct ObjectHulls {
 }
 
 impl ObjectHulls {
+    /// Groups `prims` by object (mesh), builds hulls and sub-trees for the big ones and a
+    /// top-level tree over them and the rest.
     pub fn build(geometry: &Geometry, prims: Vec<u32>, options: &BvhOptions) -> Self {
         let primitives = prims.len();
         let mut by_mesh: HashMap<u32, Vec<u32>> = HashMap::new();
@@ -96,6 +100,7 @@ impl ObjectHulls {
         }
     }
 
+    /// Bytes of the top tree, the hull planes and the objects' sub-trees.
     pub fn memory_bytes(&self) -> usize {
         self.top.memory_bytes()
             + self.planes.len() * std::mem::size_of::<Plane>()

@@ -11,9 +11,12 @@ use crate::math::robust::gamma;
 use crate::math::{Aabb, TraceRay, Vec3};
 use glam::DVec3;
 
+/// A bounding sphere.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoundingSphere {
+    /// Centre.
     pub center: Vec3,
+    /// Radius, padded outward.
     pub radius: f32,
 }
 
@@ -24,6 +27,7 @@ pub struct SphereRay {
 }
 
 impl BoundingSphere {
+    /// Surface area, for the SAH and tightness figures.
     pub fn surface_area(&self) -> f32 {
         4.0 * std::f32::consts::PI * self.radius * self.radius
     }

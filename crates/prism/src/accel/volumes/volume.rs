@@ -4,10 +4,12 @@
 use crate::geometry::Geometry;
 use crate::math::{Aabb, TraceRay, Vec3};
 
+/// A node bounding volume: fitted conservatively, tested robustly.
 pub trait Volume: Copy + Send + Sync + std::fmt::Debug + 'static {
     /// Constants a ray computes once per traversal, not once per node.
     type Ray: Copy;
 
+    /// The per-ray constants for `ray`, once per traversal.
     fn prepare(ray: &TraceRay) -> Self::Ray;
 
     /// Entry distance (≥ 0, possibly underestimated, never over) if the ray may meet the
