@@ -110,13 +110,7 @@ fn the_concept_table_points_at_files_that_exist() {
         checked += 1;
     }
     assert!(checked >= 15, "only {checked} concepts point at files");
-    for concept in [
-        "light buffer",
-        "shadow cache",
-        "ray packets",
-        "beam tracing",
-        "path tracing",
-    ] {
+    for concept in ["ray packets", "beam tracing", "path tracing"] {
         assert!(
             table
                 .lines()

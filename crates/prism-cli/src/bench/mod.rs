@@ -77,6 +77,12 @@ pub struct BenchArgs {
     #[arg(long, value_name = "FILE")]
     pub chart: Option<PathBuf>,
 
+    /// Also time shadow methods (as `render --shadows` takes them, separated by ';') on
+    /// each scene's shadow rays with the default BVH, in turns, e.g.
+    /// "any-hit;cache;light-buffer;both".
+    #[arg(long, value_name = "LIST")]
+    pub shadows: Option<String>,
+
     /// No progress lines on standard error.
     #[arg(short, long)]
     pub quiet: bool,
@@ -131,6 +137,17 @@ impl BenchArgs {
 
 pub fn run(args: &BenchArgs) -> Result<ExitCode> {
     let methods = args.methods()?;
+    let shadow_specs: Vec<prism::integrator::ShadowSpec> = match &args.shadows {
+        None => Vec::new(),
+        Some(list) => list
+            .split(';')
+            .map(|s| {
+                s.trim()
+                    .parse()
+                    .map_err(|e: String| anyhow::anyhow!("--shadows: {e}"))
+            })
+            .collect::<Result<_>>()?,
+    };
     let sources = args.sources()?;
     let mut outputs = crate::outputs::Outputs::default();
     for (path, ext) in [
@@ -186,9 +203,18 @@ pub fn run(args: &BenchArgs) -> Result<ExitCode> {
         scene
             .validate()
             .with_context(|| format!("{}: the scene is not valid", source.name()))?;
-        let result = pool
-            .install(|| bench_scene(&scene, source.name(), &methods, size, &options, args.quiet))?;
+        let result = pool.install(|| {
+            bench_scene(
+                &scene,
+                source.name(),
+                (&methods, &shadow_specs),
+                size,
+                &options,
+                args.quiet,
+            )
+        })?;
         print!("{}", table::scene_block(&result));
+        print!("{}", table::shadow_block(&result));
         results.push(result);
     }
     println!();
@@ -224,10 +250,17 @@ pub fn run(args: &BenchArgs) -> Result<ExitCode> {
     let wrong: Vec<String> = results
         .iter()
         .flat_map(|s| {
-            s.rows
+            let accels = s
+                .rows
                 .iter()
                 .filter(|r| r.mismatch)
-                .map(move |r| format!("{} on {}", r.method, s.name))
+                .map(move |r| format!("{} on {}", r.method, s.name));
+            let shadows = s
+                .shadow_methods
+                .iter()
+                .filter(|m| m.mismatch)
+                .map(move |m| format!("shadows {} on {}", m.method, s.name));
+            accels.chain(shadows)
         })
         .collect();
     if !wrong.is_empty() {
@@ -242,7 +275,7 @@ pub fn run(args: &BenchArgs) -> Result<ExitCode> {
 fn bench_scene(
     scene: &prism::Scene,
     name: String,
-    methods: &[(String, AccelSpec)],
+    (methods, shadow_specs): (&[(String, AccelSpec)], &[prism::integrator::ShadowSpec]),
     size: u32,
     options: &MeasureOptions,
     quiet: bool,
@@ -265,6 +298,14 @@ fn bench_scene(
     let reference = scene.prepare(&AccelSpec::default());
     let rays = RaySet::generate(&reference, width, height)
         .with_context(|| format!("{name}: cannot set up the camera"))?;
+    let shadow_methods = if shadow_specs.is_empty() {
+        Vec::new()
+    } else {
+        if !quiet {
+            eprintln!("bench: {name}: shadow methods");
+        }
+        prism::bench::measure_shadow_methods(&reference, &rays, shadow_specs, options)
+    };
     let bounded = (0..scene.geometry.primitives.len() as u32)
         .filter(|&i| scene.geometry.bounds(i).is_some())
         .count() as u64;
@@ -316,5 +357,6 @@ fn bench_scene(
         rays: rays.size(),
         primary_hits: rays.primary_hits,
         rows,
+        shadow_methods,
     })
 }

@@ -50,6 +50,8 @@ pub struct SceneResult {
     pub rays: RaySetSize,
     pub primary_hits: usize,
     pub rows: Vec<Row>,
+    /// The shadow methods on the same shadow rays (`--shadows`), if asked for.
+    pub shadow_methods: Vec<prism::bench::ShadowMeasured>,
 }
 
 impl SceneResult {

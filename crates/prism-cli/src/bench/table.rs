@@ -110,3 +110,34 @@ mod tests {
         assert_eq!(rate(0.00123), "0.0012");
     }
 }
+
+/// The shadow methods' lines of a scene (none unless `--shadows` asked for them): build
+/// time, memory, work per shadow ray, cache hit rate and throughput against the first
+/// method's.
+pub fn shadow_block(s: &SceneResult) -> String {
+    let Some(first) = s.shadow_methods.first() else {
+        return String::new();
+    };
+    let mut out = format!(
+        "  {:<26} {:>9} {:>9} {:>9} {:>9} {:>7} {:>9} {:>8}\n",
+        "shadow method", "build ms", "MiB", "tests/S", "nodes/S", "cache", "MS/s", "vs first"
+    );
+    for m in &s.shadow_methods {
+        out += &format!(
+            "  {:<26} {:>9.1} {:>9.2} {:>9.2} {:>9.2} {:>6.1}% {:>9.2} {:>7.0}%{}\n",
+            m.method,
+            m.build_ms,
+            m.memory_bytes as f64 / (1 << 20) as f64,
+            m.tests_per_ray,
+            m.node_visits_per_ray,
+            100.0 * m.cache_hit_rate,
+            m.mrays_per_s,
+            100.0 * m.mrays_per_s / first.mrays_per_s.max(1e-12),
+            if m.mismatch { "  MISMATCH" } else { "" }
+        );
+        for note in &m.notes {
+            out += &format!("    {note}\n");
+        }
+    }
+    out
+}

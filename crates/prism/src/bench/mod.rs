@@ -6,8 +6,10 @@ mod clock;
 mod digest;
 mod measure;
 mod rays;
+mod shadows;
 
 pub use clock::{Clock, Stopwatch};
 pub use digest::HitDigest;
 pub use measure::{measure_all, MeasureOptions, Measured, RayKindResult};
 pub use rays::{RaySet, RaySetSize, ShadowRay};
+pub use shadows::{measure_shadow_methods, ShadowMeasured};

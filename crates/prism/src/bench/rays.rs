@@ -15,6 +15,8 @@ use serde::Serialize;
 pub struct ShadowRay {
     pub ray: Ray,
     pub t_max: f32,
+    /// The light it goes to (an index into the scene's lights).
+    pub light: u32,
 }
 
 /// The fixed rays of one scene.
@@ -74,7 +76,7 @@ impl RaySet {
                 } else {
                     -sp.ng
                 };
-                for light in &scene.lights {
+                for (index, light) in scene.lights.iter().enumerate() {
                     let Some(ls) = light.sample(sp.p) else {
                         continue;
                     };
@@ -85,6 +87,7 @@ impl RaySet {
                     set.shadow.push(ShadowRay {
                         ray: Ray::new(origin, ls.to_light),
                         t_max: ls.distance,
+                        light: index as u32,
                     });
                 }
             }

@@ -45,7 +45,7 @@ pub enum ShadowMethod {
     Both,
 }
 
-crate::named_kinds! {
+named_kinds! {
     ShadowMethod, "shadow method" {
         AnyHit => "any-hit",
         Cache => "cache",
@@ -231,6 +231,27 @@ impl<'a> Shadows<'a> {
         }
     }
 
+    /// Whether anything blocks `ray` (from a surface towards the scene's `light`-th light,
+    /// at `depth` of the ray tree) before `t_max`: the any-hit answer, by this method.
+    pub fn blocked(
+        &self,
+        light: usize,
+        depth: u32,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut Stats,
+    ) -> bool {
+        let query = Query {
+            scene: self.scene,
+            buffer: self.buffers.get(light).and_then(Option::as_ref),
+        };
+        if self.spec.method.uses_cache() {
+            cached_any_hit(&query, light, depth, ray, t_max, stats)
+        } else {
+            query.any(ray, t_max, stats).is_some()
+        }
+    }
+
     /// The light buffers' figures, per light (None where a light has none).
     pub fn buffer_info(&self) -> Vec<Option<LightBufferInfo>> {
         self.buffers
@@ -263,12 +284,7 @@ impl<'a> Shadows<'a> {
             transmittance(&query, origin, light.to_light, light.distance, stats)
         } else {
             let ray = Ray::new(origin, light.to_light);
-            let blocked = if self.spec.method.uses_cache() {
-                cached_any_hit(&query, index, depth, &ray, light.distance, stats)
-            } else {
-                query.any(&ray, light.distance, stats).is_some()
-            };
-            if blocked {
+            if self.blocked(index, depth, &ray, light.distance, stats) {
                 0.0
             } else {
                 1.0
