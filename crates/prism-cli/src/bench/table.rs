@@ -97,20 +97,6 @@ pub fn scene_block(scene: &SceneResult) -> String {
     s
 }
 
-#[cfg(test)]
-mod tests {
-    use super::rate;
-
-    #[test]
-    fn rates_keep_three_digits_down_to_a_thousandth() {
-        assert_eq!(rate(115.04), "115");
-        assert_eq!(rate(23.96), "24.0");
-        assert_eq!(rate(1.594), "1.59");
-        assert_eq!(rate(0.2345), "0.234");
-        assert_eq!(rate(0.00123), "0.0012");
-    }
-}
-
 /// The shadow methods' lines of a scene (none unless `--shadows` asked for them): build
 /// time, memory, work per shadow ray, cache hit rate and throughput against the first
 /// method's.
@@ -140,4 +126,18 @@ pub fn shadow_block(s: &SceneResult) -> String {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rate;
+
+    #[test]
+    fn rates_keep_three_digits_down_to_a_thousandth() {
+        assert_eq!(rate(115.04), "115");
+        assert_eq!(rate(23.96), "24.0");
+        assert_eq!(rate(1.594), "1.59");
+        assert_eq!(rate(0.2345), "0.234");
+        assert_eq!(rate(0.00123), "0.0012");
+    }
 }
