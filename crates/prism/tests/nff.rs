@@ -2,6 +2,7 @@
 //! (file, line, column, what was expected) for every kind of bad input.
 
 use prism::geometry::{Shape, ShapeKind};
+use prism::math::Color;
 use prism::scene::nff::parse;
 use prism::scene::LoadError;
 
@@ -60,7 +61,10 @@ fn entities_become_shapes_materials_and_lights() {
         .any(|p| matches!(p.shape, Shape::Sphere(s) if s.inside_out)));
     assert_eq!(scene.materials.len(), 2);
     let glass = &scene.materials[1];
-    assert_eq!((glass.transmit, glass.ior, glass.reflect), (0.8, 1.5, 0.0));
+    assert_eq!(
+        (glass.transmit, glass.ior, glass.reflect),
+        (Color::splat(0.8), 1.5, 0.0)
+    );
     let red = &scene.materials[0];
     assert_eq!((red.diffuse, red.reflect, red.shininess), (0.7, 0.3, 20.0));
     // Lights without colour get SPD's 1/(2√N); with colour keep it.

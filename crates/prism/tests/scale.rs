@@ -127,7 +127,7 @@ fn mesh_scene() -> Scene {
         diffuse: 0.0,
         specular: 0.6,
         shininess: 100.0,
-        transmit: 0.95,
+        transmit: Color::splat(0.95),
         reflect: 0.05,
         ior: 1.5,
         fresnel: FresnelMode::Exact,

@@ -6,8 +6,9 @@
 //! I = Ia·ka·C + Σ (Id + Is) + wr·I_R + wt·I_T, with (wr, wt) from the material
 //! (constant, or split by Fresnel reflectance).
 //!
-//! Shadow rays that meet a transparent surface continue through it, attenuated by its kt,
-//! as POV-Ray does; refraction of the shadow ray itself is ignored (no caustics).
+//! Shadow rays that meet a transparent surface continue through it, filtered by its kt
+//! (a colour), as POV-Ray does; refraction of the shadow ray itself is ignored (no
+//! caustics). Weights are colours too: red glass passes red light only.
 
 use crate::accel::Hit;
 use crate::math::robust::offset_ray_origin;
@@ -39,15 +40,16 @@ impl<'a> Whitted<'a> {
 
     /// Whether a secondary ray of weight `w` (in its parent) is traced. `present` says the
     /// material has the term at all (kr or kt > 0), which is all SPD's rules ask. Rays the
-    /// static limit would trace but adaptive depth control drops are counted.
-    fn spawns(&self, present: bool, w: f32, weight: f32, stats: &mut Stats) -> bool {
+    /// static limit would trace but adaptive depth control drops are counted. A coloured
+    /// weight counts by its largest channel: the most the ray can change any channel.
+    fn spawns(&self, present: bool, w: Color, weight: Color, stats: &mut Stats) -> bool {
         if self.spd_rules {
             return present;
         }
-        if w <= 0.0 {
+        if w.max_element() <= 0.0 {
             return false;
         }
-        if weight * w >= self.min_weight {
+        if (weight * w).max_element() >= self.min_weight {
             true
         } else {
             stats.pruned_rays += 1;
@@ -58,7 +60,7 @@ impl<'a> Whitted<'a> {
     /// Radiance along a camera ray (depth 1).
     pub fn trace_camera_ray(&self, ray: &Ray, stats: &mut Stats) -> Color {
         stats.primary_rays += 1;
-        self.trace(ray, 1, 1.0, stats)
+        self.trace(ray, 1, Color::ONE, stats)
     }
 
     fn nearest(&self, ray: &Ray, t_max: f32, stats: &mut Stats) -> Option<Hit> {
@@ -68,8 +70,9 @@ impl<'a> Whitted<'a> {
     }
 
     /// `weight` is the product of reflection and transmission weights from the eye to this
-    /// ray: what its radiance is worth in the pixel (for adaptive depth control).
-    pub fn trace(&self, ray: &Ray, depth: u32, weight: f32, stats: &mut Stats) -> Color {
+    /// ray, per channel: what its radiance is worth in the pixel (for adaptive depth
+    /// control).
+    pub fn trace(&self, ray: &Ray, depth: u32, weight: Color, stats: &mut Stats) -> Color {
         let scene = self.scene.scene;
         let Some(hit) = self.nearest(ray, f32::INFINITY, stats) else {
             return scene.background;
@@ -104,7 +107,7 @@ impl<'a> Whitted<'a> {
             stats.shadow_rays += 1;
             let origin = offset_ray_origin(sp.p, sp.p_error, ng, ls.to_light);
             let visibility = self.transmittance(origin, ls.to_light, ls.distance, stats);
-            if visibility <= 0.0 {
+            if visibility.max_element() <= 0.0 {
                 continue;
             }
             let diffuse = material.diffuse * ns.dot(ls.to_light).max(0.0) * color;
@@ -127,8 +130,10 @@ impl<'a> Whitted<'a> {
         if w.total_internal_reflection {
             stats.total_internal_reflections += 1;
         }
-        let has_specular = material.reflect > 0.0 || material.transmit > 0.0;
-        if self.spawns(has_specular, w.reflect, weight, stats) {
+        let transmissive = material.is_transmissive();
+        let has_specular = material.reflect > 0.0 || transmissive;
+        let w_reflect = Color::splat(w.reflect);
+        if self.spawns(has_specular, w_reflect, weight, stats) {
             let mut dir = reflect(ray.dir, ns);
             // An interpolated normal can mirror the ray below the true surface; use the
             // geometric normal there instead.
@@ -137,12 +142,10 @@ impl<'a> Whitted<'a> {
             }
             let origin = offset_ray_origin(sp.p, sp.p_error, ng, dir);
             stats.reflected_rays += 1;
-            let r = self.trace(&Ray::new(origin, dir), depth + 1, weight * w.reflect, stats);
+            let r = self.trace(&Ray::new(origin, dir), depth + 1, weight * w_reflect, stats);
             radiance += w.reflect * r;
         }
-        if !w.total_internal_reflection
-            && self.spawns(material.transmit > 0.0, w.transmit, weight, stats)
-        {
+        if !w.total_internal_reflection && self.spawns(transmissive, w.transmit, weight, stats) {
             if let Some(dir) = refract(ray.dir, ns, eta) {
                 let origin = offset_ray_origin(sp.p, sp.p_error, ng, dir);
                 stats.refracted_rays += 1;
@@ -158,18 +161,19 @@ impl<'a> Whitted<'a> {
         radiance
     }
 
-    /// Fraction of a light's radiance that reaches `origin` along `dir` within `distance`:
-    /// 0 behind an opaque surface, the product of kt over the transparent ones otherwise.
-    fn transmittance(&self, origin: Vec3, dir: Vec3, distance: f32, stats: &mut Stats) -> f32 {
+    /// Fraction of a light's radiance, per channel, that reaches `origin` along `dir` within
+    /// `distance`: 0 behind an opaque surface, the product of kt over the transparent ones
+    /// otherwise.
+    fn transmittance(&self, origin: Vec3, dir: Vec3, distance: f32, stats: &mut Stats) -> Color {
         let s = self.scene;
         let geometry = &s.scene.geometry;
         if !s.has_transmissive {
             let blocked = s
                 .intersector
                 .occluded(geometry, &Ray::new(origin, dir), distance, stats);
-            return if blocked { 0.0 } else { 1.0 };
+            return if blocked { Color::ZERO } else { Color::ONE };
         }
-        let mut atten = 1.0;
+        let mut atten = Color::ONE;
         let mut origin = origin;
         let mut remaining = distance;
         for segment in 0..MAX_SHADOW_SEGMENTS {
@@ -183,8 +187,8 @@ impl<'a> Whitted<'a> {
             let prim = &geometry.primitives[hit.prim as usize];
             let kt = s.scene.materials[prim.material as usize].transmit;
             atten *= kt;
-            if atten <= 0.0 {
-                return 0.0;
+            if atten.max_element() <= 0.0 {
+                return Color::ZERO;
             }
             let sp = geometry.surface(hit.prim, &ray, &hit.shape_hit());
             let next = offset_ray_origin(sp.p, sp.p_error, sp.ng, dir);
@@ -194,6 +198,6 @@ impl<'a> Whitted<'a> {
                 return atten;
             }
         }
-        0.0
+        Color::ZERO
     }
 }

@@ -72,7 +72,8 @@ impl Fill {
             shininess: shine,
             highlight: Highlight::Phong,
             reflect: ks,
-            transmit: t,
+            // NFF's T is one number: grey glass.
+            transmit: Color::splat(t),
             ior: if t > 0.0 && ior > 0.0 { ior } else { 1.0 },
             fresnel: FresnelMode::Off,
         }
