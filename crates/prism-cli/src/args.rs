@@ -150,6 +150,12 @@ pub struct RenderArgs {
     #[arg(long, value_name = "W")]
     pub min_weight: Option<f32>,
 
+    /// What pixel values mean: `srgb` (linear light, written through the sRGB curve) or
+    /// `display` (display values written as they are, as 1980s renderers did) [default:
+    /// srgb; display for NFF scenes].
+    #[arg(long, value_name = "NAME")]
+    pub transfer: Option<prism::transfer::Transfer>,
+
     /// Maximum ray-tree depth, counting the eye ray as 1 (1 to 256) [default: 5].
     #[arg(short, long, value_name = "N")]
     pub depth: Option<u32>,
@@ -283,6 +289,9 @@ impl RenderArgs {
         }
         if let Some(v) = self.min_weight {
             o.min_weight = v;
+        }
+        if let Some(v) = self.transfer {
+            o.transfer = v;
         }
         if let Some(v) = self.depth {
             o.max_depth = v;

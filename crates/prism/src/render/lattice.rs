@@ -19,7 +19,7 @@ use super::rays::PixelRays;
 use super::splat::{FilmSums, SplatBuffer};
 use super::{Job, TileDone, Traced};
 use crate::math::{Color, Vec2};
-use crate::sampling::adaptive::{encode, Refinement, Square, Verdict, Visit};
+use crate::sampling::adaptive::{Refinement, Square, Verdict, Visit};
 use crate::stats::Stats;
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -206,7 +206,9 @@ impl<'a> Judged<'a> {
     fn new(job: &Job, rule: &'a Refinement, lattice: &Lattice) -> Self {
         let (w, steps) = (job.width, lattice.steps);
         // Each corner encoded once: a pixel's verdict compares 16 of them.
-        let encoded: Vec<_> = lattice.corners.par_iter().map(|c| c.map(encode)).collect();
+        let encoded: Vec<_> = (lattice.corners.par_iter())
+            .map(|c| c.map(|c| rule.encode(c)))
+            .collect();
         let lookup = |x: u32, y: u32| {
             let (i, j) = (x / steps, y / steps);
             if i > w || j > job.height {

@@ -182,8 +182,10 @@ pub fn render(
         Sampler::Corners => lattice::render_corners(&job),
         Sampler::Adaptive(rule) => lattice::render_adaptive(&job, &rule),
     });
+    let mut film = traced.film;
+    film.transfer = options.transfer;
     Ok(RenderResult {
-        film: traced.film,
+        film,
         stats: traced.stats,
         complete: traced.complete,
         render_time: start.elapsed(),
