@@ -13,9 +13,9 @@
 //! pixel's corners, and on a regular lattice a pattern finer than the pixels aliases into
 //! broad bands where all corners agree. Two additions fix that while keeping the corners
 //! shared (docs/sampling.md measures them):
-//! - jitter: each point is traced at a hashed position within its cell of the finest
-//!   lattice (pixel corners within ±¼ pixel), turning aliasing into noise, as POV-Ray's
-//!   `Jitter` does;
+//! - jitter: each point, the pixel corners too, is traced at a hashed position within its
+//!   cell of the finest lattice (pixel corners within ±¼ pixel), turning aliasing into
+//!   noise (POV-Ray's `Jitter` moves only the interior points, by a fraction of a cell);
 //! - the neighbourhood rule: a pixel splits when any of the 16 corners around it (its own
 //!   and its eight neighbours') differ, and a pixel whose 4×4 corners change colour more
 //!   often than any single straight edge can make them (texture finer than the pixels) is
