@@ -206,6 +206,23 @@ impl Refinement {
         visit: &mut impl FnMut(Square, Visit),
     ) {
         let corners = square.corners().map(|(x, y)| lookup(x, y));
+        self.walk_known(square, corners, textured, judged, max_level, lookup, visit);
+    }
+
+    /// `walk_square` of a square whose corners' colours are known: a split square hands
+    /// its quarters the colours it looked up for its new points, so that a walk looks up
+    /// each point once instead of once per square that has it as a corner.
+    #[allow(clippy::too_many_arguments)]
+    fn walk_known(
+        &self,
+        square: Square,
+        corners: [Option<Color>; 4],
+        textured: bool,
+        judged: Option<Verdict>,
+        max_level: u32,
+        lookup: &impl Fn(u32, u32) -> Option<Color>,
+        visit: &mut impl FnMut(Square, Visit),
+    ) {
         let [Some(a), Some(b), Some(c), Some(d)] = corners else {
             visit(square, Visit::Missing);
             return;
@@ -229,18 +246,22 @@ impl Refinement {
             visit(square, Visit::Leaf(corners));
             return;
         }
-        let ready = square.level < max_level
-            && square
-                .new_points()
-                .iter()
-                .all(|&(x, y)| lookup(x, y).is_some());
-        if !ready {
+        let new = if square.level < max_level {
+            square.new_points().map(|(x, y)| lookup(x, y))
+        } else {
+            [None; 5]
+        };
+        let [Some(m), Some(t), Some(l), Some(r), Some(u)] = new else {
             visit(square, Visit::Frontier(corners));
             return;
-        }
+        };
         visit(square, Visit::Split);
-        for child in square.children() {
-            self.walk_square(child, textured, None, max_level, lookup, visit);
+        // Quarters in `children` order, corners in `corners` order; the new points are
+        // centre, top, left, right and bottom (`new_points`).
+        let quarters = [[a, t, l, m], [t, b, m, r], [l, m, c, u], [m, r, u, d]];
+        for (child, corners) in square.children().into_iter().zip(quarters) {
+            let corners = corners.map(Some);
+            self.walk_known(child, corners, textured, None, max_level, lookup, visit);
         }
     }
 
