@@ -169,7 +169,8 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Traced {
         }
     }
     let steps = rule.steps();
-    let film = reconstruct(job, |buffer, x, y| {
+    // Pixel (x, y)'s samples: (offset in the pixel, weight, colour) in walk order.
+    let samples = |x: u32, y: u32, add: &mut dyn FnMut(Vec2, f32, Color)| {
         let lookup = |lx: u32, ly: u32| lattice.lookup(lx, ly);
         let stratified = &lattice.stratified[(y * job.width + x) as usize];
         let mut offsets = Vec::new();
@@ -181,7 +182,7 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Traced {
                     rule.texture_offsets(x, y, &mut offsets);
                     let weight = 1.0 / stratified.len() as f32;
                     for (&o, &c) in offsets.iter().zip(stratified) {
-                        buffer.add(&job.filter, x, y, o, weight, c);
+                        add(o, weight, c);
                     }
                     return;
                 }
@@ -194,9 +195,18 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Traced {
             let half = sq.size as f32 * 0.5;
             let o = lattice.offset(sq.x as f32 + half, sq.y as f32 + half, x, y);
             let side = sq.size as f32 / steps as f32;
-            buffer.add(&job.filter, x, y, o, side * side, mean);
+            add(o, side * side, mean);
         });
-    });
+    };
+    let film = if job.filter.covers_one_pixel() {
+        own_pixels(job, samples)
+    } else {
+        reconstruct(job, |buffer, x, y| {
+            samples(x, y, &mut |o, weight, c| {
+                buffer.add(&job.filter, x, y, o, weight, c)
+            })
+        })
+    };
     out.film = film;
     out
 }
@@ -544,6 +554,46 @@ fn refine(
     }
     out.complete &= complete;
     complete
+}
+
+/// The reconstruction pass when every sample counts in its own pixel only (the box of
+/// radius ½, the default): each pixel is the weighted mean of its samples, summed in the
+/// order `samples` gives them, which is fixed, so the image does not depend on the
+/// threads either; no fixed-point sums and no image-sized buffers are needed.
+fn own_pixels(
+    job: &Job,
+    samples: impl Fn(u32, u32, &mut dyn FnMut(Vec2, f32, Color)) + Sync,
+) -> super::Film {
+    let w = job.width;
+    let rows: Vec<Vec<Color>> = (0..job.height)
+        .into_par_iter()
+        .map(|y| {
+            let row = (0..w)
+                .map(|x| {
+                    let (mut sum, mut total) = ([0.0f64; 3], 0.0f64);
+                    samples(x, y, &mut |_, weight, c| {
+                        let weight = weight as f64;
+                        for (s, v) in sum.iter_mut().zip(c.to_array()) {
+                            *s += weight * v as f64;
+                        }
+                        total += weight;
+                    });
+                    if total == 0.0 {
+                        return Color::ZERO;
+                    }
+                    Color::from_array(sum.map(|s| (s / total) as f32))
+                })
+                .collect();
+            (job.on_tile)(TileDone {
+                pixels: w as u64,
+                rays: 0,
+            });
+            row
+        })
+        .collect();
+    let mut film = super::Film::new(w, job.height);
+    film.pixels = rows.concat();
+    film
 }
 
 /// The reconstruction pass: `splat` adds pixel (x, y)'s samples to a buffer covering its
