@@ -227,8 +227,10 @@ impl<'a> Judged<'a> {
         let encoded: Vec<_> = (lattice.corners.par_iter())
             .map(|c| c.map(|c| rule.encode(c)))
             .collect();
+        let shift = lattice.shift;
         let lookup = |x: u32, y: u32| {
-            let (i, j) = (x / steps, y / steps);
+            // Only pixel corners are asked for: multiples of `steps`, a power of two.
+            let (i, j) = (x >> shift, y >> shift);
             if i > w || j > job.height {
                 return None;
             }
