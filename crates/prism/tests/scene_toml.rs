@@ -265,6 +265,12 @@ const MALFORMED: &[(&str, &str, usize, &str)] = &[
         "colour components ≥ 0",
     ),
     (
+        "unknown transfer",
+        "[render]\ntransfer = \"gamma\"\n",
+        2,
+        "unknown variant `gamma`",
+    ),
+    (
         "transmit of two channels",
         "[materials.m]\ntransmit = [1, 0.2]\n",
         2,
@@ -663,6 +669,14 @@ fn material_keys_fill_the_material() {
     );
     assert_eq!(m.highlight, prism::shading::Highlight::BlinnPhong);
     assert_eq!(m.fresnel, prism::shading::FresnelMode::Schlick);
+}
+
+#[test]
+fn render_transfer_names_what_pixel_values_mean() {
+    let scene = parse("[render]\ntransfer = \"display\"\n").expect("valid");
+    assert_eq!(scene.options.transfer, prism::transfer::Transfer::Display);
+    let scene = parse("[render]\nwidth = 8\n").expect("valid");
+    assert_eq!(scene.options.transfer, prism::transfer::Transfer::Srgb);
 }
 
 #[test]
