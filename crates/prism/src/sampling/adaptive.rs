@@ -292,6 +292,11 @@ impl Refinement {
             count += 1;
         }
         let busy = spread_encoded(&present[..count]) > self.threshold;
+        if !busy {
+            // No pair of the block can differ by more than the whole block spreads: no
+            // changes, so no texture either (most pixels of most images end here).
+            return (false, false);
+        }
         // The spread of two colours is their largest channel difference (bit for bit:
         // max − min is |a − b|); 24 pairs per pixel, so without the general loop.
         let differ = |i: usize, j: usize| match (block[i], block[j]) {
