@@ -70,6 +70,9 @@ pub enum DensityRays {
 pub enum Preset {
     /// Eric Haines' Standard Procedural Databases testing procedure.
     Spd,
+    /// POV-Ray's adaptive anti-aliasing +AM2 at its default +R3: corners on the lattice,
+    /// split where they differ, two levels (adaptive depth 2).
+    Pov,
 }
 
 #[derive(Args, Debug, Default)]
@@ -151,6 +154,12 @@ pub struct RenderArgs {
     #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub min_weight: Option<f32>,
 
+    /// What pixel values mean: `srgb` (linear light, written through the sRGB curve) or
+    /// `display` (display values written as they are, as 1980s renderers did) [default:
+    /// srgb; display for NFF scenes].
+    #[arg(long, value_name = "NAME")]
+    pub transfer: Option<prism::transfer::Transfer>,
+
     /// Maximum ray-tree depth, counting the eye ray as 1 (1 to 256) [default: 5].
     #[arg(short, long, value_name = "N")]
     pub depth: Option<u32>,
@@ -175,8 +184,9 @@ pub struct RenderArgs {
     #[arg(long, value_name = "SPEC")]
     pub shadows: Option<prism::integrator::ShadowSpec>,
 
-    /// Apply a published testing procedure: `spd` = Haines' SPD rules (corner rays, depth
-    /// 5, a reflection ray at every reflective or transmitting surface).
+    /// Apply a published procedure: `spd` = Haines' SPD rules (corner rays, depth 5, a
+    /// reflection ray at every reflective or transmitting surface); `pov` = POV-Ray's
+    /// adaptive +AM2 +R3 pattern (the adaptive options given with it still apply on top).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<Preset>,
 
@@ -243,6 +253,10 @@ impl RenderArgs {
     /// The scene's options with the command line's on top.
     pub fn options(&self, scene: &RenderOptions) -> Result<RenderOptions> {
         let mut o = scene.clone();
+        // A bundle of sampling options: the command line's own options refine it.
+        if self.preset == Some(Preset::Pov) {
+            prism::preset::apply_pov_am2(&mut o);
+        }
         if let Some(v) = self.width {
             o.width = v;
         }
@@ -294,6 +308,9 @@ impl RenderArgs {
         if let Some(v) = self.min_weight {
             o.min_weight = v;
         }
+        if let Some(v) = self.transfer {
+            o.transfer = v;
+        }
         if let Some(v) = self.depth {
             o.max_depth = v;
         }
@@ -334,4 +351,42 @@ pub fn per_axis(spp: u32) -> Result<u32> {
         );
     }
     Ok(n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use prism::sampling::AdaptiveRule;
+
+    fn options(args: &[&str]) -> RenderOptions {
+        let mut argv = vec!["prism", "render"];
+        argv.extend(args);
+        match Cli::try_parse_from(argv).unwrap().command {
+            Some(Command::Render(r)) => r.options(&RenderOptions::default()).unwrap(),
+            other => panic!("expected render, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn the_pov_preset_is_povs_am2_pattern_and_flags_refine_it() {
+        let o = options(&["--preset", "pov"]);
+        assert_eq!(o.sampler, SamplerKind::Adaptive);
+        assert_eq!(o.adaptive_rule, AdaptiveRule::Corners);
+        assert_eq!((o.adaptive_jitter, o.adaptive_texture_spp), (0.0, 0));
+        assert_eq!(o.adaptive_depth, 2, "+R3 counts the pixel: two levels");
+        assert_eq!(
+            o.adaptive_threshold,
+            RenderOptions::default().adaptive_threshold
+        );
+        let o = options(&[
+            "--preset",
+            "pov",
+            "--adaptive-depth",
+            "3",
+            "--adaptive-threshold",
+            "0.3",
+        ]);
+        assert_eq!((o.adaptive_depth, o.adaptive_threshold), (3, 0.3));
+        assert_eq!(o.adaptive_rule, AdaptiveRule::Corners);
+    }
 }

@@ -34,8 +34,14 @@ pub fn print(scene: &Scene, name: &str, accel: &AccelSpec) -> Result<()> {
             .filter(|p| p.material as usize == i)
             .count();
         println!(
-            "  {:<16} kd {:.2} ks {:.2} kr {:.2} kt {:.2} ior {:.2} fresnel {:?}  ({users} primitives)",
-            m.name, m.diffuse, m.specular, m.reflect, m.transmit, m.ior, m.fresnel
+            "  {:<16} kd {:.2} ks {:.2} kr {:.2} kt {} ior {:.2} fresnel {:?}  ({users} primitives)",
+            m.name,
+            m.diffuse,
+            m.specular,
+            m.reflect,
+            grey_or_rgb(m.transmit),
+            m.ior,
+            m.fresnel
         );
     }
     println!("lights             {}", scene.lights.len());
@@ -95,4 +101,13 @@ pub fn print(scene: &Scene, name: &str, accel: &AccelSpec) -> Result<()> {
         start.elapsed().as_secs_f64() * 1e3
     );
     Ok(())
+}
+
+/// A colour as one number when it is a grey, else as [r, g, b].
+fn grey_or_rgb(c: prism::math::Color) -> String {
+    if c.x == c.y && c.y == c.z {
+        format!("{:.2}", c.x)
+    } else {
+        format!("[{:.2}, {:.2}, {:.2}]", c.x, c.y, c.z)
+    }
 }

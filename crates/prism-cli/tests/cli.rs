@@ -86,6 +86,10 @@ fn bad_usage_exits_2_with_usage_text() {
             &["render", "--accel", "kdtree:isect=-1"],
             &["'kdtree:isect=-1'", "expected a number from 0.001"],
         ),
+        (
+            &["render", "--transfer", "gamma"],
+            &["'gamma'", "expected srgb or display"],
+        ),
     ] {
         let err = expect_exit(&prism(&dir, args), 2, args);
         for name in names {
@@ -319,4 +323,29 @@ fn stats_json_to_stdout_is_valid_json_with_ray_counts() {
     assert_eq!(json["options"]["width"], 24);
     assert_eq!(json["complete"], true);
     assert_dir_holds(&dir, &["out.png"]);
+}
+
+#[test]
+fn transfer_chooses_how_pixel_values_are_written() {
+    // The same film values written through the sRGB curve or as they are: the curve
+    // brightens every value in (0, 1), and every pixel of the Cornell box is lit.
+    let dir = work_dir("transfer");
+    for (name, transfer) in [("srgb.png", "srgb"), ("display.png", "display")] {
+        expect_exit(
+            &small_render(&dir, name, SIZE, &["--transfer", transfer]),
+            0,
+            &[transfer],
+        );
+    }
+    let srgb = image::open(dir.join("srgb.png")).unwrap().to_rgb8();
+    let display = image::open(dir.join("display.png")).unwrap().to_rgb8();
+    let mut brighter = 0;
+    for (s, d) in srgb.pixels().zip(display.pixels()) {
+        for c in 0..3 {
+            assert!(s[c] >= d[c], "sRGB {s:?} darker than display {d:?}");
+            brighter += usize::from(s[c] > d[c]);
+        }
+    }
+    assert!(brighter > srgb.len() / 2, "only {brighter} channels differ");
+    assert_dir_holds(&dir, &["display.png", "srgb.png"]);
 }

@@ -28,6 +28,7 @@ pub mod sampling;
 pub mod scene;
 pub mod shading;
 pub mod stats;
+pub mod transfer;
 
 pub use options::RenderOptions;
 pub use scene::Scene;

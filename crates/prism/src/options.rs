@@ -4,6 +4,7 @@
 use crate::accel::AccelSpec;
 use crate::render::FilterKind;
 use crate::sampling::{adaptive, AdaptiveRule, SamplerKind};
+use crate::transfer::Transfer;
 use serde::{Deserialize, Serialize};
 
 /// Largest accepted `max_depth`.
@@ -59,6 +60,9 @@ pub struct RenderOptions {
     /// pass instead of being subdivided; 0 subdivides it like any other pixel. Only the
     /// neighbourhood rule detects texture.
     pub adaptive_texture_spp: u32,
+    /// What the pixel values mean: linear light shown through the sRGB curve (`srgb`), or
+    /// display values written as they are (`display`, the default of NFF scenes).
+    pub transfer: Transfer,
     /// Maximum ray-tree depth; the eye ray has depth 1, so 5 allows four bounces.
     pub max_depth: u32,
     /// Adaptive depth control: a reflected or refracted ray whose weight in the pixel (the
@@ -98,6 +102,7 @@ impl Default for RenderOptions {
             adaptive_rule: AdaptiveRule::Neighbourhood,
             adaptive_jitter: 1.0,
             adaptive_texture_spp: DEFAULT_ADAPTIVE_TEXTURE_SPP,
+            transfer: Transfer::Srgb,
             max_depth: 5,
             min_weight: DEFAULT_MIN_WEIGHT,
             spd_rules: false,

@@ -1,7 +1,24 @@
 //! Presets: named bundles of scene and option changes that reproduce a published procedure.
 
 use crate::options::RenderOptions;
+use crate::sampling::{AdaptiveRule, SamplerKind};
 use crate::scene::Scene;
+
+/// POV-Ray 3.7's `+AM2` at its default recursion `+R3` (`AdaptiveSupersamplingM2` in POV's
+/// `tracetask.cpp`): the four pixel corners, traced on the lattice; a square whose corners
+/// differ splits into four, and `+Rn` allows n − 1 levels (the pixel counts as the first),
+/// so `+R3` is `adaptive_depth` 2. No neighbourhood rule, no stratified pass. POV's `+J`
+/// jitters only the interior points, by at most ±1/18 pixel at `+R3`; here they stay on the
+/// lattice (POV's `-J`). The threshold is left alone: POV compares gamma-encoded colours
+/// by the sum of the channel differences, prism by the largest channel spread, so POV's
+/// `+A0.3` has no exact counterpart.
+pub fn apply_pov_am2(options: &mut RenderOptions) {
+    options.sampler = SamplerKind::Adaptive;
+    options.adaptive_rule = AdaptiveRule::Corners;
+    options.adaptive_jitter = 0.0;
+    options.adaptive_texture_spp = 0;
+    options.adaptive_depth = 2;
+}
 
 /// Eric Haines' SPD testing procedure (SPD 3.14 Readme, "Testing Procedures"): rays through
 /// the pixel corners, i.e. (W+1)×(H+1) eye rays for a W×H image, with the extreme rays

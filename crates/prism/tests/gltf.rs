@@ -343,7 +343,7 @@ fn metallic_roughness_becomes_a_whitted_material() {
     assert_eq!(m.specular, 0.5);
     assert_eq!(m.shininess, 30.0);
     assert_eq!(m.highlight, Highlight::BlinnPhong);
-    assert_eq!((m.transmit, m.fresnel), (0.0, FresnelMode::Off));
+    assert_eq!((m.transmit, m.fresnel), (Color::ZERO, FresnelMode::Off));
 
     let mut doc = quad_document(Some(&quad_buffer_uri()));
     doc["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = json!(1.0);
@@ -357,7 +357,11 @@ fn metallic_roughness_becomes_a_whitted_material() {
         "KHR_materials_ior": { "ior": 1.33 }
     });
     let glass = &load_doc("glass", &doc).unwrap().materials[0];
-    assert_eq!((glass.transmit, glass.ior), (1.0, 1.33));
+    // KHR_materials_transmission: the base colour tints what passes.
+    assert_eq!(
+        (glass.transmit, glass.ior),
+        (Color::new(0.8, 0.2, 0.1), 1.33)
+    );
     assert_eq!(glass.fresnel, FresnelMode::Exact);
     assert_eq!(glass.diffuse, 0.0);
 }

@@ -5,7 +5,7 @@
 //! Regenerate on purpose with `scripts/bless-golden.sh` (PRISM_BLESS=1), then look at the
 //! images before committing them.
 
-use prism::output::to_srgb8;
+use prism::output::to_rgb8;
 use prism::render::render;
 use prism::scene::builtin;
 use std::path::PathBuf;
@@ -43,7 +43,7 @@ fn check_scene(name: &str, scene: prism::Scene, width: u32, height: u32, samples
     options.samples = samples;
     let prepared = scene.prepare(&options.accel);
     let result = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
-    let actual = to_srgb8(&result.film);
+    let actual = to_rgb8(&result.film);
     let path = golden_path(name);
 
     if std::env::var_os("PRISM_BLESS").is_some() {

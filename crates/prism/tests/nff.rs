@@ -2,8 +2,10 @@
 //! (file, line, column, what was expected) for every kind of bad input.
 
 use prism::geometry::{Shape, ShapeKind};
+use prism::math::Color;
 use prism::scene::nff::parse;
 use prism::scene::LoadError;
+use prism::transfer::Transfer;
 
 const VIEW: &str = "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 64 48\n";
 
@@ -60,11 +62,16 @@ fn entities_become_shapes_materials_and_lights() {
         .any(|p| matches!(p.shape, Shape::Sphere(s) if s.inside_out)));
     assert_eq!(scene.materials.len(), 2);
     let glass = &scene.materials[1];
-    assert_eq!((glass.transmit, glass.ior, glass.reflect), (0.8, 1.5, 0.0));
+    assert_eq!(
+        (glass.transmit, glass.ior, glass.reflect),
+        (Color::splat(0.8), 1.5, 0.0)
+    );
     let red = &scene.materials[0];
     assert_eq!((red.diffuse, red.reflect, red.shininess), (0.7, 0.3, 20.0));
-    // Lights without colour get SPD's 1/(2√N); with colour keep it.
-    let expected = 1.0 / (2.0 * 2f32.sqrt());
+    // Lights without colour get SPD's 1/√N; with colour keep it. No ambient light.
+    let expected = 1.0 / 2f32.sqrt();
+    assert_eq!(scene.ambient, Color::ZERO);
+    assert_eq!(scene.options.transfer, Transfer::Display);
     match scene.lights[0] {
         prism::light::Light::Point { color, .. } => assert!((color.x - expected).abs() < 1e-6),
         _ => panic!("point light expected"),
@@ -164,4 +171,56 @@ fn mutated_text_never_panics() {
             let _ = parse(&String::from_utf8_lossy(&replaced), "m.nff");
         }
     }
+}
+
+/// Renders an NFF text at its own resolution; the 8-bit pixels as the PNG holds them.
+fn render_bytes(text: &str, transfer: Option<Transfer>) -> (Vec<u8>, u32) {
+    let scene = parse(text, "look.nff").unwrap();
+    let mut options = scene.options.clone();
+    if let Some(t) = transfer {
+        options.transfer = t;
+    }
+    let prepared = scene.prepare(&options.accel);
+    let result = prism::render::render(
+        &prepared,
+        &options,
+        &|_| {},
+        &std::sync::atomic::AtomicBool::new(false),
+    )
+    .unwrap();
+    (prism::output::to_rgb8(&result.film), options.width)
+}
+
+#[test]
+fn nff_renders_like_the_spds_own_pictures() {
+    // Looking straight down at a floor lit by two lights far above it, with a sphere out
+    // of view (beside and above the eye) casting a shadow, and the sky at the top edge. SPD lights are
+    // 1/√N each and there is no ambient light; values are written as they are.
+    let text = "b 0.078 0.361 0.753\n\
+                v\nfrom 0 -0.3 5\nat 0 0 0\nup 0 1 0\nangle 60\nhither 1\nresolution 33 33\n\
+                l 0 0 1000\nl 0 0 1000\n\
+                f 1 0.2 0.2 0.6 0 100000 0 1\n\
+                p 4\n-2 -2 0\n2 -2 0\n2 2 0\n-2 2 0\n\
+                s 1.2 0 5.5 0.5\n";
+    let (display, w) = render_bytes(text, None);
+    let pixel = |img: &[u8], x: u32, y: u32| {
+        let i = 3 * (y * w + x) as usize;
+        [img[i], img[i + 1], img[i + 2]]
+    };
+    // The centre sees the floor at (0, 0, 0), lit from straight above (n·l = 1, within
+    // 1e-6 for a light 1000 units up): kd·C·(2 · 1/√2) per channel.
+    let lit = |c: f64| ((0.6 * c * 2.0 / 2f64.sqrt()).min(1.0) * 255.0 + 0.5) as u8;
+    assert_eq!(pixel(&display, 16, 16), [lit(1.0), lit(0.2), lit(0.2)]);
+    // Under the sphere: both lights blocked, and no ambient light fills the shadow.
+    let (sx, sy) = (
+        16 + (1.2 / (5.0 * (30f64).to_radians().tan()) * 16.0).round() as u32,
+        16,
+    );
+    assert_eq!(pixel(&display, sx, sy), [0, 0, 0], "shadow at ({sx}, {sy})");
+    // The top row looks past the floor's far edge at the sky, written as it is.
+    assert_eq!(pixel(&display, 16, 0), [20, 92, 192]);
+
+    // The same scene through the sRGB curve, on request.
+    let (srgb, _) = render_bytes(text, Some(Transfer::Srgb));
+    assert_eq!(pixel(&srgb, 16, 0), [79, 162, 225]);
 }

@@ -5,10 +5,10 @@
 mod common;
 
 use common::{assert_rel, assert_vec_close};
-use prism::math::Vec3;
+use prism::math::{Color, Vec3};
 use prism::shading::fresnel::{exact, schlick};
 use prism::shading::optics::{reflect, refract};
-use prism::shading::{FresnelMode, Material};
+use prism::shading::{FresnelMode, Material, SpecularWeights};
 use std::f64::consts::PI;
 
 const IOR: f64 = 1.5;
@@ -200,10 +200,28 @@ fn schlick_stays_close_to_exact() {
 fn glass(fresnel: FresnelMode, kr: f32, kt: f32) -> Material {
     Material {
         reflect: kr,
-        transmit: kt,
+        transmit: Color::splat(kt),
         ior: IOR as f32,
         fresnel,
         ..Material::default()
+    }
+}
+
+/// The weights of a grey material, whose transmission is one number.
+#[derive(Debug)]
+struct Grey {
+    reflect: f32,
+    transmit: f32,
+    total_internal_reflection: bool,
+}
+
+impl Grey {
+    fn of(w: SpecularWeights) -> Grey {
+        Grey {
+            reflect: w.reflect,
+            transmit: w.transmit.x,
+            total_internal_reflection: w.total_internal_reflection,
+        }
     }
 }
 
@@ -215,8 +233,10 @@ fn specular_weights_conserve_energy() {
             for eta in [(1.0 / IOR) as f32, IOR as f32] {
                 for i in 0..=1000 {
                     let cos = i as f32 / 1000.0;
-                    let w = m.specular_weights(cos, eta);
+                    let full = m.specular_weights(cos, eta);
                     let what = format!("{mode:?} kr={kr} kt={kt} η={eta} cos={cos}");
+                    assert_eq!(full.transmit, Color::splat(full.transmit.x), "{what}: grey");
+                    let w = Grey::of(full);
                     assert!(w.reflect >= 0.0 && w.transmit >= 0.0, "{what}: {w:?}");
                     assert!(w.reflect + w.transmit <= kr + kt + 1e-6, "{what}: {w:?}");
                     if w.total_internal_reflection {
@@ -238,6 +258,46 @@ fn specular_weights_conserve_energy() {
 }
 
 #[test]
+fn coloured_transmission_tints_the_refracted_ray_only() {
+    // Red glass: the interface reflects white light weighted by its clearest channel; the
+    // refracted ray keeps kt·(1 − R) per channel.
+    let kt = Color::new(0.9, 0.3, 0.1);
+    for mode in [FresnelMode::Off, FresnelMode::Exact] {
+        let m = Material {
+            reflect: 0.05,
+            transmit: kt,
+            ior: IOR as f32,
+            fresnel: mode,
+            ..Material::default()
+        };
+        for eta in [(1.0 / IOR) as f32, IOR as f32] {
+            for i in 0..=100 {
+                let cos = i as f32 / 100.0;
+                let w = m.specular_weights(cos, eta);
+                let what = format!("{mode:?} η={eta} cos={cos}");
+                if w.total_internal_reflection {
+                    assert_eq!(w.transmit, Color::ZERO, "{what}");
+                    assert_rel(w.reflect, 0.05 + 0.9, 1e-6, 1.0, &what);
+                    continue;
+                }
+                let r = match mode {
+                    FresnelMode::Off => 0.0,
+                    _ => exact(cos, eta),
+                };
+                for c in 0..3 {
+                    assert_rel(w.transmit[c], (kt[c] * (1.0 - r)) as f64, 1e-6, 1e-6, &what);
+                }
+                let reflect = match mode {
+                    FresnelMode::Off => 0.05,
+                    _ => (0.05 + 0.9) * r,
+                };
+                assert_rel(w.reflect, reflect as f64, 1e-6, 1e-6, &what);
+            }
+        }
+    }
+}
+
+#[test]
 fn specular_weights_tir_agrees_with_refract() {
     // The weights and the refracted direction must agree on where TIR begins, or a
     // transmitted weight would be spent on a ray that cannot be traced.
@@ -250,6 +310,7 @@ fn specular_weights_tir_agrees_with_refract() {
             let cos = -wi.dot(Vec3::Y);
             let w = m.specular_weights(cos, IOR as f32);
             let t = refract(wi, Vec3::Y, IOR as f32);
+            let w = Grey::of(w);
             assert_eq!(
                 w.total_internal_reflection,
                 t.is_none(),

@@ -14,7 +14,7 @@ use prism::camera::{Camera, Projection};
 use prism::geometry::generate;
 use prism::light::Light;
 use prism::math::{Color, Vec3};
-use prism::output::to_srgb8;
+use prism::output::to_rgb8;
 use prism::render::render;
 use prism::scene::builtin;
 use prism::shading::{Checker, CheckerSpace, FresnelMode, Material, Texture};
@@ -39,7 +39,7 @@ fn render_srgb(scene: &Scene, width: u32, height: u32) -> Vec<u8> {
     options.threads = 0;
     let prepared = scene.prepare(&options.accel);
     let result = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
-    to_srgb8(&result.film)
+    to_rgb8(&result.film)
 }
 
 fn check_scale_invariance(name: &str, scene: &Scene, width: u32, height: u32) {
@@ -128,7 +128,7 @@ fn mesh_scene() -> Scene {
         diffuse: 0.0,
         specular: 0.6,
         shininess: 100.0,
-        transmit: 0.95,
+        transmit: Color::splat(0.95),
         reflect: 0.05,
         ior: 1.5,
         fresnel: FresnelMode::Exact,

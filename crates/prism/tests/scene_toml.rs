@@ -266,6 +266,24 @@ const MALFORMED: &[(&str, &str, usize, &str)] = &[
         "colour components ≥ 0",
     ),
     (
+        "unknown transfer",
+        "[render]\ntransfer = \"gamma\"\n",
+        2,
+        "unknown variant `gamma`",
+    ),
+    (
+        "transmit of two channels",
+        "[materials.m]\ntransmit = [1, 0.2]\n",
+        2,
+        "a colour: [r, g, b] or one number for a grey",
+    ),
+    (
+        "negative transmit channel",
+        "[materials.m]\ntransmit = [1, -0.2, 0]\n",
+        2,
+        "colour components ≥ 0",
+    ),
+    (
         "unknown material key",
         "[materials.m]\ncolour = [1, 0, 0]\n",
         2,
@@ -645,9 +663,27 @@ fn material_keys_fill_the_material() {
         (m.ambient, m.diffuse, m.specular, m.shininess),
         (0.05, 0.1, 0.7, 200.0)
     );
-    assert_eq!((m.reflect, m.transmit, m.ior), (0.1, 0.9, 1.33));
+    assert_eq!(
+        (m.reflect, m.transmit, m.ior),
+        (0.1, Color::splat(0.9), 1.33),
+        "one number is a grey filter"
+    );
     assert_eq!(m.highlight, prism::shading::Highlight::BlinnPhong);
     assert_eq!(m.fresnel, prism::shading::FresnelMode::Schlick);
+}
+
+#[test]
+fn render_transfer_names_what_pixel_values_mean() {
+    let scene = parse("[render]\ntransfer = \"display\"\n").expect("valid");
+    assert_eq!(scene.options.transfer, prism::transfer::Transfer::Display);
+    let scene = parse("[render]\nwidth = 8\n").expect("valid");
+    assert_eq!(scene.options.transfer, prism::transfer::Transfer::Srgb);
+}
+
+#[test]
+fn transmit_takes_a_colour_filter() {
+    let scene = parse("[materials.ruby]\ntransmit = [0.9, 0.1, 0.05]\nior = 1.5\n").expect("valid");
+    assert_eq!(scene.materials[0].transmit, Color::new(0.9, 0.1, 0.05));
 }
 
 #[test]

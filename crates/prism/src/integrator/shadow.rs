@@ -3,7 +3,7 @@
 //! A shadow ray runs from the (offset) surface point towards the light and asks an any-hit
 //! query, which may stop at the first blocker. In a scene with transparent surfaces it asks
 //! for the nearest hit instead and continues through each transparent surface it meets,
-//! attenuated by its kt, as POV-Ray does; refraction of the shadow ray itself is ignored (no
+//! filtered by its kt (a colour: red glass casts a red shadow), as POV-Ray does; refraction of the shadow ray itself is ignored (no
 //! caustics).
 //!
 //! Who answers the query is the shadow method (`ShadowSpec`), and every method gives the
@@ -22,7 +22,7 @@ use crate::accel::{Hit, QueryMode};
 use crate::geometry::SurfacePoint;
 use crate::light::{Light, LightSample};
 use crate::math::robust::offset_ray_origin;
-use crate::math::{Ray, TraceRay, Vec3};
+use crate::math::{Color, Ray, TraceRay, Vec3};
 use crate::scene::PreparedScene;
 use crate::stats::Stats;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -271,7 +271,7 @@ impl<'a> Shadows<'a> {
         ng: Vec3,
         light: &LightSample,
         stats: &mut Stats,
-    ) -> f32 {
+    ) -> Color {
         let scene = self.scene;
         stats.shadow_rays += 1;
         let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
@@ -285,9 +285,9 @@ impl<'a> Shadows<'a> {
         } else {
             let ray = Ray::new(origin, light.to_light);
             if self.blocked(index, depth, &ray, light.distance, stats) {
-                0.0
+                Color::ZERO
             } else {
-                1.0
+                Color::ONE
             }
         };
         stats.shadow_tests += stats.primitive_tests - tests;
@@ -391,12 +391,19 @@ fn cached_any_hit(
     }
 }
 
-/// Fraction of a light's radiance that reaches `origin` along `dir` within `distance`:
-/// 0 behind an opaque surface, the product of kt over the transparent ones otherwise.
-fn transmittance(query: &Query, origin: Vec3, dir: Vec3, distance: f32, stats: &mut Stats) -> f32 {
+/// Fraction of a light's radiance, per channel, that reaches `origin` along `dir` within
+/// `distance`: 0 behind an opaque surface, the product of kt (a colour) over the
+/// transparent ones otherwise.
+fn transmittance(
+    query: &Query,
+    origin: Vec3,
+    dir: Vec3,
+    distance: f32,
+    stats: &mut Stats,
+) -> Color {
     let scene = query.scene.scene;
     let geometry = &scene.geometry;
-    let mut atten = 1.0;
+    let mut atten = Color::ONE;
     let mut origin = origin;
     let mut remaining = distance;
     for segment in 0..MAX_SHADOW_SEGMENTS {
@@ -410,8 +417,8 @@ fn transmittance(query: &Query, origin: Vec3, dir: Vec3, distance: f32, stats: &
         let prim = &geometry.primitives[hit.prim as usize];
         let kt = scene.materials[prim.material as usize].transmit;
         atten *= kt;
-        if atten <= 0.0 {
-            return 0.0;
+        if atten.max_element() <= 0.0 {
+            return Color::ZERO;
         }
         let sp = geometry.surface(hit.prim, &ray, &hit.shape_hit());
         let next = offset_ray_origin(sp.p, sp.p_error, sp.ng, dir);
@@ -421,7 +428,7 @@ fn transmittance(query: &Query, origin: Vec3, dir: Vec3, distance: f32, stats: &
             return atten;
         }
     }
-    0.0
+    Color::ZERO
 }
 
 #[cfg(test)]

@@ -4,7 +4,9 @@
 //! light, cast a shadow ray and keep only lights it reaches; add the local illumination
 //! from those. If depth < max depth, trace the reflected and the refracted ray. Result:
 //! I = Ia·ka·C + Σ (Id + Is) + wr·I_R + wt·I_T, with (wr, wt) from the material
-//! (constant, or split by Fresnel reflectance). Shadow rays are `shadow.rs`.
+//! (constant, or split by Fresnel reflectance). Shadow rays are `shadow.rs`: those that
+//! meet a transparent surface continue through it, filtered by its kt (a colour), as
+//! POV-Ray does. Weights are colours too: red glass passes red light only.
 
 use super::shadow::Shadows;
 use crate::accel::Hit;
@@ -36,15 +38,16 @@ impl<'a> Whitted<'a> {
 
     /// Whether a secondary ray of weight `w` (in its parent) is traced. `present` says the
     /// material has the term at all (kr or kt > 0), which is all SPD's rules ask. Rays the
-    /// static limit would trace but adaptive depth control drops are counted.
-    fn spawns(&self, present: bool, w: f32, weight: f32, stats: &mut Stats) -> bool {
+    /// static limit would trace but adaptive depth control drops are counted. A coloured
+    /// weight counts by its largest channel: the most the ray can change any channel.
+    fn spawns(&self, present: bool, w: Color, weight: Color, stats: &mut Stats) -> bool {
         if self.spd_rules {
             return present;
         }
-        if w <= 0.0 {
+        if w.max_element() <= 0.0 {
             return false;
         }
-        if weight * w >= self.min_weight {
+        if (weight * w).max_element() >= self.min_weight {
             true
         } else {
             stats.pruned_rays += 1;
@@ -61,7 +64,7 @@ impl<'a> Whitted<'a> {
     /// Radiance along a camera ray (depth 1).
     pub fn trace_camera_ray(&self, ray: &Ray, stats: &mut Stats) -> Color {
         stats.primary_rays += 1;
-        self.trace(ray, 1, 1.0, stats)
+        self.trace(ray, 1, Color::ONE, stats)
     }
 
     fn nearest(&self, ray: &Ray, t_max: f32, stats: &mut Stats) -> Option<Hit> {
@@ -71,8 +74,9 @@ impl<'a> Whitted<'a> {
     }
 
     /// `weight` is the product of reflection and transmission weights from the eye to this
-    /// ray: what its radiance is worth in the pixel (for adaptive depth control).
-    pub fn trace(&self, ray: &Ray, depth: u32, weight: f32, stats: &mut Stats) -> Color {
+    /// ray, per channel: what its radiance is worth in the pixel (for adaptive depth
+    /// control).
+    pub fn trace(&self, ray: &Ray, depth: u32, weight: Color, stats: &mut Stats) -> Color {
         let scene = self.scene.scene;
         let Some(hit) = self.nearest(ray, f32::INFINITY, stats) else {
             return scene.background;
@@ -105,7 +109,7 @@ impl<'a> Whitted<'a> {
                 continue;
             }
             let visibility = self.shadows.visibility(index, depth, &sp, ng, &ls, stats);
-            if visibility <= 0.0 {
+            if visibility.max_element() <= 0.0 {
                 continue;
             }
             let diffuse = material.diffuse * ns.dot(ls.to_light).max(0.0) * color;
@@ -128,8 +132,10 @@ impl<'a> Whitted<'a> {
         if w.total_internal_reflection {
             stats.total_internal_reflections += 1;
         }
-        let has_specular = material.reflect > 0.0 || material.transmit > 0.0;
-        if self.spawns(has_specular, w.reflect, weight, stats) {
+        let transmissive = material.is_transmissive();
+        let has_specular = material.reflect > 0.0 || transmissive;
+        let w_reflect = Color::splat(w.reflect);
+        if self.spawns(has_specular, w_reflect, weight, stats) {
             let mut dir = reflect(ray.dir, ns);
             // An interpolated normal can mirror the ray below the true surface; use the
             // geometric normal there instead.
@@ -138,12 +144,10 @@ impl<'a> Whitted<'a> {
             }
             let origin = offset_ray_origin(sp.p, sp.p_error, ng, dir);
             stats.reflected_rays += 1;
-            let r = self.trace(&Ray::new(origin, dir), depth + 1, weight * w.reflect, stats);
+            let r = self.trace(&Ray::new(origin, dir), depth + 1, weight * w_reflect, stats);
             radiance += w.reflect * r;
         }
-        if !w.total_internal_reflection
-            && self.spawns(material.transmit > 0.0, w.transmit, weight, stats)
-        {
+        if !w.total_internal_reflection && self.spawns(transmissive, w.transmit, weight, stats) {
             if let Some(dir) = refract(ray.dir, ns, eta) {
                 let origin = offset_ray_origin(sp.p, sp.p_error, ng, dir);
                 stats.refracted_rays += 1;

@@ -1,5 +1,7 @@
 //! Image error metrics, for measuring sampling error against a reference: RMSE and PSNR of
 //! the linear values, SSIM of the displayed luma, and LDR-FLIP of the displayed colours.
+//! A display-referred film is first turned into the linear light it shows
+//! (`Film::displayed_linear`), so it compares with its own PNG read back.
 //! Each metric can be restricted to a mask of pixels (such as the checkerboard's far field).
 
 mod convolve;
@@ -96,6 +98,7 @@ fn check_sizes(a: &Film, b: &Film) -> Result<(), CompareError> {
 /// Root mean square difference of the linear RGB values over the masked pixels.
 pub fn rmse(a: &Film, b: &Film, mask: Option<&[bool]>) -> Result<f64, CompareError> {
     check_sizes(a, b)?;
+    let (a, b) = (a.displayed_linear(), b.displayed_linear());
     let (mut sum, mut n) = (0.0f64, 0usize);
     for (i, (p, q)) in a.pixels.iter().zip(&b.pixels).enumerate() {
         if mask.is_some_and(|m| !m.get(i).copied().unwrap_or(false)) {
@@ -114,12 +117,14 @@ pub fn rmse(a: &Film, b: &Film, mask: Option<&[bool]>) -> Result<f64, CompareErr
 /// Per-pixel SSIM.
 pub fn ssim_map(a: &Film, b: &Film) -> Result<Plane, CompareError> {
     check_sizes(a, b)?;
-    Ok(ssim::ssim_map(&luma(a), &luma(b)))
+    let (a, b) = (a.displayed_linear(), b.displayed_linear());
+    Ok(ssim::ssim_map(&luma(&a), &luma(&b)))
 }
 
 /// Per-pixel LDR-FLIP error of `test` against `reference`.
 pub fn flip_map(reference: &Film, test: &Film, ppd: f32) -> Result<Plane, CompareError> {
     check_sizes(reference, test)?;
+    let (reference, test) = (reference.displayed_linear(), test.displayed_linear());
     Ok(flip::flip_map(
         &reference.pixels,
         &test.pixels,

@@ -1,11 +1,11 @@
 //! Encoders from film to file bytes, one function per format.
 
-use super::to_srgb8;
+use super::to_rgb8;
 use crate::render::Film;
 use std::io::Cursor;
 
 pub fn png(film: &Film) -> Result<Vec<u8>, String> {
-    png_rgb8(&to_srgb8(film), film.width, film.height)
+    png_rgb8(&to_rgb8(film), film.width, film.height)
 }
 
 /// PNG of 8-bit RGB rows from the top.
@@ -23,6 +23,7 @@ pub fn png_rgb8(data: &[u8], width: u32, height: u32) -> Result<Vec<u8>, String>
 /// with different bytes from run to run.
 pub fn exr(film: &Film, half: bool) -> Result<Vec<u8>, String> {
     use exr::prelude::*;
+    let film = film.displayed_linear();
     let (w, h) = (film.width as usize, film.height as usize);
     let mut out = Cursor::new(Vec::new());
     let pixel = |x: usize, y: usize| film.pixels[y * w + x];
@@ -51,6 +52,7 @@ pub fn exr(film: &Film, half: bool) -> Result<Vec<u8>, String> {
 
 /// Portable float map: a text header, then little-endian f32 RGB rows from the bottom up.
 pub fn pfm(film: &Film) -> Vec<u8> {
+    let film = film.displayed_linear();
     let mut out = format!("PF\n{} {}\n-1.0\n", film.width, film.height).into_bytes();
     let w = film.width as usize;
     for row in film.pixels.chunks(w.max(1)).rev() {

@@ -1,8 +1,10 @@
 //! Image files: writing a film to disk, reading images back (`read`) and drawing figures
 //! (`heatmap`, with the label font in `glyphs`).
 //!
-//! Writing a film to disk. The format follows the file extension: PNG (8-bit sRGB),
-//! EXR (linear, 32-bit float or half) or PFM (linear 32-bit float). Every file is written
+//! Writing a film to disk. The format follows the file extension: PNG (8-bit display
+//! values, through the film's transfer), EXR (linear, 32-bit float or half) or PFM (linear
+//! 32-bit float). A display-referred film's float files hold the linear light its PNG
+//! shows, so every file of one render is the same picture. Every file is written
 //! to a temporary name beside the target and renamed into place, so an interrupted write
 //! never leaves a broken image under the requested name.
 
@@ -14,6 +16,7 @@ mod read;
 pub use read::{parse_pfm, read_image, ReadError};
 
 use crate::render::Film;
+use crate::transfer::Transfer;
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -117,19 +120,15 @@ fn write_all_synced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 
 /// Linear to sRGB-encoded 8-bit, clamping out-of-range values.
 pub fn linear_to_srgb8(c: f32) -> u8 {
-    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
-    let s = if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0 + 0.5) as u8
+    Transfer::Srgb.encode8(c)
 }
 
-/// The film as 8-bit sRGB, row-major RGB from the top-left: what PNG output contains.
-pub fn to_srgb8(film: &Film) -> Vec<u8> {
+/// The film as 8-bit display values through its transfer (the sRGB curve, or the values
+/// as they are), row-major RGB from the top-left: what PNG output contains.
+pub fn to_rgb8(film: &Film) -> Vec<u8> {
+    let t = film.transfer;
     film.pixels
         .iter()
-        .flat_map(|c| [c.x, c.y, c.z].map(linear_to_srgb8))
+        .flat_map(|c| [c.x, c.y, c.z].map(|v| t.encode8(v)))
         .collect()
 }

@@ -3,6 +3,7 @@
 
 use crate::math::Color;
 use crate::render::Film;
+use crate::transfer::srgb_decode;
 use std::path::Path;
 
 #[derive(Debug, thiserror::Error)]
@@ -44,18 +45,9 @@ fn read_display(path: &Path) -> Result<Film, String> {
     let (w, h) = img.dimensions();
     let mut film = Film::new(w, h);
     for (p, q) in film.pixels.iter_mut().zip(img.pixels()) {
-        *p = Color::new(linear(q[0]), linear(q[1]), linear(q[2]));
+        *p = Color::new(srgb_decode(q[0]), srgb_decode(q[1]), srgb_decode(q[2]));
     }
     Ok(film)
-}
-
-/// The sRGB decoding curve.
-fn linear(c: f32) -> f32 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
 }
 
 fn read_exr(path: &Path) -> Result<Film, String> {

@@ -156,7 +156,7 @@ impl Setup {
                 "the plane must be lit by ambient light alone (lights with kd or ks > 0)",
             ));
         }
-        if material.reflect > 0.0 || material.transmit > 0.0 {
+        if material.reflect > 0.0 || material.is_transmissive() {
             return Err(unsupported("the plane must neither reflect nor transmit"));
         }
         let d = |v: crate::math::Vec3| DVec3::new(v.x as f64, v.y as f64, v.z as f64);

@@ -1,12 +1,17 @@
-//! The film: a width × height grid of linear RGB pixels, row-major from the top-left.
+//! The film: a width × height grid of RGB pixels, row-major from the top-left, and what
+//! its values mean (linear light, or display values).
 
 use crate::math::Color;
+use crate::transfer::Transfer;
+use std::borrow::Cow;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
     pub width: u32,
     pub height: u32,
     pub pixels: Vec<Color>,
+    /// How the values reach a display; the renderer copies the render options'.
+    pub transfer: Transfer,
 }
 
 impl Film {
@@ -15,6 +20,23 @@ impl Film {
             width,
             height,
             pixels: vec![Color::ZERO; width as usize * height as usize],
+            transfer: Transfer::Srgb,
+        }
+    }
+
+    /// The linear light a display shows for each pixel (`Transfer::to_linear`): the film
+    /// itself when it is linear, a converted copy when it holds display values.
+    pub fn displayed_linear(&self) -> Cow<'_, Film> {
+        match self.transfer {
+            Transfer::Srgb => Cow::Borrowed(self),
+            t => Cow::Owned(Film {
+                width: self.width,
+                height: self.height,
+                pixels: (self.pixels.iter())
+                    .map(|c| Color::from_array(c.to_array().map(|v| t.to_linear(v))))
+                    .collect(),
+                transfer: Transfer::Srgb,
+            }),
         }
     }
 
@@ -25,6 +47,7 @@ impl Film {
             width,
             height,
             pixels: super::memory::try_filled(n, Color::ZERO, "film")?,
+            transfer: Transfer::Srgb,
         })
     }
 
@@ -35,6 +58,7 @@ impl Film {
             width,
             height,
             pixels: Vec::new(),
+            transfer: Transfer::Srgb,
         }
     }
 

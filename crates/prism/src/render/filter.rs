@@ -82,6 +82,12 @@ impl Filter {
         }
     }
 
+    /// Whether every sample strictly inside a pixel counts in that pixel alone: the box
+    /// of radius ½.
+    pub fn covers_one_pixel(&self) -> bool {
+        self.kind == FilterKind::Box && self.radius == 0.5
+    }
+
     pub fn weight(&self, dx: f32, dy: f32) -> f32 {
         let fx = self.profile(dx);
         if fx == 0.0 {

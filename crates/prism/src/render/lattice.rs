@@ -20,7 +20,7 @@ use super::rays::PixelRays;
 use super::splat::{FilmSums, SplatBuffer};
 use super::{Film, Job, RenderError, TileDone, Traced};
 use crate::math::{Color, Vec2};
-use crate::sampling::adaptive::{encode, Refinement, Square, Verdict, Visit};
+use crate::sampling::adaptive::{Refinement, Square, Verdict, Visit};
 use crate::stats::Stats;
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -107,8 +107,16 @@ impl Lattice {
 /// The points one pixel traced in a pass: (local key, colour).
 type PixelPoints = Vec<(u32, Color)>;
 
-/// What one pixel traced in a refinement pass: lattice points and stratified samples.
-type PixelRefinement = (PixelPoints, Vec<Color>);
+/// What one row traced in a refinement pass, flat (one allocation per row, not two per
+/// pixel): pixel x's lattice points are `points[point_start[x]..point_start[x + 1]]`, its
+/// stratified samples `samples[sample_start[x]..sample_start[x + 1]]`.
+#[derive(Default)]
+struct RowRefinement {
+    points: PixelPoints,
+    point_start: Vec<u32>,
+    samples: Vec<Color>,
+    sample_start: Vec<u32>,
+}
 
 /// One row's output of a tracing pass.
 struct RowTrace<T> {
@@ -166,7 +174,8 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Result<Traced, Re
         }
     }
     let steps = rule.steps();
-    let film = reconstruct(job, |buffer, x, y| {
+    // Pixel (x, y)'s samples: (offset in the pixel, weight, colour) in walk order.
+    let samples = |x: u32, y: u32, add: &mut dyn FnMut(Vec2, f32, Color)| {
         let lookup = |lx: u32, ly: u32| lattice.lookup(lx, ly);
         let stratified = &lattice.stratified[(y * job.width + x) as usize];
         let mut offsets = Vec::new();
@@ -178,7 +187,7 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Result<Traced, Re
                     rule.texture_offsets(x, y, &mut offsets);
                     let weight = 1.0 / stratified.len() as f32;
                     for (&o, &c) in offsets.iter().zip(stratified) {
-                        buffer.add(&job.filter, x, y, o, weight, c);
+                        add(o, weight, c);
                     }
                     return;
                 }
@@ -191,10 +200,19 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Result<Traced, Re
             let half = sq.size as f32 * 0.5;
             let o = lattice.offset(sq.x as f32 + half, sq.y as f32 + half, x, y);
             let side = sq.size as f32 / steps as f32;
-            buffer.add(&job.filter, x, y, o, side * side, mean);
+            add(o, side * side, mean);
         });
-    });
-    out.film = film?;
+    };
+    let film = if job.filter.covers_one_pixel() {
+        own_pixels(job, samples)
+    } else {
+        reconstruct(job, |buffer, x, y| {
+            samples(x, y, &mut |o, weight, c| {
+                buffer.add(&job.filter, x, y, o, weight, c)
+            })
+        })?
+    };
+    out.film = film;
     Ok(out)
 }
 
@@ -211,9 +229,13 @@ impl<'a> Judged<'a> {
     fn new(job: &Job, rule: &'a Refinement, lattice: &Lattice) -> Self {
         let (w, steps) = (job.width, lattice.steps);
         // Each corner encoded once: a pixel's verdict compares 16 of them.
-        let encoded: Vec<_> = lattice.corners.par_iter().map(|c| c.map(encode)).collect();
+        let encoded: Vec<_> = (lattice.corners.par_iter())
+            .map(|c| c.map(|c| rule.encode(c)))
+            .collect();
+        let shift = lattice.shift;
         let lookup = |x: u32, y: u32| {
-            let (i, j) = (x / steps, y / steps);
+            // Only pixel corners are asked for: multiples of `steps`, a power of two.
+            let (i, j) = (x >> shift, y >> shift);
             if i > w || j > job.height {
                 return None;
             }
@@ -258,12 +280,26 @@ impl<'a> Judged<'a> {
     }
 }
 
-/// What one pixel's walk finds at a refinement pass's level: the squares that split there
-/// (the pass traces their new points) and whether the pixel takes the stratified pass.
+/// What one row's walks find at a refinement pass's level: per pixel, the squares that
+/// split there (the pass traces their new points) and whether the pixel takes the
+/// stratified pass. One list per row, not per pixel: a pass over a large image would
+/// otherwise allocate (and the kernel zero) a vector per pixel.
 #[derive(Default)]
-struct PixelFrontier {
+struct RowFrontier {
     splits: Vec<Square>,
-    stratified: bool,
+    /// Pixel x's splits are `splits[start[x]..start[x + 1]]`.
+    start: Vec<u32>,
+    stratified: Vec<bool>,
+}
+
+impl RowFrontier {
+    fn splits(&self, x: u32) -> &[Square] {
+        &self.splits[self.start[x as usize] as usize..self.start[x as usize + 1] as usize]
+    }
+
+    fn stratified(&self, x: u32) -> bool {
+        self.stratified[x as usize]
+    }
 }
 
 /// Per row and pixel, the squares that split at `level`, found once per pass (a pixel's
@@ -274,36 +310,43 @@ fn find_frontiers(
     judged: &Judged,
     lattice: &Lattice,
     level: u32,
-    above: &[Vec<PixelFrontier>],
-) -> Vec<Vec<PixelFrontier>> {
+    above: &[RowFrontier],
+) -> Vec<RowFrontier> {
     let lookup = |x: u32, y: u32| lattice.lookup(x, y);
     (0..lattice.height)
         .into_par_iter()
         .map(|y| {
-            (0..lattice.width)
-                .map(|x| {
-                    let mut found = PixelFrontier::default();
-                    let mut visit = |sq: Square, v| {
-                        if matches!(v, Visit::Frontier(_)) && sq.level == level {
-                            found.splits.push(sq);
-                        }
-                        found.stratified |= matches!(v, Visit::Stratified(_));
-                    };
-                    if level == 0 {
-                        judged.walk(x, y, level, &lookup, &mut visit);
-                    } else {
-                        let textured = judged.textured(x, y);
-                        for parent in &above[y as usize][x as usize].splits {
-                            for child in parent.children() {
-                                judged
-                                    .rule
-                                    .walk_below(child, textured, level, &lookup, &mut visit);
-                            }
+            let w = lattice.width as usize;
+            let mut row = RowFrontier {
+                splits: Vec::new(),
+                start: Vec::with_capacity(w + 1),
+                stratified: Vec::with_capacity(w),
+            };
+            for x in 0..lattice.width {
+                row.start.push(row.splits.len() as u32);
+                let mut stratified = false;
+                let mut visit = |sq: Square, v| {
+                    if matches!(v, Visit::Frontier(_)) && sq.level == level {
+                        row.splits.push(sq);
+                    }
+                    stratified |= matches!(v, Visit::Stratified(_));
+                };
+                if level == 0 {
+                    judged.walk(x, y, level, &lookup, &mut visit);
+                } else {
+                    let textured = judged.textured(x, y);
+                    for parent in above[y as usize].splits(x) {
+                        for child in parent.children() {
+                            judged
+                                .rule
+                                .walk_below(child, textured, level, &lookup, &mut visit);
                         }
                     }
-                    found
-                })
-                .collect()
+                }
+                row.stratified.push(stratified);
+            }
+            row.start.push(row.splits.len() as u32);
+            row
         })
         .collect()
 }
@@ -415,13 +458,13 @@ fn refine(
     judged: &Judged,
     lattice: &mut Lattice,
     level: u32,
-    frontiers: &[Vec<PixelFrontier>],
+    frontiers: &[RowFrontier],
     out: &mut Traced,
 ) -> bool {
     let rule = judged.rule;
     let (w, steps) = (job.width, lattice.steps);
     let shared = &*lattice;
-    let rows: Vec<Option<RowTrace<Vec<PixelRefinement>>>> = (0..job.height)
+    let rows: Vec<Option<RowTrace<RowRefinement>>> = (0..job.height)
         .into_par_iter()
         .map(|y| {
             if job.cancelled() {
@@ -429,30 +472,28 @@ fn refine(
             }
             crate::integrator::begin_piece();
             let mut stats = Stats::default();
-            let mut values = Vec::with_capacity(w as usize);
+            let mut values = RowRefinement::default();
             let mut rays = Vec::with_capacity(w as usize);
             let mut wanted: Vec<(u32, u32)> = Vec::new();
             let mut offsets: Vec<Vec2> = Vec::new();
             for x in 0..w {
                 wanted.clear();
-                let own = &frontiers[y as usize][x as usize];
-                for sq in &own.splits {
+                let own = frontiers[y as usize].splits(x);
+                for sq in own {
                     wanted.extend(sq.new_points());
                 }
-                stats.adaptive_splits += own.splits.len() as u64;
+                stats.adaptive_splits += own.len() as u64;
                 // Midpoints on this pixel's left and top edges are its own; the neighbour
                 // across the edge may be the one that needs them.
                 if x > 0 {
-                    let left = &frontiers[y as usize][x as usize - 1];
-                    for sq in &left.splits {
+                    for sq in frontiers[y as usize].splits(x - 1) {
                         if sq.x + sq.size == x * steps {
                             wanted.push(sq.new_points()[3]);
                         }
                     }
                 }
                 if y > 0 {
-                    let top = &frontiers[y as usize - 1][x as usize];
-                    for sq in &top.splits {
+                    for sq in frontiers[y as usize - 1].splits(x) {
                         if sq.y + sq.size == y * steps {
                             wanted.push(sq.new_points()[4]);
                         }
@@ -463,24 +504,22 @@ fn refine(
                 wanted.dedup();
                 let before = stats;
                 let s = steps as f32;
-                let traced: PixelPoints = wanted
-                    .iter()
-                    .map(|&(px, py)| {
-                        let (fx, fy) = rule.position(px, py);
-                        let c = job.trace(fx / s, fy / s, &mut stats);
-                        (shared.local_key(px, py, (x, y)), c)
-                    })
-                    .collect();
+                values.point_start.push(values.points.len() as u32);
+                for &(px, py) in &wanted {
+                    let (fx, fy) = rule.position(px, py);
+                    let c = job.trace(fx / s, fy / s, &mut stats);
+                    values.points.push((shared.local_key(px, py, (x, y)), c));
+                }
                 offsets.clear();
-                if own.stratified && level == 0 {
+                if frontiers[y as usize].stratified(x) && level == 0 {
                     stats.adaptive_stratified += 1;
                     rule.texture_offsets(x, y, &mut offsets);
                 }
-                let samples: Vec<Color> = offsets
-                    .iter()
-                    .map(|o| job.trace(x as f32 + o.x, y as f32 + o.y, &mut stats))
-                    .collect();
-                values.push((traced, samples));
+                values.sample_start.push(values.samples.len() as u32);
+                for o in &offsets {
+                    let c = job.trace(x as f32 + o.x, y as f32 + o.y, &mut stats);
+                    values.samples.push(c);
+                }
                 rays.push(PixelRays::between(&before, &stats));
             }
             (job.on_tile)(TileDone {
@@ -500,21 +539,71 @@ fn refine(
             complete = false;
             continue;
         };
-        for (x, (new, samples)) in row.values.into_iter().enumerate() {
+        let RowRefinement {
+            points,
+            mut point_start,
+            samples,
+            mut sample_start,
+        } = row.values;
+        point_start.push(points.len() as u32);
+        sample_start.push(samples.len() as u32);
+        for x in 0..w as usize {
             let i = y * w as usize + x;
+            let new = &points[point_start[x] as usize..point_start[x + 1] as usize];
             if !new.is_empty() {
                 let list = &mut lattice.points[i];
-                list.extend(new);
+                list.extend_from_slice(new);
                 list.sort_unstable_by_key(|&(k, _)| k);
             }
-            if !samples.is_empty() {
-                lattice.stratified[i] = samples;
+            let own = &samples[sample_start[x] as usize..sample_start[x + 1] as usize];
+            if !own.is_empty() {
+                lattice.stratified[i] = own.to_vec();
             }
         }
         out.add_row(y as u32, row.stats, &row.rays);
     }
     out.complete &= complete;
     complete
+}
+
+/// The reconstruction pass when every sample counts in its own pixel only (the box of
+/// radius ½, the default): each pixel is the weighted mean of its samples, summed in the
+/// order `samples` gives them, which is fixed, so the image does not depend on the
+/// threads either; no fixed-point sums and no image-sized buffers are needed.
+fn own_pixels(
+    job: &Job,
+    samples: impl Fn(u32, u32, &mut dyn FnMut(Vec2, f32, Color)) + Sync,
+) -> super::Film {
+    let w = job.width;
+    let rows: Vec<Vec<Color>> = (0..job.height)
+        .into_par_iter()
+        .map(|y| {
+            let row = (0..w)
+                .map(|x| {
+                    let (mut sum, mut total) = ([0.0f64; 3], 0.0f64);
+                    samples(x, y, &mut |_, weight, c| {
+                        let weight = weight as f64;
+                        for (s, v) in sum.iter_mut().zip(c.to_array()) {
+                            *s += weight * v as f64;
+                        }
+                        total += weight;
+                    });
+                    if total == 0.0 {
+                        return Color::ZERO;
+                    }
+                    Color::from_array(sum.map(|s| (s / total) as f32))
+                })
+                .collect();
+            (job.on_tile)(TileDone {
+                pixels: w as u64,
+                rays: 0,
+            });
+            row
+        })
+        .collect();
+    let mut film = super::Film::new(w, job.height);
+    film.pixels = rows.concat();
+    film
 }
 
 /// The reconstruction pass: `splat` adds pixel (x, y)'s samples to a buffer covering its

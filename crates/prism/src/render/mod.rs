@@ -214,8 +214,10 @@ pub fn render(
     })?;
     let render_time = start.elapsed();
     let shadows = job.integrator.shadows();
+    let mut film = traced.film;
+    film.transfer = options.transfer;
     Ok(RenderResult {
-        film: traced.film,
+        film,
         stats: traced.stats,
         complete: traced.complete,
         render_time,

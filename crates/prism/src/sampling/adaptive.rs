@@ -13,9 +13,9 @@
 //! pixel's corners, and on a regular lattice a pattern finer than the pixels aliases into
 //! broad bands where all corners agree. Two additions fix that while keeping the corners
 //! shared (docs/sampling.md measures them):
-//! - jitter: each point is traced at a hashed position within its cell of the finest
-//!   lattice (pixel corners within ±¼ pixel), turning aliasing into noise, as POV-Ray's
-//!   `Jitter` does;
+//! - jitter: each point, the pixel corners too, is traced at a hashed position within its
+//!   cell of the finest lattice (pixel corners within ±¼ pixel), turning aliasing into
+//!   noise (POV-Ray's `Jitter` moves only the interior points, by a fraction of a cell);
 //! - the neighbourhood rule: a pixel splits when any of the 16 corners around it (its own
 //!   and its eight neighbours') differ, and a pixel whose 4×4 corners change colour more
 //!   often than any single straight edge can make them (texture finer than the pixels) is
@@ -29,6 +29,7 @@
 
 use crate::math::hash::uniform;
 use crate::math::{Color, Vec2};
+use crate::transfer::Transfer;
 use serde::{Deserialize, Serialize};
 
 /// Largest accepted depth: 64×64 squares per pixel.
@@ -67,9 +68,11 @@ named_kinds! {
 /// The refinement rule and where it traces.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Refinement {
-    /// A square splits when, in some channel, its corners' display-encoded (sRGB, clamped
-    /// to [0, 1]) values span more than this.
+    /// A square splits when, in some channel, its corners' display-encoded (through
+    /// `transfer`, clamped to [0, 1]) values span more than this.
     pub threshold: f32,
+    /// How colours are shown, so that the threshold is a step on the screen.
+    pub transfer: Transfer,
     /// Levels of splitting below the pixel; 0 traces the corners only.
     pub depth: u32,
     pub rule: AdaptiveRule,
@@ -177,6 +180,23 @@ impl Refinement {
         visit: &mut impl FnMut(Square, Visit),
     ) {
         let corners = square.corners().map(|(x, y)| lookup(x, y));
+        self.walk_known(square, corners, textured, judged, max_level, lookup, visit);
+    }
+
+    /// `walk_square` of a square whose corners' colours are known: a split square hands
+    /// its quarters the colours it looked up for its new points, so that a walk looks up
+    /// each point once instead of once per square that has it as a corner.
+    #[allow(clippy::too_many_arguments)]
+    fn walk_known(
+        &self,
+        square: Square,
+        corners: [Option<Color>; 4],
+        textured: bool,
+        judged: Option<Verdict>,
+        max_level: u32,
+        lookup: &impl Fn(u32, u32) -> Option<Color>,
+        visit: &mut impl FnMut(Square, Visit),
+    ) {
         let [Some(a), Some(b), Some(c), Some(d)] = corners else {
             visit(square, Visit::Missing);
             return;
@@ -185,9 +205,9 @@ impl Refinement {
         let (busy, textured) = match judged {
             Some(v) => (v.busy, v.textured),
             None if square.level == 0 && self.rule == AdaptiveRule::Neighbourhood => {
-                self.neighbourhood(&square, &|x, y| lookup(x, y).map(encode))
+                self.neighbourhood(&square, &|x, y| lookup(x, y).map(|c| self.encode(c)))
             }
-            None => (contrast(&corners) > self.threshold, textured),
+            None => (self.contrast(&corners) > self.threshold, textured),
         };
         if textured && self.texture_n > 0 && self.depth > 0 {
             visit(square, Visit::Stratified(corners));
@@ -200,18 +220,22 @@ impl Refinement {
             visit(square, Visit::Leaf(corners));
             return;
         }
-        let ready = square.level < max_level
-            && square
-                .new_points()
-                .iter()
-                .all(|&(x, y)| lookup(x, y).is_some());
-        if !ready {
+        let new = if square.level < max_level {
+            square.new_points().map(|(x, y)| lookup(x, y))
+        } else {
+            [None; 5]
+        };
+        let [Some(m), Some(t), Some(l), Some(r), Some(u)] = new else {
             visit(square, Visit::Frontier(corners));
             return;
-        }
+        };
         visit(square, Visit::Split);
-        for child in square.children() {
-            self.walk_square(child, textured, None, max_level, lookup, visit);
+        // Quarters in `children` order, corners in `corners` order; the new points are
+        // centre, top, left, right and bottom (`new_points`).
+        let quarters = [[a, t, l, m], [t, b, m, r], [l, m, c, u], [m, r, u, d]];
+        for (child, corners) in square.children().into_iter().zip(quarters) {
+            let corners = corners.map(Some);
+            self.walk_known(child, corners, textured, None, max_level, lookup, visit);
         }
     }
 
@@ -242,8 +266,18 @@ impl Refinement {
             count += 1;
         }
         let busy = spread_encoded(&present[..count]) > self.threshold;
+        if !busy {
+            // No pair of the block can differ by more than the whole block spreads: no
+            // changes, so no texture either (most pixels of most images end here).
+            return (false, false);
+        }
+        // The spread of two colours is their largest channel difference (bit for bit:
+        // max − min is |a − b|); 24 pairs per pixel, so without the general loop.
         let differ = |i: usize, j: usize| match (block[i], block[j]) {
-            (Some(a), Some(b)) => spread_encoded(&[a, b]) > self.threshold,
+            (Some(a), Some(b)) => {
+                let d = |k: usize| (a[k] - b[k]).abs();
+                d(0).max(d(1)).max(d(2)) > self.threshold
+            }
             _ => false,
         };
         let changes = (0..16)
@@ -349,13 +383,7 @@ impl Square {
     }
 }
 
-/// The largest per-channel spread of any set of colours, in display-encoded units.
-pub fn spread(colours: &[Color]) -> f32 {
-    let encoded: Vec<[f32; 3]> = colours.iter().map(|&c| encode(c)).collect();
-    spread_encoded(&encoded)
-}
-
-/// `spread` of colours already display-encoded.
+/// The largest per-channel spread of colours already display-encoded.
 fn spread_encoded(colours: &[[f32; 3]]) -> f32 {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
@@ -371,24 +399,15 @@ fn spread_encoded(colours: &[[f32; 3]]) -> f32 {
 /// A colour display-encoded: what the rule compares.
 pub type Encoded = [f32; 3];
 
-/// A colour's channels display-encoded.
-pub fn encode(c: Color) -> Encoded {
-    c.to_array().map(display)
-}
+impl Refinement {
+    /// A colour's channels display-encoded.
+    pub fn encode(&self, c: Color) -> Encoded {
+        c.to_array().map(|v| self.transfer.encode(v))
+    }
 
-/// The largest per-channel spread of the corners, in display-encoded units.
-pub fn contrast(corners: &[Color; 4]) -> f32 {
-    // Not `spread`: every square of every walk asks, and an array spares its allocation.
-    spread_encoded(&corners.map(encode))
-}
-
-/// sRGB encoding of a linear value clamped to [0, 1] (NaN counts as 0).
-fn display(c: f32) -> f32 {
-    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
-    if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
+    /// The largest per-channel spread of the corners, in display-encoded units.
+    pub fn contrast(&self, corners: &[Color; 4]) -> f32 {
+        spread_encoded(&corners.map(|c| self.encode(c)))
     }
 }
 
@@ -398,19 +417,34 @@ mod tests {
 
     #[test]
     fn contrast_is_the_largest_channel_spread_on_screen() {
+        let rule = |transfer| Refinement {
+            threshold: 0.1,
+            transfer,
+            depth: 2,
+            rule: AdaptiveRule::Corners,
+            jitter: 0.0,
+            texture_n: 0,
+            seed: 0,
+        };
+        let srgb = rule(Transfer::Srgb);
         let black = Color::ZERO;
         let white = Color::ONE;
-        assert_eq!(contrast(&[black; 4]), 0.0);
-        assert!((contrast(&[black, black, black, white]) - 1.0).abs() < 1e-6);
+        assert_eq!(srgb.contrast(&[black; 4]), 0.0);
+        assert!((srgb.contrast(&[black, black, black, white]) - 1.0).abs() < 1e-6);
         let grey = Color::splat(0.214_041_14); // sRGB 0.5
-        let c = contrast(&[grey, black, grey, grey]);
+        let c = srgb.contrast(&[grey, black, grey, grey]);
         assert!((c - 0.5).abs() < 1e-4, "{c}");
+        // Display-referred values are shown as they are.
+        let display = rule(Transfer::Display);
+        let c = display.contrast(&[grey, black, grey, grey]);
+        assert!((c - 0.214_041_14).abs() < 1e-6, "{c}");
     }
 
     #[test]
     fn a_walk_splits_where_corners_differ_and_stops_at_the_depth() {
         let rule = Refinement {
             threshold: 0.1,
+            transfer: Transfer::Srgb,
             depth: 2,
             rule: AdaptiveRule::Corners,
             jitter: 0.0,
@@ -448,6 +482,7 @@ mod tests {
         let visits = |texture_n| {
             let rule = Refinement {
                 threshold: 0.1,
+                transfer: Transfer::Srgb,
                 depth: 2,
                 rule: AdaptiveRule::Neighbourhood,
                 jitter: 0.0,
@@ -463,6 +498,7 @@ mod tests {
         // The corners rule never sees texture.
         let corners = Refinement {
             threshold: 0.1,
+            transfer: Transfer::Srgb,
             depth: 2,
             rule: AdaptiveRule::Corners,
             jitter: 0.0,
@@ -489,16 +525,17 @@ mod tests {
                 Color::splat(0.02)
             })
         };
-        let encoded = |x: u32, y: u32| lookup(x, y).map(encode);
         for rule in AdaptiveRule::ALL {
             let r = Refinement {
                 threshold: 0.1,
+                transfer: Transfer::Srgb,
                 depth: 3,
                 rule,
                 jitter: 0.0,
                 texture_n: 0,
                 seed: 0,
             };
+            let encoded = |x: u32, y: u32| lookup(x, y).map(|c| r.encode(c));
             let (mut splits, mut textured) = (0, 0);
             for (px, py) in [(0, 0), (1, 1), (2, 1), (1, 2), (3, 3), (0, 4)] {
                 let pixel = Square::pixel(px, py, r.steps());
@@ -554,6 +591,7 @@ mod tests {
     fn stratified_offsets_put_one_point_in_each_stratum_inside_the_pixel() {
         let rule = Refinement {
             threshold: 0.1,
+            transfer: Transfer::Srgb,
             depth: 3,
             rule: AdaptiveRule::Neighbourhood,
             jitter: 1.0,

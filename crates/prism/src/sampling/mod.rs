@@ -124,6 +124,7 @@ impl Sampler {
             SamplerKind::Corners => Sampler::Corners,
             SamplerKind::Adaptive => Sampler::Adaptive(Refinement {
                 threshold: options.adaptive_threshold,
+                transfer: options.transfer,
                 depth: options.adaptive_depth,
                 rule: options.adaptive_rule,
                 jitter: options.adaptive_jitter,

@@ -9,6 +9,7 @@ use crate::geometry::{polygon, Cone, Shape, Sphere, TriangleMesh};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
 use crate::shading::{FresnelMode, Highlight, Material, Texture};
+use crate::transfer::Transfer;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -63,7 +64,7 @@ impl Fill {
             name,
             color: Texture::Solid(color),
             // SPD: "an ambient component should be used for all objects"; its weight is
-            // the diffuse one, lit by the ambient light of 1/(2√N).
+            // the diffuse one, lit by the scene's ambient light (none by default).
             ambient: kd,
             diffuse: kd,
             // NFF's Ks is both the mirror weight and (as SPD's reader takes it) the
@@ -72,7 +73,8 @@ impl Fill {
             shininess: shine,
             highlight: Highlight::Phong,
             reflect: ks,
-            transmit: t,
+            // NFF's T is one number: grey glass.
+            transmit: Color::splat(t),
             ior: if t > 0.0 && ior > 0.0 { ior } else { 1.0 },
             fresnel: FresnelMode::Off,
         }
@@ -395,11 +397,17 @@ impl<'a> Parser<'a> {
                 message: "no view ('v') block; NFF files must set the camera".into(),
             });
         }
-        // SPD's suggestion for lights given without a colour, and for the ambient light:
-        // 1/(2√N) each, so N lights and the ambient term together stay within range.
+        // Lights as SPD's own generators set them (lscale in balls.c, gears.c, …): 1/√N
+        // each for N lights, for every format that takes an intensity. NFF drops the
+        // intensity, and the generators give nearly every surface ka = 0 (balls' floor
+        // alone has 0.2), so there is no ambient light: shadows and back faces are dark,
+        // as in the SPD's pictures. The ambient term is still evaluated (SPD asks for
+        // one, for its cost). Colours are display values (1987): the transfer is
+        // `Display`, so the sky b 0.078 0.361 0.753 is written as (20, 92, 192).
         let n = self.lights.len().max(1) as f32;
-        let default = Color::splat(1.0 / (2.0 * n.sqrt()));
-        self.scene.ambient = default;
+        let default = Color::splat(1.0 / n.sqrt());
+        self.scene.ambient = Color::ZERO;
+        self.scene.options.transfer = Transfer::Display;
         self.scene.lights = self
             .lights
             .iter()

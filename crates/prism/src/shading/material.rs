@@ -1,5 +1,9 @@
 //! The Whitted material: ambient, Lambert diffuse and a Phong or Blinn–Phong highlight for
 //! the local term; mirror reflection `kr` and refraction `kt` for the recursive terms.
+//!
+//! `kt` is a colour: a filter that tints what passes through (POV-Ray's `filter`, MTL's
+//! `Tf`, glTF's transmission tinted by the base colour). Reflection at the interface is not
+//! tinted: the colour of glass is what its body absorbs, not what its surface reflects.
 
 use super::fresnel::FresnelMode;
 use super::texture::Texture;
@@ -33,8 +37,9 @@ pub struct Material {
     pub highlight: Highlight,
     /// kr: weight of the mirror-reflected ray (Whitted's ks in I_R).
     pub reflect: f32,
-    /// kt: weight of the refracted ray; also what a shadow ray keeps when crossing.
-    pub transmit: f32,
+    /// kt: weight of the refracted ray per channel; also what a shadow ray keeps, per
+    /// channel, when crossing. A grey is `Color::splat(kt)`.
+    pub transmit: Color,
     /// Index of refraction of the material's inside; the outside is taken to be vacuum.
     pub ior: f32,
     pub fresnel: FresnelMode,
@@ -51,7 +56,7 @@ impl Default for Material {
             shininess: 32.0,
             highlight: Highlight::Phong,
             reflect: 0.0,
-            transmit: 0.0,
+            transmit: Color::ZERO,
             ior: 1.5,
             fresnel: FresnelMode::Off,
         }
@@ -61,36 +66,44 @@ impl Default for Material {
 /// Weights of the reflected and refracted rays at one hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpecularWeights {
+    /// Untinted: the interface reflects white light.
     pub reflect: f32,
-    pub transmit: f32,
+    /// Per channel: the filter `kt`, less what the interface reflects.
+    pub transmit: Color,
     /// Refraction was impossible (sin²θt > 1); its weight went to reflection.
     pub total_internal_reflection: bool,
 }
 
 impl Material {
     pub fn is_transmissive(&self) -> bool {
-        self.transmit > 0.0
+        self.transmit.max_element() > 0.0
+    }
+
+    /// The share of light that meets the interface as a dielectric: the clearest channel
+    /// of `kt`. Interface reflection and total internal reflection are weighted by it,
+    /// untinted; for a grey `kt` it is that grey.
+    pub fn interface_share(&self) -> f32 {
+        self.transmit.max_element()
     }
 
     /// Splits light between the mirror and refraction directions. `cos_i` is the cosine of
     /// the incident angle, `eta` = η_incident / η_transmitted.
     ///
     /// Fresnel off: `kr` and `kt` as given. Fresnel on: reflectance R(θ) scales the mirror
-    /// term of both a coating (`kr`) and the dielectric (`kt`), and the dielectric transmits
-    /// `kt`·(1 − R). Under total internal reflection nothing is transmitted and the
-    /// transmitted share goes to reflection (R = 1 does this for the Fresnel modes).
+    /// term of both a coating (`kr`) and the dielectric (its share `k̄t`, the clearest
+    /// channel of `kt`), and the dielectric transmits `kt`·(1 − R) per channel. Under total
+    /// internal reflection nothing is transmitted and the dielectric's share goes to
+    /// reflection (R = 1 does this for the Fresnel modes).
     pub fn specular_weights(&self, cos_i: f32, eta: f32) -> SpecularWeights {
         let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
-        let tir = self.transmit > 0.0 && sin2_t > 1.0;
+        let share = self.interface_share();
+        let tir = share > 0.0 && sin2_t > 1.0;
         let (reflect, transmit) = match self.fresnel.reflectance(cos_i, eta) {
-            None if tir => (self.reflect + self.transmit, 0.0),
+            None if tir => (self.reflect + share, Color::ZERO),
             None => (self.reflect, self.transmit),
             Some(r) => {
                 let r = if tir { 1.0 } else { r };
-                (
-                    (self.reflect + self.transmit) * r,
-                    self.transmit * (1.0 - r),
-                )
+                ((self.reflect + share) * r, self.transmit * (1.0 - r))
             }
         };
         SpecularWeights {

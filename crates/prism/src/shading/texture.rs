@@ -2,6 +2,7 @@
 //! space) and images.
 
 use crate::math::{Color, Vec2, Vec3};
+use crate::transfer::srgb_decode;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -66,14 +67,6 @@ pub enum TextureError {
     Read { path: String, message: String },
 }
 
-fn srgb_to_linear(c: f32) -> f32 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
 impl ImageTexture {
     /// Loads a PNG or JPEG; 8-bit values are taken as sRGB-encoded.
     pub fn load(path: &Path) -> Result<Self, TextureError> {
@@ -90,7 +83,7 @@ impl ImageTexture {
     /// colour images are) to linear texels.
     pub fn from_srgb(img: &image::DynamicImage) -> Self {
         let rgb = img.to_rgb8();
-        let lut: Vec<f32> = (0..256).map(|i| srgb_to_linear(i as f32 / 255.0)).collect();
+        let lut: Vec<f32> = (0..256).map(|i| srgb_decode(i as f32 / 255.0)).collect();
         let texels = rgb
             .pixels()
             .map(|p| Color::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize]))

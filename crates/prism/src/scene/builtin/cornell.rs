@@ -53,7 +53,7 @@ pub fn cornell() -> Scene {
         diffuse: 0.0,
         specular: 0.8,
         shininess: 300.0,
-        transmit: 1.0,
+        transmit: Color::ONE,
         ior: 1.5,
         fresnel: FresnelMode::Exact,
         ..Material::default()

@@ -54,7 +54,7 @@ pub fn whitted() -> Scene {
         specular: 0.7,
         shininess: 200.0,
         reflect: 0.05,
-        transmit: 0.95,
+        transmit: Color::splat(0.95),
         ior: 1.5,
         fresnel: FresnelMode::Exact,
         ..Material::default()

@@ -5,7 +5,7 @@
 //! "glTF 2.0") keeps what a Whitted renderer can show: base colour → diffuse colour;
 //! metals and smooth surfaces → mirror reflection; roughness → highlight size and weight;
 //! KHR_materials_ior → the dielectric's reflectance; KHR_materials_transmission →
-//! Fresnel-weighted glass.
+//! Fresnel-weighted glass whose transmission the base colour tints (as the extension says).
 
 use super::images::Images;
 use crate::math::Color;
@@ -79,7 +79,7 @@ pub fn whitted(name: String, pbr: &Pbr, color: Texture) -> Material {
         shininess,
         highlight: Highlight::BlinnPhong,
         reflect: opaque * mirror,
-        transmit: t,
+        transmit: t * pbr.base,
         ior: if pbr.ior >= 1.0 { pbr.ior } else { 1.5 },
         fresnel: if t > 0.0 {
             FresnelMode::Exact
@@ -226,10 +226,23 @@ mod tests {
             metallic: 0.0,
             ..Pbr::default()
         });
-        assert_eq!(glass.transmit, 1.0);
+        assert_eq!(glass.transmit, Color::ONE);
         assert_eq!(glass.ior, 1.33);
         assert_eq!(glass.fresnel, FresnelMode::Exact);
         assert_eq!((glass.diffuse, glass.reflect), (0.0, 0.0));
+    }
+
+    #[test]
+    fn the_base_colour_tints_transmission() {
+        let red = map(Pbr {
+            base: Color::new(0.9, 0.2, 0.1),
+            transmission: 0.5,
+            metallic: 0.0,
+            roughness: 0.0,
+            ..Pbr::default()
+        });
+        assert_eq!(red.transmit, Color::new(0.45, 0.1, 0.05));
+        assert_eq!(red.fresnel, FresnelMode::Exact);
     }
 
     #[test]
@@ -251,7 +264,7 @@ mod tests {
         });
         assert_eq!(
             (mirror.reflect, mirror.transmit, mirror.diffuse),
-            (1.0, 0.0, 0.0)
+            (1.0, Color::ZERO, 0.0)
         );
         assert_eq!(mirror.ior, 1.5);
     }

@@ -1,6 +1,7 @@
 //! MTL materials as prism's Whitted material. The MTL illumination models (`illum`) say
 //! which terms are on; the colours' channels are averaged where prism has one weight (its
-//! highlight and the traced rays are white, as in Whitted's model). docs/formats.md has the
+//! highlight and the mirror ray are white, as in Whitted's model); the transmission filter
+//! `Tf` stays a colour. docs/formats.md has the
 //! table; the comments below say why each choice.
 
 use crate::math::Color;
@@ -52,16 +53,16 @@ pub fn whitted(m: &tobj::Material, extras: &Extras) -> Material {
         FresnelMode::Off
     };
     let (transmit, ior) = if matches!(illum, 6 | 7) {
-        // Refraction: the MTL equation's (1 − Ks)·Tf·It term; d does not apply.
-        let tf = extras.tf.map_or(1.0, |c| mean(c.to_array()));
+        // Refraction: the MTL equation's (1 − Ks)·Tf·It term, per channel; d does not apply.
+        let tf = extras.tf.unwrap_or(Color::ONE);
         ((1.0 - ks).max(0.0) * tf, ior)
     } else if opacity < 1.0 {
         // Dissolve: light passes straight through (index 1) and the local terms fade.
         diffuse *= opacity;
         ambient *= opacity;
-        (1.0 - opacity, 1.0)
+        (Color::splat(1.0 - opacity), 1.0)
     } else {
-        (0.0, ior)
+        (Color::ZERO, ior)
     };
 
     Material {
@@ -101,7 +102,10 @@ mod tests {
     fn illumination_models_switch_terms() {
         let e = Extras::default();
         let m1 = whitted(&mtl(1), &e);
-        assert_eq!((m1.specular, m1.reflect, m1.transmit), (0.0, 0.0, 0.0));
+        assert_eq!(
+            (m1.specular, m1.reflect, m1.transmit),
+            (0.0, 0.0, Color::ZERO)
+        );
         assert!((m1.ambient - 0.2).abs() < 1e-6);
         assert_eq!(m1.color, Texture::Solid(Color::new(0.6, 0.3, 0.0)));
         let m2 = whitted(&mtl(2), &e);
@@ -113,19 +117,20 @@ mod tests {
         let m5 = whitted(&mtl(5), &e);
         assert_eq!(
             (m5.fresnel, m5.ior, m5.transmit),
-            (FresnelMode::Exact, 1.33, 0.0)
+            (FresnelMode::Exact, 1.33, Color::ZERO)
         );
         let m6 = whitted(&mtl(6), &e);
-        assert!((m6.transmit - 0.6).abs() < 1e-6);
+        assert!(m6.transmit.abs_diff_eq(Color::splat(0.6), 1e-6));
         assert_eq!((m6.ior, m6.fresnel), (1.33, FresnelMode::Off));
         let m7 = whitted(
             &mtl(7),
             &Extras {
-                tf: Some(Color::splat(0.5)),
+                tf: Some(Color::new(0.5, 0.25, 1.0)),
                 ..Extras::default()
             },
         );
-        assert!((m7.transmit - 0.3).abs() < 1e-6);
+        // (1 − Ks)·Tf per channel: the filter keeps its colour.
+        assert!(m7.transmit.abs_diff_eq(Color::new(0.3, 0.15, 0.6), 1e-6));
         assert_eq!(m7.fresnel, FresnelMode::Exact);
     }
 
@@ -134,7 +139,7 @@ mod tests {
         let mut m = mtl(4);
         m.dissolve = Some(0.25);
         let g = whitted(&m, &Extras::default());
-        assert_eq!((g.transmit, g.ior), (0.75, 1.0));
+        assert_eq!((g.transmit, g.ior), (Color::splat(0.75), 1.0));
         assert!((g.diffuse - 0.25).abs() < 1e-6);
         assert!((g.reflect - 0.4).abs() < 1e-6);
         // Tr is 1 − d, used when d is absent.
@@ -147,6 +152,6 @@ mod tests {
                 ..Extras::default()
             },
         );
-        assert!((t.transmit - 0.4).abs() < 1e-6);
+        assert!(t.transmit.abs_diff_eq(Color::splat(0.4), 1e-6));
     }
 }

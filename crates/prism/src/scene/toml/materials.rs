@@ -30,7 +30,7 @@ pub fn material(name: &str, def: MaterialDef, base_dir: &Path) -> Result<Materia
         shininess: def.shininess.map_or(d.shininess, |v| v.0),
         highlight: def.highlight.unwrap_or(d.highlight),
         reflect: def.reflect.map_or(d.reflect, |v| v.0),
-        transmit: def.transmit.map_or(d.transmit, |v| v.0),
+        transmit: def.transmit.map_or(d.transmit, |c| c.0),
         ior: def.ior.map_or(d.ior, |v| v.0),
         fresnel: def.fresnel.unwrap_or(d.fresnel),
     })

@@ -57,7 +57,8 @@ pub struct MaterialDef {
     pub shininess: Option<NonNegative>,
     pub highlight: Option<Highlight>,
     pub reflect: Option<NonNegative>,
-    pub transmit: Option<NonNegative>,
+    /// A colour filter, or one number for a grey.
+    pub transmit: Option<Rgb>,
     pub ior: Option<Positive>,
     pub fresnel: Option<FresnelMode>,
 }
