@@ -29,9 +29,30 @@ extern "C" {
     ) -> *mut c_void;
     fn pe_scene_commit(scene: *mut c_void);
     fn pe_scene_release(scene: *mut c_void);
-    fn pe_intersect1(s: *mut c_void, coherent: i32, r: *const Ray, n: usize, t: *mut f32, p: *mut u32);
-    fn pe_intersect8(s: *mut c_void, coherent: i32, r: *const Ray, n: usize, t: *mut f32, p: *mut u32);
-    fn pe_intersect16(s: *mut c_void, coherent: i32, r: *const Ray, n: usize, t: *mut f32, p: *mut u32);
+    fn pe_intersect1(
+        s: *mut c_void,
+        coherent: i32,
+        r: *const Ray,
+        n: usize,
+        t: *mut f32,
+        p: *mut u32,
+    );
+    fn pe_intersect8(
+        s: *mut c_void,
+        coherent: i32,
+        r: *const Ray,
+        n: usize,
+        t: *mut f32,
+        p: *mut u32,
+    );
+    fn pe_intersect16(
+        s: *mut c_void,
+        coherent: i32,
+        r: *const Ray,
+        n: usize,
+        t: *mut f32,
+        p: *mut u32,
+    );
     fn pe_occluded1(s: *mut c_void, coherent: i32, r: *const Ray, n: usize, hit: *mut u8);
     fn pe_occluded8(s: *mut c_void, coherent: i32, r: *const Ray, n: usize, hit: *mut u8);
     fn pe_occluded16(s: *mut c_void, coherent: i32, r: *const Ray, n: usize, hit: *mut u8);
@@ -103,7 +124,12 @@ impl Width {
 
 impl<'d> Scene<'d> {
     /// Copies the triangles into a new scene; `commit` builds it.
-    pub fn new(device: &'d Device, positions: &[[f32; 3]], indices: &[[u32; 3]], q: Quality) -> Self {
+    pub fn new(
+        device: &'d Device,
+        positions: &[[f32; 3]],
+        indices: &[[u32; 3]],
+        q: Quality,
+    ) -> Self {
         let quality = match q {
             Quality::Medium => 1,
             Quality::High => 2,
@@ -135,7 +161,14 @@ impl<'d> Scene<'d> {
     }
 
     /// Nearest hits: `t` (infinite for misses) and triangle index per ray.
-    pub fn intersect(&self, width: Width, coherent: bool, rays: &[Ray], t: &mut [f32], prim: &mut [u32]) {
+    pub fn intersect(
+        &self,
+        width: Width,
+        coherent: bool,
+        rays: &[Ray],
+        t: &mut [f32],
+        prim: &mut [u32],
+    ) {
         assert!(t.len() == rays.len() && prim.len() == rays.len());
         let f = match width {
             Width::One => pe_intersect1,
@@ -144,7 +177,14 @@ impl<'d> Scene<'d> {
         };
         // SAFETY: the output slices are as long as the input, as asserted above.
         unsafe {
-            f(self.ptr, coherent as i32, rays.as_ptr(), rays.len(), t.as_mut_ptr(), prim.as_mut_ptr())
+            f(
+                self.ptr,
+                coherent as i32,
+                rays.as_ptr(),
+                rays.len(),
+                t.as_mut_ptr(),
+                prim.as_mut_ptr(),
+            )
         }
     }
 
@@ -157,7 +197,15 @@ impl<'d> Scene<'d> {
             Width::Sixteen => pe_occluded16,
         };
         // SAFETY: the output slice is as long as the input, as asserted above.
-        unsafe { f(self.ptr, coherent as i32, rays.as_ptr(), rays.len(), hit.as_mut_ptr()) }
+        unsafe {
+            f(
+                self.ptr,
+                coherent as i32,
+                rays.as_ptr(),
+                rays.len(),
+                hit.as_mut_ptr(),
+            )
+        }
     }
 }
 

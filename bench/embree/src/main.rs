@@ -32,7 +32,9 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("run") => parse(&args[1..]).and_then(|o| run(&o)),
-        Some("report") if args.len() == 2 => report::markdown(&PathBuf::from(&args[1])).map(|t| print!("{t}")),
+        Some("report") if args.len() == 2 => {
+            report::markdown(&PathBuf::from(&args[1])).map(|t| print!("{t}"))
+        }
         _ => Err(USAGE.to_string()),
     };
     if let Err(e) = result {
@@ -53,7 +55,11 @@ fn parse(args: &[String]) -> Result<Options, String> {
     let mut it = args.iter();
     while let Some(flag) = it.next() {
         let value = it.next().ok_or(format!("{flag} needs a value\n{USAGE}"))?;
-        let number = || value.parse::<usize>().map_err(|e| format!("{flag} {value}: {e}"));
+        let number = || {
+            value
+                .parse::<usize>()
+                .map_err(|e| format!("{flag} {value}: {e}"))
+        };
         match flag.as_str() {
             "--mesh" => o.mesh = value.clone(),
             "--meshes" => o.meshes_dir = PathBuf::from(value),
@@ -106,7 +112,12 @@ fn run(o: &Options) -> Result<(), String> {
         .map_err(|e| e.to_string())?;
     geometry.add_mesh(prism_mesh, 0);
     let mut csv = CsvOut::open(o.csv.as_ref())?;
-    println!("## {} ({triangles} triangles, {} vertices)\n", mesh.name, positions.len());
+    let load = Load::start();
+    println!(
+        "## {} ({triangles} triangles, {} vertices)\n",
+        mesh.name,
+        positions.len()
+    );
 
     // Builds, in turns: prism's default BVH (SceneIntersector::build, as Scene::prepare
     // does) and Embree's rtcCommitScene at both qualities (the copy into Embree's buffers
@@ -122,7 +133,9 @@ fn run(o: &Options) -> Result<(), String> {
         drop(intersector.take());
         scenes.clear();
         let mut built = None;
-        build_samples[0].push(time(|| built = Some(SceneIntersector::build(&geometry, &spec))));
+        build_samples[0].push(time(|| {
+            built = Some(SceneIntersector::build(&geometry, &spec))
+        }));
         intersector = built;
         for (k, &q) in qualities.iter().enumerate() {
             let scene = embree::Scene::new(&device, &positions, &mesh.indices, q);
@@ -139,9 +152,27 @@ fn run(o: &Options) -> Result<(), String> {
         let m = median(samples);
         println!("  {name:<10} {:8.1} / {:8.1}", ms(m.wall), ms(m.cpu));
         csv.row(&[
-            "build", mesh.name, &triangles.to_string(), "", name, "", "", "", "", "",
-            &format!("{:.3}", ms(m.cpu)), &format!("{:.3}", ms(m.wall)), "", "", &samples.len().to_string(),
-            &if *name == "prism" { format!("{sah:.3}") } else { String::new() },
+            "build",
+            mesh.name,
+            &triangles.to_string(),
+            "",
+            name,
+            "",
+            "",
+            "",
+            "",
+            "",
+            &format!("{:.3}", ms(m.cpu)),
+            &format!("{:.3}", ms(m.wall)),
+            "",
+            "",
+            &samples.len().to_string(),
+            &if *name == "prism" {
+                format!("{sah:.3}")
+            } else {
+                String::new()
+            },
+            "",
         ])?;
     }
     println!("  prism: {info}\n");
@@ -163,9 +194,18 @@ fn run(o: &Options) -> Result<(), String> {
         for (m, a) in methods.iter().zip(&mut answers) {
             measure::run(m, set, a, 1);
         }
-        println!("{} rays: {n}; answers (hits, distance checksum, rays that differ from prism):", set.name);
+        println!(
+            "{} rays: {n}; answers (hits, distance checksum, rays that differ from prism):",
+            set.name
+        );
         for (m, a) in methods.iter().zip(&answers) {
-            println!("  {:<12} {:8} {:16.3} {:6}", m.label(), a.hits(), a.checksum(), a.differ(&answers[0]));
+            println!(
+                "  {:<12} {:8} {:16.3} {:6}",
+                m.label(),
+                a.hits(),
+                a.checksum(),
+                a.differ(&answers[0])
+            );
         }
         for &threads in &o.threads {
             // Sample r of every method before sample r + 1 of any, so that load from other
@@ -186,30 +226,123 @@ fn run(o: &Options) -> Result<(), String> {
                 let rate = |d: std::time::Duration| n as f64 / d.as_secs_f64() / 1e6;
                 println!(
                     "  {:<12} {:7.2} / {:7.2}   ({:7.1}, {:7.1})",
-                    m.label(), rate(s.cpu), rate(s.wall), ms(s.cpu), ms(s.wall)
+                    m.label(),
+                    rate(s.cpu),
+                    rate(s.wall),
+                    ms(s.cpu),
+                    ms(s.wall)
                 );
                 let a = &answers[k];
                 csv.row(&[
-                    "trace", mesh.name, &triangles.to_string(), set.name, &m.label(), &threads.to_string(),
-                    &n.to_string(), &a.hits().to_string(), &format!("{:.3}", a.checksum()),
-                    &a.differ(&answers[0]).to_string(), &format!("{:.3}", ms(s.cpu)), &format!("{:.3}", ms(s.wall)),
-                    &format!("{:.4}", rate(s.cpu)), &format!("{:.4}", rate(s.wall)), &o.repeats.to_string(), "",
+                    "trace",
+                    mesh.name,
+                    &triangles.to_string(),
+                    set.name,
+                    &m.label(),
+                    &threads.to_string(),
+                    &n.to_string(),
+                    &a.hits().to_string(),
+                    &format!("{:.3}", a.checksum()),
+                    &a.differ(&answers[0]).to_string(),
+                    &format!("{:.3}", ms(s.cpu)),
+                    &format!("{:.3}", ms(s.wall)),
+                    &format!("{:.4}", rate(s.cpu)),
+                    &format!("{:.4}", rate(s.wall)),
+                    &o.repeats.to_string(),
+                    "",
+                    "",
                 ])?;
             }
         }
         println!();
     }
+    let (own, wall, other) = load.finish();
+    println!(
+        "this run: {own:.1} s of process CPU time in {wall:.1} s; other processes used {other:.2} cores on average\n"
+    );
+    csv.row(&[
+        "load",
+        mesh.name,
+        &triangles.to_string(),
+        "",
+        "",
+        "",
+        "",
+        "",
+        "",
+        "",
+        &format!("{:.3}", own * 1e3),
+        &format!("{:.3}", wall * 1e3),
+        "",
+        "",
+        "",
+        "",
+        &format!("{other:.3}"),
+    ])?;
     Ok(())
+}
+
+/// How busy the rest of the machine was during a run: the whole machine's busy CPU time
+/// (from /proc/stat) minus this process's own.
+struct Load {
+    busy: Option<f64>,
+    own: prism::bench::Stopwatch,
+    wall: prism::bench::Stopwatch,
+}
+
+impl Load {
+    fn start() -> Self {
+        Load {
+            busy: machine_busy_seconds(),
+            own: prism::bench::Clock::ProcessCpu.start(),
+            wall: prism::bench::Clock::Wall.start(),
+        }
+    }
+
+    /// (own CPU seconds, wall seconds, other processes' mean number of busy cores).
+    fn finish(&self) -> (f64, f64, f64) {
+        let (own, wall) = (
+            self.own.elapsed().as_secs_f64(),
+            self.wall.elapsed().as_secs_f64(),
+        );
+        let other = match (self.busy, machine_busy_seconds()) {
+            (Some(a), Some(b)) => ((b - a - own) / wall).max(0.0),
+            _ => f64::NAN,
+        };
+        (own, wall, other)
+    }
+}
+
+/// CPU seconds all cores have spent busy since boot (user, nice, system, irq, softirq,
+/// steal), from the first line of /proc/stat.
+fn machine_busy_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/stat").ok()?;
+    let ticks: Vec<f64> = stat
+        .lines()
+        .next()?
+        .split_whitespace()
+        .skip(1)
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    // SAFETY: sysconf has no preconditions.
+    let hz = unsafe { libc::sysconf(libc::_SC_CLK_TCK) } as f64;
+    let busy = [0, 1, 2, 5, 6, 7]
+        .iter()
+        .filter_map(|&i| ticks.get(i))
+        .sum::<f64>();
+    Some(busy / hz)
 }
 
 /// CSV rows appended to a file (with the header when the file is new).
 struct CsvOut(Option<std::fs::File>);
 
-pub const CSV_HEADER: &str = "kind,mesh,triangles,rays_kind,method,threads,rays,hits,checksum,differ,cpu_ms,wall_ms,mrays_cpu,mrays_wall,samples,sah_cost";
+pub const CSV_HEADER: &str = "kind,mesh,triangles,rays_kind,method,threads,rays,hits,checksum,differ,cpu_ms,wall_ms,mrays_cpu,mrays_wall,samples,sah_cost,other_cores";
 
 impl CsvOut {
     fn open(path: Option<&PathBuf>) -> Result<Self, String> {
-        let Some(path) = path else { return Ok(CsvOut(None)) };
+        let Some(path) = path else {
+            return Ok(CsvOut(None));
+        };
         let new = !path.exists();
         let mut file = std::fs::OpenOptions::new()
             .create(true)

@@ -89,19 +89,25 @@ impl Answers {
     }
 
     pub fn hits(&self) -> usize {
-        self.t.iter().filter(|t| t.is_finite()).count() + self.hit.iter().filter(|&&h| h != 0).count()
+        self.t.iter().filter(|t| t.is_finite()).count()
+            + self.hit.iter().filter(|&&h| h != 0).count()
     }
 
     /// Sum of hit distances (any-hit sets have none: 0).
     pub fn checksum(&self) -> f64 {
-        self.t.iter().filter(|t| t.is_finite()).map(|&t| t as f64).sum()
+        self.t
+            .iter()
+            .filter(|t| t.is_finite())
+            .map(|&t| t as f64)
+            .sum()
     }
 
     /// Rays whose answers differ from `other`'s: one hits and the other misses, or both
     /// hit at distances more than 10⁻⁴ apart (relative).
     pub fn differ(&self, other: &Answers) -> usize {
         let t = self.t.iter().zip(&other.t).filter(|(&a, &b)| {
-            a.is_finite() != b.is_finite() || (a.is_finite() && (a - b).abs() > 1e-4 * a.abs().max(1.0))
+            a.is_finite() != b.is_finite()
+                || (a.is_finite() && (a - b).abs() > 1e-4 * a.abs().max(1.0))
         });
         let hit = self.hit.iter().zip(&other.hit).filter(|(a, b)| a != b);
         t.count() + hit.count()
@@ -136,7 +142,10 @@ pub fn run(method: &Method, set: &RaySet, answers: &mut Answers, threads: usize)
             });
         }
     } else {
-        let pieces = answers.t.chunks_mut(CHUNK).zip(answers.prim.chunks_mut(CHUNK));
+        let pieces = answers
+            .t
+            .chunks_mut(CHUNK)
+            .zip(answers.prim.chunks_mut(CHUNK));
         for (k, (t, prim)) in pieces.enumerate() {
             jobs.push(Job {
                 start: k * CHUNK,

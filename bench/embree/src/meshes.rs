@@ -33,7 +33,10 @@ pub fn make(name: &str, meshes_dir: &Path) -> Result<Mesh, String> {
 /// meets the same camera and the same ray offsets.
 fn normalise(mesh: &mut Mesh) {
     let lo = mesh.positions.iter().fold(Vec3::INFINITY, |a, &p| a.min(p));
-    let hi = mesh.positions.iter().fold(Vec3::NEG_INFINITY, |a, &p| a.max(p));
+    let hi = mesh
+        .positions
+        .iter()
+        .fold(Vec3::NEG_INFINITY, |a, &p| a.max(p));
     let centre = 0.5 * (lo + hi);
     let scale = 100.0 / (hi - lo).max_element();
     for p in &mut mesh.positions {
@@ -152,7 +155,15 @@ fn flake(mesh: &mut Mesh, centre: Vec3, radius: f32, axis: Vec3, level: u32, nu:
             elevation.sin(),
         );
         let dir = frame.to_world(local).normalize();
-        flake(mesh, centre + (radius + child) * dir, child, dir, level - 1, nu, rings);
+        flake(
+            mesh,
+            centre + (radius + child) * dir,
+            child,
+            dir,
+            level - 1,
+            nu,
+            rings,
+        );
     }
 }
 
@@ -164,7 +175,11 @@ fn uv_sphere(mesh: &mut Mesh, centre: Vec3, radius: f32, nu: u32, rings: u32) {
         let theta = PI * j as f32 / rings as f32;
         for i in 0..nu {
             let phi = TAU * i as f32 / nu as f32;
-            let d = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+            let d = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
             mesh.positions.push(centre + radius * d);
         }
     }
@@ -179,7 +194,8 @@ fn uv_sphere(mesh: &mut Mesh, centre: Vec3, radius: f32, nu: u32, rings: u32) {
             mesh.indices.push([a, b, c]);
             mesh.indices.push([a, c, d]);
         }
-        mesh.indices.push([ring(rings - 1, i), ring(rings - 1, i + 1), south]);
+        mesh.indices
+            .push([ring(rings - 1, i), ring(rings - 1, i + 1), south]);
     }
 }
 

@@ -26,7 +26,14 @@ struct Table {
 }
 
 impl Table {
-    fn find(&self, kind: &str, mesh: &str, rays: &str, method: &str, threads: &str) -> Option<&Row> {
+    fn find(
+        &self,
+        kind: &str,
+        mesh: &str,
+        rays: &str,
+        method: &str,
+        threads: &str,
+    ) -> Option<&Row> {
         self.rows.iter().find(|r| {
             r.get("kind") == kind
                 && r.get("mesh") == mesh
@@ -37,8 +44,16 @@ impl Table {
     }
 
     /// A method's throughput (Mrays/s) on `clock` ("mrays_cpu" or "mrays_wall").
-    fn rate(&self, mesh: &str, rays: &str, method: &str, threads: &str, clock: &str) -> Option<f64> {
-        self.find("trace", mesh, rays, method, threads).map(|r| r.num(clock))
+    fn rate(
+        &self,
+        mesh: &str,
+        rays: &str,
+        method: &str,
+        threads: &str,
+        clock: &str,
+    ) -> Option<f64> {
+        self.find("trace", mesh, rays, method, threads)
+            .map(|r| r.num(clock))
     }
 }
 
@@ -56,7 +71,10 @@ fn read(path: &Path) -> Result<Table, String> {
             .zip(line.split(','))
             .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect());
-        let mesh = (row.get("mesh").to_string(), row.get("triangles").to_string());
+        let mesh = (
+            row.get("mesh").to_string(),
+            row.get("triangles").to_string(),
+        );
         if !table.meshes.contains(&mesh) {
             table.meshes.push(mesh);
         }
@@ -84,7 +102,7 @@ fn count(s: &str) -> String {
     let digits: Vec<char> = s.chars().collect();
     let mut out = String::new();
     for (i, c) in digits.iter().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
             out.push(',');
         }
         out.push(*c);
@@ -109,7 +127,9 @@ pub fn markdown(path: &Path) -> Result<String, String> {
                 continue;
             }
             let group = |q: &str| {
-                [1, 8, 16].map(|w| f(r(&format!("embree-{q}{w}")))).join(" / ")
+                [1, 8, 16]
+                    .map(|w| f(r(&format!("embree-{q}{w}"))))
+                    .join(" / ")
             };
             let _ = writeln!(
                 w,
@@ -125,8 +145,44 @@ pub fn markdown(path: &Path) -> Result<String, String> {
         }
     }
 
+    // The ranges over meshes, for the reading below the table.
+    let _ = writeln!(
+        w,
+        "\nIn short, prism / Embree over the meshes (lowest to highest):\n"
+    );
+    for rays in RAYS {
+        let range = |method: &str| {
+            let ratios: Vec<f64> = t
+                .meshes
+                .iter()
+                .filter_map(|(mesh, _)| {
+                    Some(
+                        t.rate(mesh, rays, "prism", "1", "mrays_cpu")?
+                            / t.rate(mesh, rays, method, "1", "mrays_cpu")?,
+                    )
+                })
+                .collect();
+            let lo = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            if ratios.is_empty() {
+                "–".to_string()
+            } else {
+                format!("{lo:.2}–{hi:.2}×")
+            }
+        };
+        let _ = writeln!(
+            w,
+            "- {rays} rays: {} of Embree's single rays (MEDIUM), {} of its 16-ray packets",
+            range("embree-M1"),
+            range("embree-M16")
+        );
+    }
+
     let _ = writeln!(w, "\nTwo threads: Mrays/s by wall time (median), and the speed-up over 1 thread by wall time.\n");
-    let _ = writeln!(w, "| mesh | rays | prism | Embree M1 | Embree M16 | prism / M1 |");
+    let _ = writeln!(
+        w,
+        "| mesh | rays | prism | Embree M1 | Embree M16 | prism / M1, 2 threads |"
+    );
     let _ = writeln!(w, "|---|---|---:|---:|---:|---:|");
     for (mesh, _) in &t.meshes {
         for rays in RAYS {
@@ -153,11 +209,18 @@ pub fn markdown(path: &Path) -> Result<String, String> {
     }
 
     let _ = writeln!(w, "\nBuilds on both cores, ms of wall time (process CPU time in brackets), median; prism's SAH cost as `prism info` reports it (Embree does not report one).\n");
-    let _ = writeln!(w, "| mesh | prism | prism SAH cost | Embree MEDIUM | Embree HIGH | prism / MEDIUM time |");
+    let _ = writeln!(
+        w,
+        "| mesh | prism | prism SAH cost | Embree MEDIUM | Embree HIGH | prism / MEDIUM time |"
+    );
     let _ = writeln!(w, "|---|---:|---:|---:|---:|---:|");
     for (mesh, _) in &t.meshes {
         let b = |m: &str| t.find("build", mesh, "", m, "");
-        let cell = |m: &str| b(m).map_or("–".into(), |r| format!("{:.0} ({:.0})", r.num("wall_ms"), r.num("cpu_ms")));
+        let cell = |m: &str| {
+            b(m).map_or("–".into(), |r| {
+                format!("{:.0} ({:.0})", r.num("wall_ms"), r.num("cpu_ms"))
+            })
+        };
         let Some(p) = b("prism") else { continue };
         let _ = writeln!(
             w,
@@ -166,7 +229,10 @@ pub fn markdown(path: &Path) -> Result<String, String> {
             p.num("sah_cost"),
             cell("embree-M"),
             cell("embree-H"),
-            ratio(Some(p.num("wall_ms")), b("embree-M").map(|r| r.num("wall_ms"))),
+            ratio(
+                Some(p.num("wall_ms")),
+                b("embree-M").map(|r| r.num("wall_ms"))
+            ),
         );
     }
 
@@ -175,18 +241,35 @@ pub fn markdown(path: &Path) -> Result<String, String> {
     let _ = writeln!(w, "|---|---|---:|---:|---:|---:|---:|---:|---:|");
     for (mesh, _) in &t.meshes {
         for rays in RAYS {
-            let Some(p) = t.find("trace", mesh, rays, "prism", "1") else { continue };
+            let Some(p) = t.find("trace", mesh, rays, "prism", "1") else {
+                continue;
+            };
             let e = t.find("trace", mesh, rays, "embree-M1", "1");
             let differ = t
                 .rows
                 .iter()
-                .filter(|r| r.get("kind") == "trace" && r.get("mesh") == mesh && r.get("rays_kind") == rays && r.get("threads") == "1")
+                .filter(|r| {
+                    r.get("kind") == "trace"
+                        && r.get("mesh") == mesh
+                        && r.get("rays_kind") == rays
+                        && r.get("threads") == "1"
+                })
                 .map(|r| r.num("differ") as u64)
                 .max()
                 .unwrap_or(0);
             let (pc, ec) = (p.num("checksum"), e.map_or(f64::NAN, |r| r.num("checksum")));
-            let rel = if rays == "shadow" { "–".into() } else { format!("{:.1e}", (ec - pc).abs() / pc.abs()) };
-            let checksum = |c: f64| if rays == "shadow" { "–".into() } else { format!("{c:.1}") };
+            let rel = if rays == "shadow" {
+                "–".into()
+            } else {
+                format!("{:.1e}", (ec - pc).abs() / pc.abs())
+            };
+            let checksum = |c: f64| {
+                if rays == "shadow" {
+                    "–".into()
+                } else {
+                    format!("{c:.1}")
+                }
+            };
             let n = p.num("rays");
             let _ = writeln!(
                 w,
@@ -199,6 +282,19 @@ pub fn markdown(path: &Path) -> Result<String, String> {
                 checksum(ec),
             );
         }
+    }
+    let loads: Vec<String> = t
+        .rows
+        .iter()
+        .filter(|r| r.get("kind") == "load")
+        .map(|r| format!("{} {:.2}", r.get("mesh"), r.num("other_cores")))
+        .collect();
+    if !loads.is_empty() {
+        let _ = writeln!(
+            w,
+            "\nOther processes kept on average this many of the 2 cores busy during each mesh's run (from /proc/stat): {}.",
+            loads.join(", ")
+        );
     }
     Ok(s)
 }

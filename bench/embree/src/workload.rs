@@ -68,7 +68,10 @@ fn tile_order() -> impl Iterator<Item = (u32, u32)> {
         let (tx, ty) = (tile % tiles * 16, tile / tiles * 16);
         (0..256u32).map(move |k| {
             let (block, pixel) = (k / 16, k % 16);
-            (tx + block % 4 * 4 + pixel % 4, ty + block / 4 * 4 + pixel / 4)
+            (
+                tx + block % 4 * 4 + pixel % 4,
+                ty + block / 4 * 4 + pixel / 4,
+            )
         })
     })
 }
@@ -110,7 +113,11 @@ pub fn generate(geometry: &Geometry, intersector: &SceneIntersector) -> [RaySet;
         };
         let sp = geometry.surface(hit.prim, &ray, &hit.shape_hit());
         // The geometric normal on the side the ray arrived from.
-        let ng = if ray.dir.dot(sp.ng) < 0.0 { sp.ng } else { -sp.ng };
+        let ng = if ray.dir.dot(sp.ng) < 0.0 {
+            sp.ng
+        } else {
+            -sp.ng
+        };
 
         // Cosine-distributed about ng (Malley's method), from a hash of the pixel.
         let pixel = (y * SIZE + x) as u64;
