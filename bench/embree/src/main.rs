@@ -17,7 +17,10 @@ use std::path::PathBuf;
 const USAGE: &str = "usage:
   embree-bench run --mesh NAME [--meshes DIR] [--repeats N] [--builds N] [--threads 1,2] [--csv FILE]
       NAME: bunny, blob, sphereflake or soup; CSV rows are appended to FILE
-  embree-bench report FILE.csv    markdown tables of a CSV";
+  embree-bench report FILE.csv    markdown tables of a CSV
+  embree-bench profile --mesh NAME [--repeats N]
+      prism alone, 1 thread: each ray set traced N times through `measure::run`, for a
+      profiler (valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*measure::run*')";
 
 struct Options {
     mesh: String,
@@ -32,6 +35,7 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("run") => parse(&args[1..]).and_then(|o| run(&o)),
+        Some("profile") => parse(&args[1..]).and_then(|o| profile(&o)),
         Some("report") if args.len() == 2 => {
             report::markdown(&PathBuf::from(&args[1])).map(|t| print!("{t}"))
         }
@@ -97,6 +101,39 @@ fn ms(d: std::time::Duration) -> f64 {
     d.as_secs_f64() * 1e3
 }
 
+/// prism's geometry for a mesh (one `TriangleMesh`, so primitive = triangle index).
+fn prism_geometry(mesh: &meshes::Mesh) -> Result<Geometry, String> {
+    let mut geometry = Geometry::default();
+    let prism_mesh = TriangleMesh::new(mesh.positions.clone(), mesh.indices.clone(), None, None)
+        .map_err(|e| e.to_string())?;
+    geometry.add_mesh(prism_mesh, 0);
+    Ok(geometry)
+}
+
+/// Only prism's tracing, for a profiler: no Embree, no timing in turns.
+fn profile(o: &Options) -> Result<(), String> {
+    let mesh = meshes::make(&o.mesh, &o.meshes_dir)?;
+    let geometry = prism_geometry(&mesh)?;
+    let intersector = SceneIntersector::build(&geometry, &AccelSpec::default());
+    let method = Method::Prism(&intersector, &geometry);
+    for set in &workload::generate(&geometry, &intersector) {
+        let mut answers = Answers::for_set(set);
+        let s = time(|| {
+            for _ in 0..o.repeats {
+                measure::run(&method, set, &mut answers, 1)
+            }
+        });
+        let rate = (set.len() * o.repeats) as f64 / s.cpu.as_secs_f64() / 1e6;
+        println!(
+            "{} rays: {} × {}, {rate:.2} Mrays/s",
+            set.name,
+            set.len(),
+            o.repeats
+        );
+    }
+    Ok(())
+}
+
 fn run(o: &Options) -> Result<(), String> {
     let mesh = match meshes::make(&o.mesh, &o.meshes_dir) {
         Ok(mesh) => mesh,
@@ -107,10 +144,7 @@ fn run(o: &Options) -> Result<(), String> {
     };
     let triangles = mesh.indices.len();
     let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
-    let mut geometry = Geometry::default();
-    let prism_mesh = TriangleMesh::new(mesh.positions.clone(), mesh.indices.clone(), None, None)
-        .map_err(|e| e.to_string())?;
-    geometry.add_mesh(prism_mesh, 0);
+    let geometry = prism_geometry(&mesh)?;
     let mut csv = CsvOut::open(o.csv.as_ref())?;
     let load = Load::start();
     println!(

@@ -43,7 +43,36 @@ impl Table {
         })
     }
 
-    /// A method's throughput (Mrays/s) on `clock` ("mrays_cpu" or "mrays_wall").
+    /// `column` of every matching row: one per process run (run.sh runs each mesh in
+    /// several processes).
+    fn values(
+        &self,
+        kind: &str,
+        mesh: &str,
+        rays: &str,
+        method: &str,
+        threads: &str,
+        column: &str,
+    ) -> Vec<f64> {
+        let mut v: Vec<f64> = self
+            .rows
+            .iter()
+            .filter(|r| {
+                r.get("kind") == kind
+                    && r.get("mesh") == mesh
+                    && r.get("rays_kind") == rays
+                    && r.get("method") == method
+                    && r.get("threads") == threads
+            })
+            .map(|r| r.num(column))
+            .filter(|x| x.is_finite())
+            .collect();
+        v.sort_by(f64::total_cmp);
+        v
+    }
+
+    /// A method's throughput (Mrays/s) on `clock` ("mrays_cpu" or "mrays_wall"): the
+    /// median over processes of each process's median.
     fn rate(
         &self,
         mesh: &str,
@@ -52,9 +81,18 @@ impl Table {
         threads: &str,
         clock: &str,
     ) -> Option<f64> {
-        self.find("trace", mesh, rays, method, threads)
-            .map(|r| r.num(clock))
+        median(&self.values("trace", mesh, rays, method, threads, clock))
     }
+
+    /// A build time (`column` "wall_ms" or "cpu_ms"), the median over processes.
+    fn build(&self, mesh: &str, method: &str, column: &str) -> Option<f64> {
+        median(&self.values("build", mesh, "", method, "", column))
+    }
+}
+
+/// The middle value (the upper of the two middle ones for an even count) of sorted values.
+fn median(sorted: &[f64]) -> Option<f64> {
+    sorted.get(sorted.len() / 2).copied()
 }
 
 fn read(path: &Path) -> Result<Table, String> {
@@ -117,7 +155,7 @@ pub fn markdown(path: &Path) -> Result<String, String> {
     let mut s = String::new();
     let w = &mut s;
 
-    let _ = writeln!(w, "Ray throughput, 1 thread, Mrays/s by process CPU time (median); ratios are prism / Embree (above 1: prism faster).\n");
+    let _ = writeln!(w, "Ray throughput, 1 thread, Mrays/s by process CPU time (the median over process runs of each run's median); ratios are prism / Embree (above 1: prism faster).\n");
     let _ = writeln!(w, "| mesh (triangles) | rays | Embree MEDIUM 1 / 8 / 16 | Embree HIGH 1 / 8 / 16 | prism | prism / M1 | prism / M16 | prism / H1 |");
     let _ = writeln!(w, "|---|---|---:|---:|---:|---:|---:|---:|");
     for (mesh, tris) in &t.meshes {
@@ -208,32 +246,67 @@ pub fn markdown(path: &Path) -> Result<String, String> {
         }
     }
 
-    let _ = writeln!(w, "\nBuilds on both cores, ms of wall time (process CPU time in brackets), median; prism's SAH cost as `prism info` reports it (Embree does not report one).\n");
+    let _ = writeln!(w, "\nBuilds on both cores, ms of wall time (process CPU time in brackets), median over processes of each one's median; prism's SAH cost as `prism info` reports it (Embree does not report one).\n");
     let _ = writeln!(
         w,
-        "| mesh | prism | prism SAH cost | Embree MEDIUM | Embree HIGH | prism / MEDIUM time |"
+        "| mesh | prism | prism SAH cost | Embree MEDIUM | Embree HIGH | prism / MEDIUM, speed |"
     );
     let _ = writeln!(w, "|---|---:|---:|---:|---:|---:|");
     for (mesh, _) in &t.meshes {
-        let b = |m: &str| t.find("build", mesh, "", m, "");
-        let cell = |m: &str| {
-            b(m).map_or("–".into(), |r| {
-                format!("{:.0} ({:.0})", r.num("wall_ms"), r.num("cpu_ms"))
-            })
+        let cell = |m: &str| match (t.build(mesh, m, "wall_ms"), t.build(mesh, m, "cpu_ms")) {
+            (Some(wall), Some(cpu)) => format!("{wall:.0} ({cpu:.0})"),
+            _ => "–".into(),
         };
-        let Some(p) = b("prism") else { continue };
+        let Some(prism) = t.build(mesh, "prism", "wall_ms") else {
+            continue;
+        };
+        let sah = t
+            .find("build", mesh, "", "prism", "")
+            .map_or(f64::NAN, |r| r.num("sah_cost"));
         let _ = writeln!(
             w,
-            "| {mesh} | {} | {:.1} | {} | {} | {} |",
+            "| {mesh} | {} | {sah:.1} | {} | {} | {} |",
             cell("prism"),
-            p.num("sah_cost"),
             cell("embree-M"),
             cell("embree-H"),
-            ratio(
-                Some(p.num("wall_ms")),
-                b("embree-M").map(|r| r.num("wall_ms"))
-            ),
+            // As a speed ratio like the other tables: above 1, prism builds faster.
+            ratio(t.build(mesh, "embree-M", "wall_ms"), Some(prism)),
         );
+    }
+
+    // How much a process run moves the figures: each process's median, lowest to highest.
+    let runs = t
+        .values(
+            "trace",
+            &t.meshes[0].0,
+            "primary",
+            "prism",
+            "1",
+            "mrays_cpu",
+        )
+        .len();
+    if runs > 1 {
+        let _ = writeln!(w, "\nSpread over the {runs} process runs: each run's 1-thread median (Mrays/s, CPU time), lowest and highest.\n");
+        let _ = writeln!(w, "| mesh | rays | prism | Embree M1 | Embree M16 |");
+        let _ = writeln!(w, "|---|---|---:|---:|---:|");
+        for (mesh, _) in &t.meshes {
+            for rays in RAYS {
+                let cell = |m: &str| {
+                    let v = t.values("trace", mesh, rays, m, "1", "mrays_cpu");
+                    match (v.first(), v.last()) {
+                        (Some(lo), Some(hi)) => format!("{lo:.2}–{hi:.2}"),
+                        _ => "–".into(),
+                    }
+                };
+                let _ = writeln!(
+                    w,
+                    "| {mesh} | {rays} | {} | {} | {} |",
+                    cell("prism"),
+                    cell("embree-M1"),
+                    cell("embree-M16")
+                );
+            }
+        }
     }
 
     let _ = writeln!(w, "\nAgreement: hits, and rays whose answer differs from prism's (hit against miss, or distances more than 10⁻⁴ apart), the most over Embree's six modes; distance checksums (sums of hit distances) of prism and Embree MEDIUM 1-ray.\n");
@@ -289,6 +362,7 @@ pub fn markdown(path: &Path) -> Result<String, String> {
         .filter(|r| r.get("kind") == "load")
         .map(|r| format!("{} {:.2}", r.get("mesh"), r.num("other_cores")))
         .collect();
+    // (one entry per process run, in the order they ran)
     if !loads.is_empty() {
         let _ = writeln!(
             w,
