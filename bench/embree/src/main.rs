@@ -18,7 +18,7 @@ const USAGE: &str = "usage:
   embree-bench run --mesh NAME [--meshes DIR] [--repeats N] [--builds N] [--threads 1,2] [--csv FILE]
       NAME: bunny, blob, sphereflake or soup; CSV rows are appended to FILE
   embree-bench report FILE.csv    markdown tables of a CSV
-  embree-bench profile --mesh NAME [--repeats N]
+  embree-bench profile --mesh NAME [--repeats N] [--rays primary|incoherent|shadow]
       prism alone, 1 thread: each ray set traced N times through `measure::run`, for a
       profiler (valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*measure::run*')";
 
@@ -29,6 +29,8 @@ struct Options {
     builds: usize,
     threads: Vec<usize>,
     csv: Option<PathBuf>,
+    /// `profile` only: trace just this ray set.
+    rays: Option<String>,
 }
 
 fn main() {
@@ -55,6 +57,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         builds: 3,
         threads: vec![1, 2],
         csv: None,
+        rays: None,
     };
     let mut it = args.iter();
     while let Some(flag) = it.next() {
@@ -76,6 +79,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
                     .collect::<Result<_, _>>()?
             }
             "--csv" => o.csv = Some(PathBuf::from(value)),
+            "--rays" => o.rays = Some(value.clone()),
             _ => return Err(format!("unknown option {flag}\n{USAGE}")),
         }
     }
@@ -116,7 +120,11 @@ fn profile(o: &Options) -> Result<(), String> {
     let geometry = prism_geometry(&mesh)?;
     let intersector = SceneIntersector::build(&geometry, &AccelSpec::default());
     let method = Method::Prism(&intersector, &geometry);
-    for set in &workload::generate(&geometry, &intersector) {
+    let sets = workload::generate(&geometry, &intersector);
+    for set in sets
+        .iter()
+        .filter(|s| o.rays.as_deref().is_none_or(|r| r == s.name))
+    {
         let mut answers = Answers::for_set(set);
         let s = time(|| {
             for _ in 0..o.repeats {
