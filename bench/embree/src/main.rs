@@ -18,6 +18,7 @@ const USAGE: &str = "usage:
   embree-bench run --mesh NAME [--meshes DIR] [--repeats N] [--builds N] [--threads 1,2] [--csv FILE]
       NAME: bunny, blob, sphereflake or soup; CSV rows are appended to FILE
   embree-bench report FILE.csv    markdown tables of a CSV
+  embree-bench diff --mesh NAME    primary rays on which prism and Embree disagree
   embree-bench profile --mesh NAME [--repeats N] [--rays primary|incoherent|shadow]
       prism alone, 1 thread: each ray set traced N times through `measure::run`, for a
       profiler (valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*measure::run*')";
@@ -38,6 +39,7 @@ fn main() {
     let result = match args.first().map(String::as_str) {
         Some("run") => parse(&args[1..]).and_then(|o| run(&o)),
         Some("profile") => parse(&args[1..]).and_then(|o| profile(&o)),
+        Some("diff") => parse(&args[1..]).and_then(|o| diff(&o)),
         Some("report") if args.len() == 2 => {
             report::markdown(&PathBuf::from(&args[1])).map(|t| print!("{t}"))
         }
@@ -112,6 +114,47 @@ fn prism_geometry(mesh: &meshes::Mesh) -> Result<Geometry, String> {
         .map_err(|e| e.to_string())?;
     geometry.add_mesh(prism_mesh, 0);
     Ok(geometry)
+}
+
+/// The primary rays on which prism and Embree (MEDIUM, single rays) disagree, with both
+/// answers: what the agreement table counts, one by one.
+fn diff(o: &Options) -> Result<(), String> {
+    let mesh = meshes::make(&o.mesh, &o.meshes_dir)?;
+    let geometry = prism_geometry(&mesh)?;
+    let intersector = SceneIntersector::build(&geometry, &AccelSpec::default());
+    let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
+    let device = embree::Device::new();
+    let scene = embree::Scene::new(&device, &positions, &mesh.indices, embree::Quality::Medium);
+    scene.commit();
+    let sets = workload::generate(&geometry, &intersector);
+    let set = &sets[0];
+    let (mut ours, mut theirs) = (Answers::for_set(set), Answers::for_set(set));
+    measure::run(&Method::Prism(&intersector, &geometry), set, &mut ours, 1);
+    let method = Method::Embree(&scene, embree::Quality::Medium, embree::Width::One);
+    measure::run(&method, set, &mut theirs, 1);
+    // Whether two triangles share vertices (adjacent in the mesh).
+    let shared = |a: u32, b: u32| {
+        let (a, b) = (mesh.indices[a as usize], mesh.indices[b as usize]);
+        a.iter().filter(|i| b.contains(i)).count()
+    };
+    println!("ray: prism t, triangle / Embree t, triangle / shared vertices");
+    for i in 0..set.len() {
+        let (a, b) = (ours.t[i], theirs.t[i]);
+        if a.is_finite() != b.is_finite() || (a - b).abs() > 1e-4 * a.abs().max(1.0) {
+            let (pa, pb) = (ours.prim[i], theirs.prim[i]);
+            // prism's own triangle test on Embree's triangle, and prism's brute force.
+            let ray = prism::math::TraceRay::new(set.rays[i]);
+            let own = geometry.intersect(pb, &ray, f32::INFINITY).map(|h| h.t);
+            let brute = (0..mesh.indices.len() as u32)
+                .filter_map(|p| geometry.intersect(p, &ray, f32::INFINITY).map(|h| (h.t, p)))
+                .min_by(|x, y| x.0.total_cmp(&y.0));
+            println!(
+                "{i}: {a} {pa} / {b} {pb} / {} / prism's test on Embree's triangle {own:?}, prism brute force {brute:?}",
+                shared(pa, pb)
+            );
+        }
+    }
+    Ok(())
 }
 
 /// Only prism's tracing, for a profiler: no Embree, no timing in turns.

@@ -278,7 +278,7 @@ pub fn markdown(path: &Path) -> Result<String, String> {
     let runs = t
         .values(
             "trace",
-            &t.meshes[0].0,
+            t.meshes.first().map_or("", |(mesh, _)| mesh.as_str()),
             "primary",
             "prism",
             "1",
