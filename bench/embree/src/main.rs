@@ -21,7 +21,7 @@ const USAGE: &str = "usage:
   embree-bench diff --mesh NAME    primary rays on which prism and Embree disagree
   embree-bench profile --mesh NAME [--repeats N] [--rays primary|incoherent|shadow]
       prism alone, 1 thread: each ray set traced N times through `measure::run`, for a
-      profiler (valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*measure::run*')";
+      profiler (valgrind --tool=callgrind --collect-atstart=no --toggle-collect=embree_bench::measure::run)";
 
 struct Options {
     mesh: String,
