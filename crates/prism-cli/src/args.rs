@@ -210,6 +210,11 @@ pub struct RenderArgs {
     #[arg(long, value_name = "KIND", default_value = "nodes")]
     pub cost_metric: crate::cost::CostMetric,
 
+    /// Whose work the cost view counts: `all` rays a pixel spawned, or `shadow` rays only
+    /// (to see where the shadow method, `--shadows`, works hard).
+    #[arg(long, value_name = "RAYS", default_value = "all")]
+    pub cost_rays: crate::cost::CostRays,
+
     /// Print a table of ray counts, tests and times after rendering.
     #[arg(long)]
     pub stats: bool,

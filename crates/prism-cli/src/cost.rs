@@ -34,11 +34,23 @@ pub fn check(path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Whose work the cost view counts.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CostRays {
+    /// Every ray a pixel spawned: camera, shadow, reflected, refracted.
+    #[default]
+    All,
+    /// Shadow rays only: where the shadow method (`--shadows`) works hard.
+    Shadow,
+}
+
 /// Work per camera ray of each pixel (0 where a pixel traced no camera ray).
-pub fn per_camera_ray(rays: &RayCounts, metric: CostMetric) -> Vec<f32> {
-    let work = match metric {
-        CostMetric::Nodes => &rays.node_visits,
-        CostMetric::Prims => &rays.primitive_tests,
+pub fn per_camera_ray(rays: &RayCounts, metric: CostMetric, whose: CostRays) -> Vec<f32> {
+    let work = match (metric, whose) {
+        (CostMetric::Nodes, CostRays::All) => &rays.node_visits,
+        (CostMetric::Prims, CostRays::All) => &rays.primitive_tests,
+        (CostMetric::Nodes, CostRays::Shadow) => &rays.shadow_node_visits,
+        (CostMetric::Prims, CostRays::Shadow) => &rays.shadow_tests,
     };
     work.iter()
         .zip(&rays.camera)
@@ -46,18 +58,25 @@ pub fn per_camera_ray(rays: &RayCounts, metric: CostMetric) -> Vec<f32> {
         .collect()
 }
 
-pub fn write(path: &Path, rays: &RayCounts, metric: CostMetric, accel: &str) -> Result<()> {
-    let values = per_camera_ray(rays, metric);
+pub fn write(
+    path: &Path,
+    rays: &RayCounts,
+    (metric, whose): (CostMetric, CostRays),
+    method: &str,
+) -> Result<()> {
+    let values = per_camera_ray(rays, metric, whose);
     // Short enough to fit under a 256-pixel view.
-    let what = match metric {
-        CostMetric::Nodes => "NODE VISITS",
-        CostMetric::Prims => "TESTS",
+    let what = match (metric, whose) {
+        (CostMetric::Nodes, CostRays::All) => "NODE VISITS",
+        (CostMetric::Prims, CostRays::All) => "TESTS",
+        (CostMetric::Nodes, CostRays::Shadow) => "SHADOW NODES",
+        (CostMetric::Prims, CostRays::Shadow) => "SHADOW TESTS",
     };
     let mean = values.iter().map(|&v| v as f64).sum::<f64>() / values.len().max(1) as f64;
     let max = values.iter().copied().fold(0.0, f32::max);
     let caption = format!(
         "{what}/CAMERA RAY, {}: MEAN {mean:.1}, MAX {max:.0}",
-        accel.to_uppercase()
+        method.to_uppercase()
     );
     let image = heatmap(&values, rays.width, rays.height, None, &caption);
     prism::output::write_png_rgb8(path, &image)?;

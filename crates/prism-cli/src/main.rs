@@ -150,8 +150,16 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
         written.push(path.clone());
     }
     if let Some(path) = &args.cost {
-        let accel = options.accel.to_string();
-        cost::write(path, &result.rays, args.cost_metric, &accel)?;
+        let method = match args.cost_rays {
+            cost::CostRays::All => options.accel.to_string(),
+            cost::CostRays::Shadow => format!("{}, {}", options.shadows, options.accel),
+        };
+        cost::write(
+            path,
+            &result.rays,
+            (args.cost_metric, args.cost_rays),
+            &method,
+        )?;
         written.push(path.clone());
     }
     let report = report::Report::new(

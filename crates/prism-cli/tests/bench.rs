@@ -233,3 +233,48 @@ fn the_bad_case_scenes_render_and_describe_themselves() {
         assert!(info.contains("accelerator"), "{info}");
     }
 }
+
+#[test]
+fn the_shadow_cost_view_shows_the_shadow_rays_work_only() {
+    let dir = work_dir("cost-shadow");
+    let render = |rays: &str, shadows: &str, threads: &str, out: &str| {
+        let args = [
+            "render",
+            "-b",
+            "whitted",
+            "-q",
+            "-W",
+            "24",
+            "-H",
+            "18",
+            "-o",
+            "img.png",
+            "--cost-metric",
+            "prims",
+            "--cost",
+            out,
+            "--cost-rays",
+            rays,
+            "--shadows",
+            shadows,
+            "-t",
+            threads,
+        ];
+        run(&dir, &args, 0);
+        fs::read(dir.join(out)).unwrap()
+    };
+    let all = render("all", "light-buffer", "1", "all.png");
+    let shadow = render("shadow", "light-buffer", "1", "shadow.png");
+    assert!(
+        all != shadow,
+        "the shadow view differs from the whole work's"
+    );
+    assert!(
+        shadow == render("shadow", "light-buffer", "2", "shadow2.png"),
+        "the shadow view is the same for any thread count"
+    );
+    assert!(
+        shadow != render("shadow", "any-hit", "1", "bvh.png"),
+        "the light buffer and the BVH do different work"
+    );
+}

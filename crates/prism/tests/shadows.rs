@@ -324,3 +324,37 @@ fn outlines_on_cell_borders_are_in_both_cells() {
     }
     assert!(agree > 0, "some grazing rays touch the box");
 }
+
+/// The shadow rays' share of each pixel's work adds up to the render's shadow counts, and
+/// never exceeds the pixel's whole work: what `--cost-rays shadow` paints.
+#[test]
+fn per_pixel_shadow_work_adds_up_to_the_statistics() {
+    let scene = builtin::find("whitted").unwrap();
+    let mut options = scene.options.clone();
+    options.width = 40;
+    options.height = 30;
+    let prepared = scene.prepare(&options.accel);
+    for method in ["any-hit", "both"] {
+        options.shadows = method.parse::<ShadowSpec>().unwrap();
+        let r = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
+        let rays = &r.rays;
+        assert_eq!(
+            rays.shadow_tests.iter().sum::<u64>(),
+            r.stats.shadow_tests,
+            "{method}"
+        );
+        assert_eq!(
+            rays.shadow_node_visits.iter().sum::<u64>(),
+            r.stats.shadow_node_visits,
+            "{method}"
+        );
+        assert!(
+            r.stats.shadow_tests > 0,
+            "{method}: shadow rays tested something"
+        );
+        for i in 0..rays.shadow_tests.len() {
+            assert!(rays.shadow_tests[i] <= rays.primitive_tests[i]);
+            assert!(rays.shadow_node_visits[i] <= rays.node_visits[i]);
+        }
+    }
+}

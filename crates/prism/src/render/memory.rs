@@ -7,9 +7,9 @@ use crate::options::RenderOptions;
 use crate::sampling::SamplerKind;
 
 /// Bytes per pixel of the buffers every render holds: the film (RGB f32) and the per-pixel
-/// ray counts of the density and cost views (two u32, two u64).
+/// ray counts of the density and cost views (two u32, four u64).
 const FILM_BYTES: u64 = 12;
-const RAY_COUNT_BYTES: u64 = 24;
+const RAY_COUNT_BYTES: u64 = 40;
 /// Exact fixed-point sums of a pixel under a filter wider than the pixel: four i128.
 const SPLAT_SUM_BYTES: u64 = 64;
 /// The corner and adaptive samplers' lattice per pixel: a corner (Option<Color>), the

@@ -16,6 +16,10 @@ pub struct RayCounts {
     pub node_visits: Vec<u64>,
     /// Ray–primitive tests of all of a pixel's rays.
     pub primitive_tests: Vec<u64>,
+    /// The part of `node_visits` made by the pixel's shadow rays.
+    pub shadow_node_visits: Vec<u64>,
+    /// The part of `primitive_tests` made by the pixel's shadow rays.
+    pub shadow_tests: Vec<u64>,
 }
 
 impl RayCounts {
@@ -30,6 +34,8 @@ impl RayCounts {
             total: try_filled(n, 0, "ray counts")?,
             node_visits: try_filled(n, 0, "ray counts")?,
             primitive_tests: try_filled(n, 0, "ray counts")?,
+            shadow_node_visits: try_filled(n, 0, "ray counts")?,
+            shadow_tests: try_filled(n, 0, "ray counts")?,
         })
     }
 
@@ -40,6 +46,8 @@ impl RayCounts {
         self.total[i] = self.total[i].saturating_add(rays.total);
         self.node_visits[i] += rays.node_visits;
         self.primitive_tests[i] += rays.primitive_tests;
+        self.shadow_node_visits[i] += rays.shadow_node_visits;
+        self.shadow_tests[i] += rays.shadow_tests;
     }
 
     /// Mean camera rays per pixel.
@@ -55,6 +63,8 @@ pub struct PixelRays {
     pub total: u32,
     pub node_visits: u64,
     pub primitive_tests: u64,
+    pub shadow_node_visits: u64,
+    pub shadow_tests: u64,
 }
 
 impl PixelRays {
@@ -66,6 +76,8 @@ impl PixelRays {
             total: clamp(after.total_rays() - before.total_rays()),
             node_visits: after.node_visits - before.node_visits,
             primitive_tests: after.primitive_tests - before.primitive_tests,
+            shadow_node_visits: after.shadow_node_visits - before.shadow_node_visits,
+            shadow_tests: after.shadow_tests - before.shadow_tests,
         }
     }
 }
@@ -76,5 +88,7 @@ impl std::ops::AddAssign for PixelRays {
         self.total = self.total.saturating_add(o.total);
         self.node_visits += o.node_visits;
         self.primitive_tests += o.primitive_tests;
+        self.shadow_node_visits += o.shadow_node_visits;
+        self.shadow_tests += o.shadow_tests;
     }
 }
