@@ -51,7 +51,12 @@ pub enum Command {
 pub struct InfoArgs {
     /// Scene file (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply), or builtin:NAME for
     /// a built-in scene.
-    pub scene: String,
+    #[arg(required_unless_present = "builtin")]
+    pub scene: Option<String>,
+
+    /// Built-in scene to describe instead of a file, as `render --builtin` takes it.
+    #[arg(short, long, value_name = "NAME", conflicts_with = "scene")]
+    pub builtin: Option<String>,
 
     /// Acceleration structure to build and describe, as for `render --accel`; the scene
     /// file's own `accel` setting when not given.

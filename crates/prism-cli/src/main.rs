@@ -61,12 +61,18 @@ fn main() -> ExitCode {
 }
 
 fn info(args: &args::InfoArgs) -> Result<ExitCode> {
-    let scene = match args.scene.strip_prefix("builtin:") {
-        Some(name) => args::find_builtin(name)?,
-        None => prism::scene::load(std::path::Path::new(&args.scene))?,
+    // `--builtin NAME` as `render` takes it, or `builtin:NAME` in the scene's place.
+    let name = match (&args.builtin, &args.scene) {
+        (Some(b), _) => format!("builtin:{b}"),
+        (None, Some(s)) => s.clone(),
+        (None, None) => anyhow::bail!("name a scene file, builtin:NAME or --builtin NAME"),
+    };
+    let scene = match name.strip_prefix("builtin:") {
+        Some(builtin) => args::find_builtin(builtin)?,
+        None => prism::scene::load(Path::new(&name))?,
     };
     let accel = args.accel.as_ref().unwrap_or(&scene.options.accel);
-    info::print(&scene, &args.scene, accel)?;
+    info::print(&scene, &name, accel)?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -568,3 +568,24 @@ fn render_help_names_the_default_scene_and_defaults() {
         "one default for --adaptive-variants: {text}"
     );
 }
+
+#[test]
+fn info_takes_a_built_in_scene_as_render_does() {
+    let dir = work_dir("info-builtin");
+    let flag = prism(&dir, &["info", "-b", "cornell"]);
+    expect_exit(&flag, 0, "info -b cornell");
+    let prefixed = prism(&dir, &["info", "builtin:cornell"]);
+    expect_exit(&prefixed, 0, "info builtin:cornell");
+    let text = |o: &Output| {
+        // The build time differs from run to run; everything else is the same.
+        String::from_utf8_lossy(&o.stdout)
+            .lines()
+            .filter(|l| !l.starts_with("accelerator"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(text(&flag), text(&prefixed));
+    let out = prism(&dir, &["info"]);
+    let err = expect_exit(&out, 2, "info without a scene");
+    assert!(err.contains("<SCENE>"), "{err}");
+}
