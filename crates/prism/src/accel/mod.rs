@@ -123,8 +123,8 @@ impl SceneIntersector {
         search.best()
     }
 
-    /// The first blocker an any-hit query finds (planes first, as `occluded`), for the
-    /// shadow cache, which remembers it.
+    /// The first blocker an any-hit query finds, planes first (a few tests that may spare
+    /// the walk); the shadow cache remembers it.
     pub fn any_hit(
         &self,
         geometry: &Geometry,
@@ -145,12 +145,6 @@ impl SceneIntersector {
 
     /// Whether anything, planes included, is hit along `ray` with `0 < t < t_max`.
     pub fn occluded(&self, geometry: &Geometry, ray: &Ray, t_max: f32, stats: &mut Stats) -> bool {
-        let tr = TraceRay::new(*ray);
-        // The planes first: a few tests that may spare the walk.
-        let mut planes = HitSearch::new(t_max, QueryMode::Any);
-        self.unbounded
-            .iter()
-            .any(|&prim| planes.test_unbounded(geometry, &tr, prim, stats))
-            || self.accel.occluded(geometry, &tr, t_max, stats)
+        self.any_hit(geometry, ray, t_max, stats).is_some()
     }
 }

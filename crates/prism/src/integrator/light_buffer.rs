@@ -85,8 +85,13 @@ fn cell_of(d: DVec3, res: u32) -> usize {
     } else {
         (if d.z >= 0.0 { 4 } else { 5 }, a.z, d.x, d.y)
     };
-    let index = |t: f64| (((t / w + 1.0) * 0.5 * res as f64) as i64).clamp(0, res as i64 - 1);
-    (face * res * res) as usize + (index(v) * res as i64 + index(u)) as usize
+    (face * res * res) as usize + (cell_index(v / w, res) * res + cell_index(u / w, res)) as usize
+}
+
+/// The cell along one side of a face that face coordinate `t` (−1 to 1) falls in; beyond
+/// the face's edges, the edge cell.
+fn cell_index(t: f64, res: u32) -> u32 {
+    (((t + 1.0) * 0.5 * res as f64).floor() as i64).clamp(0, res as i64 - 1) as u32
 }
 
 /// For face `face` (0..6: +x, −x, +y, −y, +z, −z), the (depth, u, v) ranges of box
@@ -132,10 +137,7 @@ fn footprint(face: usize, lo: DVec3, hi: DVec3, res: u32) -> Option<[u32; 4]> {
     let range = |a: f64, b: f64| {
         let lo = (a / w_min).min(a / w1) - FOOTPRINT_SLACK;
         let hi = (b / w_min).max(b / w1) + FOOTPRINT_SLACK;
-        let index = |t: f64| {
-            (((t + 1.0) * 0.5 * res as f64).floor() as i64).clamp(0, res as i64 - 1) as u32
-        };
-        (index(lo), index(hi))
+        (cell_index(lo, res), cell_index(hi, res))
     };
     let (iu0, iu1) = range(u0, u1);
     let (iv0, iv1) = range(v0, v1);

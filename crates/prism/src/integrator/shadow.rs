@@ -18,7 +18,7 @@
 //! - `both`: the cache, then the light buffer.
 
 use super::light_buffer::{LightBuffer, LightBufferInfo, Unbuilt};
-use crate::accel::{Hit, QueryMode};
+use crate::accel::{Hit, HitSearch, QueryMode};
 use crate::geometry::SurfacePoint;
 use crate::light::{Light, LightSample};
 use crate::math::robust::offset_ray_origin;
@@ -365,13 +365,10 @@ fn cached_any_hit(
     let slot = light * CACHE_DEPTHS + (depth as usize).min(CACHE_DEPTHS) - 1;
     let remembered = CACHE.with(|c| c.borrow().get(slot).copied().unwrap_or(u32::MAX));
     if remembered != u32::MAX {
+        // The accelerators' own counted test: one hit settles an any-hit query.
+        let mut search = HitSearch::new(t_max, QueryMode::Any);
         let geometry = &query.scene.scene.geometry;
-        let shape = &geometry.primitives[remembered as usize].shape;
-        stats.count_test(shape.kind());
-        if shape
-            .intersect(&geometry.meshes, &TraceRay::new(*ray), t_max)
-            .is_some()
-        {
+        if search.test(geometry, &TraceRay::new(*ray), remembered, stats) {
             stats.shadow_cache_hits += 1;
             return true;
         }

@@ -59,8 +59,7 @@ pub fn estimate(options: &RenderOptions) -> MemoryEstimate {
     // The film is assembled once more from the tiles' or the sums' results.
     e.add("film", pixels * FILM_BYTES * 2);
     e.add("ray counts", pixels * RAY_COUNT_BYTES);
-    let box_pixel =
-        options.filter == super::FilterKind::Box && options.filter_radius.is_none_or(|r| r == 0.5);
+    let box_pixel = super::Filter::new(options.filter, options.filter_radius).is_pixel_box();
     match options.sampler {
         SamplerKind::Corners => {
             e.add("sample lattice", pixels * LATTICE_BYTES);
