@@ -42,6 +42,10 @@ pub struct Stats {
     pub shadow_cache_hits: u64,
     /// Shadow rays answered by a light buffer.
     pub light_buffer_queries: u64,
+    /// Of those, the ones its cell's covering primitive answered (one test).
+    pub light_buffer_covered: u64,
+    /// Of those, the ones whose walk would have been too long: the accelerator answered.
+    pub light_buffer_fallbacks: u64,
 }
 
 impl Stats {
@@ -82,5 +86,7 @@ impl AddAssign for Stats {
         self.shadow_node_visits += o.shadow_node_visits;
         self.shadow_cache_hits += o.shadow_cache_hits;
         self.light_buffer_queries += o.light_buffer_queries;
+        self.light_buffer_covered += o.light_buffer_covered;
+        self.light_buffer_fallbacks += o.light_buffer_fallbacks;
     }
 }

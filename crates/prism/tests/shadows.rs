@@ -109,7 +109,16 @@ fn check_light(
     seed: u64,
 ) -> (usize, usize) {
     let g = &s.geometry;
-    let buffer = LightBuffer::build(g, light, res, 1 << 30).expect("within the budget");
+    let built = LightBuffer::build(g, light, res, 1 << 30).expect("within the budget");
+    // Walks as long as they come (every answer the lists' own), and the automatic limit
+    // beyond which the accelerator answers.
+    let auto = LightBuffer::auto_max_walk(g.primitives.len());
+    let buffers = [
+        built.with_max_walk(usize::MAX),
+        LightBuffer::build(g, light, res, 1 << 30)
+            .unwrap()
+            .with_max_walk(auto),
+    ];
     let bounds = (0..g.primitives.len() as u32)
         .filter_map(|i| g.bounds(i))
         .fold(Aabb::EMPTY, |a, b| a.union(&b));
@@ -142,20 +151,23 @@ fn check_light(
         let ng = if n.dot(dir) < 0.0 { -n } else { n };
         let ray = Ray::new(offset_ray_origin(p, p_error, ng, dir), dir);
         let mut stats = Stats::default();
-        let any = buffer.query(g, &ray, distance, QueryMode::Any, &mut stats);
         let occluded = intersector.occluded(g, &ray, distance, &mut stats);
-        assert_eq!(
-            any.is_some(),
-            occluded,
-            "light {light}, point {p}: the buffer says {any:?}, the accelerator {occluded}"
-        );
-        blocked += occluded as usize;
-        let nearest = buffer.query(g, &ray, distance, QueryMode::Nearest, &mut stats);
         let expected = intersector.intersect(g, &ray, distance, &mut stats);
-        assert_eq!(
-            nearest, expected,
-            "light {light}, point {p}: nearest hits differ"
-        );
+        for buffer in &buffers {
+            let any = buffer.query(g, intersector, &ray, distance, QueryMode::Any, &mut stats);
+            assert_eq!(
+                any.is_some(),
+                occluded,
+                "light {light}, point {p}: the buffer says {any:?}, the accelerator {occluded}"
+            );
+            let nearest =
+                buffer.query(g, intersector, &ray, distance, QueryMode::Nearest, &mut stats);
+            assert_eq!(
+                nearest, expected,
+                "light {light}, point {p}: nearest hits differ"
+            );
+        }
+        blocked += occluded as usize;
     }
     (blocked, total)
 }
@@ -315,7 +327,7 @@ fn outlines_on_cell_borders_are_in_both_cells() {
                 let distance = d.length();
                 let ray = Ray::new(p, d / distance);
                 let mut stats = Stats::default();
-                let a = buffer.query(g, &ray, distance, QueryMode::Any, &mut stats);
+                let a = buffer.query(g, &intersector, &ray, distance, QueryMode::Any, &mut stats);
                 let b = intersector.occluded(g, &ray, distance, &mut stats);
                 assert_eq!(a.is_some(), b, "point {p}");
                 agree += b as usize;

@@ -21,8 +21,8 @@
 //! a test; polygons facing away from the light left out) are not here: each needs a proof
 //! that it gives the BVH's answer at the edges, which the tests could not yet hold it to.
 
-use crate::accel::{Hit, HitSearch, QueryMode};
-use crate::geometry::Geometry;
+use crate::accel::{Hit, HitSearch, QueryMode, SceneIntersector};
+use crate::geometry::{Geometry, Shape};
 use crate::math::{Aabb, Ray, TraceRay, Vec3};
 use crate::stats::Stats;
 use glam::DVec3;
@@ -40,6 +40,20 @@ struct Entry {
     near: f32,
 }
 
+/// A cell's covering primitive: an opaque triangle or sphere that every direction of the
+/// cell (widened by the slack) meets, and its farthest distance from the light (rounded
+/// up). A point farther than `far` asks it first. Only a hint: the answer is its test's.
+#[derive(Clone, Copy, Debug)]
+struct Cover {
+    far: f32,
+    prim: u32,
+}
+
+const NO_COVER: Cover = Cover {
+    far: f32::INFINITY,
+    prim: u32::MAX,
+};
+
 /// Why a light has no buffer (its shadow rays then use the BVH).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Unbuilt {
@@ -47,18 +61,74 @@ pub enum Unbuilt {
     OverBudget { entries: u64, budget_bytes: u64 },
 }
 
+/// The part of one face, in face coordinates, that some footprint reaches: its res × res
+/// cells span this window, not the whole face, so a light far from the scene (which sees it
+/// in a narrow cone) still gets fine cells. Directions outside it meet no bounded primitive.
+#[derive(Clone, Copy, Debug)]
+struct Window {
+    lo: [f64; 2],
+    hi: [f64; 2],
+    /// Cells per unit of face coordinate.
+    scale: [f64; 2],
+}
+
+impl Window {
+    const EMPTY: Window = Window {
+        lo: [f64::INFINITY; 2],
+        hi: [f64::NEG_INFINITY; 2],
+        scale: [0.0; 2],
+    };
+
+    fn include(&mut self, r: [f64; 4]) {
+        self.lo = [self.lo[0].min(r[0]), self.lo[1].min(r[2])];
+        self.hi = [self.hi[0].max(r[1]), self.hi[1].max(r[3])];
+    }
+
+    fn finish(&mut self, res: u32) {
+        for a in 0..2 {
+            if self.lo[a] <= self.hi[a] {
+                self.scale[a] = res as f64 / (self.hi[a] - self.lo[a]).max(1e-9);
+            }
+        }
+    }
+
+    /// The cell along axis `a` that face coordinate `t` falls in (the edge cells take
+    /// rounding at the window's ends): the one rule for lookups and footprints, monotone
+    /// in `t`, so a footprint's cells hold every direction between its ends.
+    fn index(&self, a: usize, t: f64, res: u32) -> u32 {
+        (((t - self.lo[a]) * self.scale[a]).floor() as i64).clamp(0, res as i64 - 1) as u32
+    }
+
+    fn contains(&self, a: usize, t: f64) -> bool {
+        t >= self.lo[a] && t <= self.hi[a]
+    }
+
+    /// Face coordinates of cell `i`'s ends along axis `a`.
+    fn cell_span(&self, a: usize, i: u32) -> (f64, f64) {
+        (
+            self.lo[a] + i as f64 / self.scale[a],
+            self.lo[a] + (i + 1) as f64 / self.scale[a],
+        )
+    }
+}
+
 /// A light buffer around one point: 6 faces × res × res cells.
 pub struct LightBuffer {
     light: DVec3,
     res: u32,
+    windows: [Window; 6],
     /// Cell c's entries are `entries[offsets[c]..offsets[c + 1]]`, nearest first.
     offsets: Vec<u32>,
     entries: Vec<Entry>,
+    /// Per cell, its nearest covering primitive (or `NO_COVER`).
+    covers: Vec<Cover>,
     /// Every bounded primitive, nearest first: the ones very near the light are tested for
     /// every query.
     by_distance: Vec<Entry>,
     /// Planes have no footprint: every query tests them, as `SceneIntersector` does.
     unbounded: Vec<u32>,
+    /// A query that would test more entries than this asks the accelerator instead.
+    max_walk: usize,
     build_time: Duration,
 }
 
@@ -71,12 +141,18 @@ pub struct LightBufferInfo {
     pub entries: usize,
     pub mean_list: f64,
     pub max_list: usize,
+    /// Cells wholly covered by one opaque triangle or sphere.
+    pub covered_cells: usize,
+    /// Cells with at least one entry.
+    pub occupied_cells: usize,
+    /// Longest walk before a query asks the accelerator instead.
+    pub max_walk: usize,
     pub memory_bytes: usize,
     pub build_time: Duration,
 }
 
-/// The face and the cell of direction `d` (from the light), and its face coordinates.
-fn cell_of(d: DVec3, res: u32) -> usize {
+/// The face of direction `d` (from the light) and its face coordinates (u, v).
+fn face_coords(d: DVec3) -> (usize, f64, f64) {
     let a = d.abs();
     let (face, w, u, v) = if a.x >= a.y && a.x >= a.z {
         (if d.x >= 0.0 { 0 } else { 1 }, a.x, d.y, d.z)
@@ -85,24 +161,30 @@ fn cell_of(d: DVec3, res: u32) -> usize {
     } else {
         (if d.z >= 0.0 { 4 } else { 5 }, a.z, d.x, d.y)
     };
-    (face * res * res) as usize + (cell_index(v / w, res) * res + cell_index(u / w, res)) as usize
+    (face, u / w, v / w)
 }
 
-/// The cell along one side of a face that face coordinate `t` (−1 to 1) falls in; beyond
-/// the face's edges, the edge cell.
-fn cell_index(t: f64, res: u32) -> u32 {
-    (((t + 1.0) * 0.5 * res as f64).floor() as i64).clamp(0, res as i64 - 1) as u32
-}
-
-/// For face `face` (0..6: +x, −x, +y, −y, +z, −z), the (depth, u, v) ranges of box
-/// `[lo, hi]` (relative to the light) in that face's coordinates.
-fn face_ranges(face: usize, lo: DVec3, hi: DVec3) -> [(f64, f64); 3] {
+/// The axes of face `face` (0..6: +x, −x, +y, −y, +z, −z): depth, u, v, and the depth's sign.
+fn face_axes(face: usize) -> (usize, usize, usize, f64) {
     let (axis, u, v) = match face / 2 {
         0 => (0, 1, 2),
         1 => (1, 2, 0),
         _ => (2, 0, 1),
     };
-    let w = if face % 2 == 0 {
+    (axis, u, v, if face % 2 == 0 { 1.0 } else { -1.0 })
+}
+
+/// Point `p` (relative to the light) in face `face`'s frame: (depth, u, v).
+fn in_face(face: usize, p: DVec3) -> (f64, f64, f64) {
+    let (axis, u, v, sign) = face_axes(face);
+    (sign * p[axis], p[u], p[v])
+}
+
+/// For face `face`, the (depth, u, v) ranges of box `[lo, hi]` (relative to the light) in
+/// that face's coordinates.
+fn face_ranges(face: usize, lo: DVec3, hi: DVec3) -> [(f64, f64); 3] {
+    let (axis, u, v, sign) = face_axes(face);
+    let w = if sign > 0.0 {
         (lo[axis], hi[axis])
     } else {
         (-hi[axis], -lo[axis])
@@ -110,9 +192,10 @@ fn face_ranges(face: usize, lo: DVec3, hi: DVec3) -> [(f64, f64); 3] {
     [w, (lo[u], hi[u]), (lo[v], hi[v])]
 }
 
-/// The cells of one face that box `[lo, hi]` may be seen through, as inclusive index
-/// ranges (iu0, iu1, iv0, iv1); None when the box is not in that face's pyramid.
-fn footprint(face: usize, lo: DVec3, hi: DVec3, res: u32) -> Option<[u32; 4]> {
+/// The face coordinates box `[lo, hi]` may be seen through on face `face`, widened by the
+/// slack and cut to the face: (u0, u1, v0, v1); None when the box is not in that face's
+/// pyramid.
+fn footprint(face: usize, lo: DVec3, hi: DVec3) -> Option<[f64; 4]> {
     let [(w0, w1), (u0, u1), (v0, v1)] = face_ranges(face, lo, hi);
     let k = 1.0 + FOOTPRINT_SLACK;
     let gap = |a: f64, b: f64| {
@@ -129,15 +212,14 @@ fn footprint(face: usize, lo: DVec3, hi: DVec3, res: u32) -> Option<[u32; 4]> {
     if w_min > w1 {
         return None;
     }
-    let all = [0, res - 1, 0, res - 1];
     if w_min <= 0.0 {
         // The box holds the light: it may be seen in every direction.
-        return Some(all);
+        return Some([-1.0, 1.0, -1.0, 1.0]);
     }
     let range = |a: f64, b: f64| {
         let lo = (a / w_min).min(a / w1) - FOOTPRINT_SLACK;
         let hi = (b / w_min).max(b / w1) + FOOTPRINT_SLACK;
-        (cell_index(lo, res), cell_index(hi, res))
+        (lo.clamp(-1.0, 1.0), hi.clamp(-1.0, 1.0))
     };
     let (iu0, iu1) = range(u0, u1);
     let (iv0, iv1) = range(v0, v1);
@@ -148,6 +230,93 @@ fn footprint(face: usize, lo: DVec3, hi: DVec3, res: u32) -> Option<[u32; 4]> {
 fn near_distance(lo: DVec3, hi: DVec3) -> f32 {
     let d = lo.max(-hi).max(DVec3::ZERO).length() * (1.0 - DISTANCE_SLACK);
     d as f32
+}
+
+/// The farthest distance from the origin to box `[lo, hi]`, rounded up.
+fn far_distance(lo: DVec3, hi: DVec3) -> f32 {
+    let d = lo.abs().max(hi.abs()).length() * (1.0 + DISTANCE_SLACK);
+    d as f32
+}
+
+/// What one face-coordinate rectangle of directions must lie within to be covered by a
+/// primitive, as seen from the light.
+enum Silhouette {
+    /// A triangle wholly in front of the face: its corners projected onto it.
+    Triangle([[f64; 2]; 3]),
+    /// A sphere not holding the light: its centre (relative to the light) and the cosine
+    /// of its angular radius.
+    Sphere(DVec3, f64),
+}
+
+impl Silhouette {
+    fn of(geometry: &Geometry, prim: u32, light: DVec3, face: usize) -> Option<Silhouette> {
+        match &geometry.primitives[prim as usize].shape {
+            Shape::Triangle { mesh, index } => {
+                let vs = geometry.meshes[*mesh as usize].vertices(*index);
+                let mut p = [[0.0; 2]; 3];
+                for (k, v) in vs.iter().enumerate() {
+                    let (w, u, v) = in_face(face, v.as_dvec3() - light);
+                    if w <= 0.0 {
+                        return None;
+                    }
+                    p[k] = [u / w, v / w];
+                }
+                let area = cross2(p[0], p[1], p[2]);
+                if area.is_nan() || area == 0.0 {
+                    return None;
+                }
+                if area < 0.0 {
+                    p.swap(1, 2);
+                }
+                Some(Silhouette::Triangle(p))
+            }
+            Shape::Sphere(s) => {
+                let c = s.center.as_dvec3() - light;
+                let r = s.radius.abs() as f64;
+                let d = c.length();
+                (d > r * 1.001).then(|| Silhouette::Sphere(c, (1.0 - (r / d).powi(2)).sqrt()))
+            }
+            _ => None,
+        }
+    }
+
+    /// Whether every direction of the rectangle (u0, u1) × (v0, v1) on face `face` is
+    /// within the silhouette (its four corners, both shapes being convex).
+    fn covers(&self, face: usize, u: (f64, f64), v: (f64, f64)) -> bool {
+        let corners = [[u.0, v.0], [u.1, v.0], [u.0, v.1], [u.1, v.1]];
+        match self {
+            Silhouette::Triangle(p) => corners.iter().all(|&c| {
+                cross2(p[0], p[1], c) > 0.0
+                    && cross2(p[1], p[2], c) > 0.0
+                    && cross2(p[2], p[0], c) > 0.0
+            }),
+            Silhouette::Sphere(centre, cos_radius) => {
+                let (axis, ua, va, sign) = face_axes(face);
+                corners.iter().all(|&[cu, cv]| {
+                    let mut d = DVec3::ZERO;
+                    d[axis] = sign;
+                    d[ua] = cu;
+                    d[va] = cv;
+                    d.normalize().dot(*centre) > cos_radius * centre.length()
+                })
+            }
+        }
+    }
+}
+
+/// Twice the signed area of triangle (a, b, c).
+fn cross2(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
+
+/// The work a shadow query would take, before any test.
+struct Plan<'a> {
+    /// The primitives near the light that every query tests.
+    prefix: &'a [Entry],
+    /// The cell's entries that begin before the shaded point.
+    list: &'a [Entry],
+    /// The cell's covering primitive, when the point lies beyond it.
+    hint: Option<u32>,
 }
 
 impl LightBuffer {
@@ -161,23 +330,43 @@ impl LightBuffer {
             .clamp(32.0, 512.0) as u32
     }
 
-    /// Builds the buffer of the light at `light` over every primitive of `geometry`, or
-    /// says why not: its lists would take more than `budget_bytes`.
+    /// The longest walk a query takes before it asks the accelerator instead, when none is
+    /// asked for: ⌈log₂ n⌉ / 2 entries, at least 2, as an estimate of what a BVH's any-hit
+    /// query costs in primitive tests (its node visits grow as log n, and on the SPD scenes
+    /// about four node visits cost one entry's test; tuned on them).
+    pub fn auto_max_walk(primitives: usize) -> usize {
+        let log = usize::BITS - primitives.max(1).leading_zeros();
+        (log as usize).div_ceil(2).max(2)
+    }
+
+    /// Builds the buffer of the light at `light` over every primitive of `geometry`, every
+    /// primitive taken as opaque (any one may cover a cell), or says why not: its lists would
+    /// take more than `budget_bytes`.
     pub fn build(
         geometry: &Geometry,
         light: Vec3,
         res: u32,
         budget_bytes: u64,
     ) -> Result<LightBuffer, Unbuilt> {
+        Self::build_with(geometry, light, res, budget_bytes, &|_| true)
+    }
+
+    /// As `build`, where only the primitives `opaque` accepts may cover a cell.
+    pub fn build_with(
+        geometry: &Geometry,
+        light: Vec3,
+        res: u32,
+        budget_bytes: u64,
+        opaque: &dyn Fn(u32) -> bool,
+    ) -> Result<LightBuffer, Unbuilt> {
         let start = Instant::now();
         let res = res.max(1);
         let l = light.as_dvec3();
         let mut by_distance = Vec::new();
         let mut unbounded = Vec::new();
-        // (entry, face, footprint) per covered face.
-        let mut prints: Vec<(Entry, usize, [u32; 4])> = Vec::new();
-        let mut total: u64 = 0;
-        let budget_entries = budget_bytes / std::mem::size_of::<Entry>() as u64;
+        // (entry, far distance, face, footprint) per face a primitive may be seen on.
+        let mut prints: Vec<(Entry, f32, usize, [f64; 4])> = Vec::new();
+        let mut windows = [Window::EMPTY; 6];
         for prim in 0..geometry.primitives.len() as u32 {
             let Some(b) = geometry.bounds(prim) else {
                 unbounded.push(prim);
@@ -189,12 +378,30 @@ impl LightBuffer {
                 near: near_distance(lo, hi),
             };
             by_distance.push(entry);
-            for face in 0..6 {
-                if let Some(p) = footprint(face, lo, hi, res) {
-                    total += (p[1] - p[0] + 1) as u64 * (p[3] - p[2] + 1) as u64;
-                    prints.push((entry, face, p));
+            for (face, window) in windows.iter_mut().enumerate() {
+                if let Some(p) = footprint(face, lo, hi) {
+                    window.include(p);
+                    prints.push((entry, far_distance(lo, hi), face, p));
                 }
             }
+        }
+        for w in &mut windows {
+            w.finish(res);
+        }
+        let cells_of = |face: usize, p: [f64; 4]| {
+            let w = &windows[face];
+            [
+                w.index(0, p[0], res),
+                w.index(0, p[1], res),
+                w.index(1, p[2], res),
+                w.index(1, p[3], res),
+            ]
+        };
+        let mut total: u64 = 0;
+        let budget_entries = budget_bytes / std::mem::size_of::<Entry>() as u64;
+        for &(_, _, face, p) in &prints {
+            let [iu0, iu1, iv0, iv1] = cells_of(face, p);
+            total += (iu1 - iu0 + 1) as u64 * (iv1 - iv0 + 1) as u64;
             if total > budget_entries {
                 return Err(Unbuilt::OverBudget {
                     entries: total,
@@ -207,7 +414,8 @@ impl LightBuffer {
             (face * (res * res) as usize) + (iv * res + iu) as usize
         };
         let mut offsets = vec![0u32; cells + 1];
-        for &(_, face, [iu0, iu1, iv0, iv1]) in &prints {
+        for &(_, _, face, p) in &prints {
+            let [iu0, iu1, iv0, iv1] = cells_of(face, p);
             for iv in iv0..=iv1 {
                 for iu in iu0..=iu1 {
                     offsets[cell(face, iu, iv) + 1] += 1;
@@ -219,12 +427,31 @@ impl LightBuffer {
         }
         let mut fill = offsets.clone();
         let mut entries = vec![Entry { prim: 0, near: 0.0 }; total as usize];
-        for &(entry, face, [iu0, iu1, iv0, iv1]) in &prints {
+        let mut covers = vec![NO_COVER; cells];
+        for &(entry, far, face, p) in &prints {
+            let [iu0, iu1, iv0, iv1] = cells_of(face, p);
+            let silhouette = opaque(entry.prim)
+                .then(|| Silhouette::of(geometry, entry.prim, l, face))
+                .flatten();
+            let w = &windows[face];
             for iv in iv0..=iv1 {
                 for iu in iu0..=iu1 {
                     let c = cell(face, iu, iv);
                     entries[fill[c] as usize] = entry;
                     fill[c] += 1;
+                    if let Some(s) = &silhouette {
+                        if far < covers[c].far {
+                            let (u0, u1) = w.cell_span(0, iu);
+                            let (v0, v1) = w.cell_span(1, iv);
+                            let e = FOOTPRINT_SLACK;
+                            if s.covers(face, (u0 - e, u1 + e), (v0 - e, v1 + e)) {
+                                covers[c] = Cover {
+                                    far,
+                                    prim: entry.prim,
+                                };
+                            }
+                        }
+                    }
                 }
             }
         }
@@ -236,41 +463,151 @@ impl LightBuffer {
         Ok(LightBuffer {
             light: l,
             res,
+            windows,
             offsets,
             entries,
+            covers,
             by_distance,
             unbounded,
+            max_walk: Self::auto_max_walk(geometry.primitives.len()),
             build_time: start.elapsed(),
         })
     }
 
+    /// Sets the longest walk before a query asks the accelerator (`usize::MAX`: never).
+    pub fn with_max_walk(mut self, max_walk: usize) -> LightBuffer {
+        self.max_walk = max_walk;
+        self
+    }
+
+    /// The cell of direction `d` (from the light); None outside every face's window, where
+    /// no bounded primitive may be seen.
+    fn cell_of(&self, d: DVec3) -> Option<usize> {
+        let (face, u, v) = face_coords(d);
+        let w = &self.windows[face];
+        if !(w.contains(0, u) && w.contains(1, v)) {
+            return None;
+        }
+        let res = self.res;
+        Some((face * (res * res) as usize) + (w.index(1, v, res) * res + w.index(0, u, res)) as usize)
+    }
+
+    /// What a query along `ray` (towards the light) would test.
+    fn plan(&self, ray: &Ray) -> Plan<'_> {
+        let q = ray.origin.as_dvec3() - self.light;
+        let dir = ray.dir.as_dvec3();
+        let reach = q.length();
+        // How far the ray's line passes from the light, with room for the f32 direction.
+        let delta = q.cross(dir).length() + reach * 1e-6;
+        // Nearer than this to the light, a point of the ray may be seen from another cell.
+        let near_limit = (4.0 * delta / FOOTPRINT_SLACK) as f32;
+        let far_limit = (reach * (1.0 + DISTANCE_SLACK) + delta) as f32;
+        let prefix = match self.by_distance.first() {
+            Some(e) if e.near <= near_limit && e.near <= far_limit => {
+                let limit = near_limit.min(far_limit);
+                let n = self.by_distance.partition_point(|e| e.near <= limit);
+                &self.by_distance[..n]
+            }
+            _ => &[],
+        };
+        let (list, hint) = match self.cell_of(-dir) {
+            Some(c) => {
+                let all = &self.entries[self.offsets[c] as usize..self.offsets[c + 1] as usize];
+                let n = all.partition_point(|e| e.near <= far_limit);
+                let cover = self.covers[c];
+                let hint = ((cover.far as f64) < reach).then_some(cover.prim);
+                (&all[..n], hint)
+            }
+            None => (&[][..], None),
+        };
+        Plan { prefix, list, hint }
+    }
+
     /// The hit a ray from `ray.origin` towards the light meets before `t_max`: the nearest
-    /// (`QueryMode::Nearest`) or any (`QueryMode::Any`), exactly as `SceneIntersector`'s
-    /// queries answer. The ray must point at this buffer's light.
+    /// (`QueryMode::Nearest`) or any (`QueryMode::Any`), exactly as `accel`'s queries
+    /// answer. The ray must point at this buffer's light.
     pub fn query(
         &self,
         geometry: &Geometry,
+        accel: &SceneIntersector,
         ray: &Ray,
         t_max: f32,
         mode: QueryMode,
         stats: &mut Stats,
     ) -> Option<Hit> {
+        match mode {
+            QueryMode::Any => self.any_hit(geometry, accel, ray, t_max, None, stats),
+            QueryMode::Nearest => self.nearest(geometry, accel, ray, t_max, stats),
+        }
+    }
+
+    /// An any-hit query, as `accel.any_hit` answers it: first the cell's covering primitive
+    /// (if the point lies beyond it), then `remembered` (the shadow cache's blocker; a hit
+    /// counts as a cache hit), then the walk, or the accelerator when the walk would be
+    /// longer than `max_walk`. Every answer is some primitive's own test.
+    pub(crate) fn any_hit(
+        &self,
+        geometry: &Geometry,
+        accel: &SceneIntersector,
+        ray: &Ray,
+        t_max: f32,
+        remembered: Option<u32>,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
         let tr = TraceRay::new(*ray);
-        let mut search = HitSearch::new(t_max, mode);
-        if mode == QueryMode::Any {
-            // The planes first, as `SceneIntersector::occluded` does: a few tests that may
-            // spare the lists.
-            for &prim in &self.unbounded {
-                if search.test_unbounded(geometry, &tr, prim, stats) {
-                    return search.best();
-                }
+        let plan = self.plan(ray);
+        let mut search = HitSearch::new(t_max, QueryMode::Any);
+        if let Some(prim) = plan.hint {
+            if search.test(geometry, &tr, prim, stats) {
+                stats.light_buffer_covered += 1;
+                return search.best();
             }
         }
-        let mut bounded = HitSearch::new(t_max, mode);
-        self.candidates(ray, |prim| bounded.test(geometry, &tr, prim, stats));
-        if mode == QueryMode::Any {
-            return bounded.best();
+        if let Some(prim) = remembered.filter(|&p| Some(p) != plan.hint) {
+            if search.test(geometry, &tr, prim, stats) {
+                stats.shadow_cache_hits += 1;
+                return search.best();
+            }
         }
+        if plan.prefix.len() + plan.list.len() > self.max_walk {
+            stats.light_buffer_fallbacks += 1;
+            return accel.any_hit(geometry, ray, t_max, stats);
+        }
+        // The planes first, as `SceneIntersector::any_hit` does: a few tests that may spare
+        // the lists.
+        for &prim in &self.unbounded {
+            if search.test_unbounded(geometry, &tr, prim, stats) {
+                return search.best();
+            }
+        }
+        for e in plan.prefix.iter().chain(plan.list) {
+            if search.test(geometry, &tr, e.prim, stats) {
+                return search.best();
+            }
+        }
+        None
+    }
+
+    /// The nearest hit, as `accel.intersect` answers it.
+    fn nearest(
+        &self,
+        geometry: &Geometry,
+        accel: &SceneIntersector,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
+        let plan = self.plan(ray);
+        if plan.prefix.len() + plan.list.len() > self.max_walk {
+            stats.light_buffer_fallbacks += 1;
+            return accel.intersect(geometry, ray, t_max, stats);
+        }
+        let tr = TraceRay::new(*ray);
+        let mut bounded = HitSearch::new(t_max, QueryMode::Nearest);
+        for e in plan.prefix.iter().chain(plan.list) {
+            bounded.test(geometry, &tr, e.prim, stats);
+        }
+        let mut search = HitSearch::new(t_max, QueryMode::Nearest);
         if let Some(hit) = bounded.best() {
             search.offer(hit);
         }
@@ -280,51 +617,21 @@ impl LightBuffer {
         search.best()
     }
 
-    /// Hands every primitive the ray may meet to `test`, until it returns true.
-    fn candidates(&self, ray: &Ray, mut test: impl FnMut(u32) -> bool) {
-        let q = ray.origin.as_dvec3() - self.light;
-        let dir = ray.dir.as_dvec3();
-        let reach = q.length();
-        // How far the ray's line passes from the light, with room for the f32 direction.
-        let delta = q.cross(dir).length() + reach * 1e-6;
-        // Nearer than this to the light, a point of the ray may be seen from another cell.
-        let near_limit = (4.0 * delta / FOOTPRINT_SLACK) as f32;
-        let far_limit = (reach * (1.0 + DISTANCE_SLACK) + delta) as f32;
-        for e in &self.by_distance {
-            if e.near > near_limit || e.near > far_limit {
-                break;
-            }
-            if test(e.prim) {
-                return;
-            }
-        }
-        let c = cell_of(-dir, self.res);
-        for e in &self.entries[self.offsets[c] as usize..self.offsets[c + 1] as usize] {
-            if e.near > far_limit {
-                break;
-            }
-            if test(e.prim) {
-                return;
-            }
-        }
-    }
-
     pub fn info(&self) -> LightBufferInfo {
         let cells = self.offsets.len() - 1;
-        let max_list = self
-            .offsets
-            .windows(2)
-            .map(|w| (w[1] - w[0]) as usize)
-            .max()
-            .unwrap_or(0);
+        let lists = self.offsets.windows(2).map(|w| (w[1] - w[0]) as usize);
         LightBufferInfo {
             resolution: self.res,
             cells,
             entries: self.entries.len(),
             mean_list: self.entries.len() as f64 / cells.max(1) as f64,
-            max_list,
+            max_list: lists.clone().max().unwrap_or(0),
+            covered_cells: self.covers.iter().filter(|c| c.prim != u32::MAX).count(),
+            occupied_cells: lists.filter(|&n| n > 0).count(),
+            max_walk: self.max_walk,
             memory_bytes: self.entries.len() * std::mem::size_of::<Entry>()
                 + self.offsets.len() * 4
+                + self.covers.len() * std::mem::size_of::<Cover>()
                 + self.by_distance.len() * std::mem::size_of::<Entry>(),
             build_time: self.build_time,
         }
@@ -341,34 +648,62 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_direction_falls_in_the_cell_its_face_coordinates_name() {
-        let res = 4;
-        // +z face, u = x/z = 0.6 → column 3, v = y/z = −0.9 → row 0.
-        assert_eq!(cell_of(DVec3::new(0.6, -0.9, 1.0), res), 4 * 16 + 3);
-        // −x face: w = 1, u = z, v = x... the face's own axes.
-        assert_eq!(cell_of(DVec3::new(-1.0, 0.0, 0.0), res) / 16, 1);
+    fn a_direction_has_the_face_coordinates_of_its_face() {
+        // +z face: u = x/z, v = y/z.
+        assert_eq!(face_coords(DVec3::new(0.6, -0.9, 1.0)), (4, 0.6, -0.9));
+        // −x face: u = y/|x|, v = z/|x|.
+        assert_eq!(face_coords(DVec3::new(-2.0, 1.0, 0.5)), (1, 0.5, 0.25));
     }
 
     #[test]
-    fn a_box_around_the_light_covers_every_cell_of_every_face() {
+    fn a_box_around_the_light_is_seen_on_all_of_every_face() {
         let (lo, hi) = (DVec3::splat(-1.0), DVec3::splat(1.0));
         for face in 0..6 {
             assert_eq!(
-                footprint(face, lo, hi, 8),
-                Some([0, 7, 0, 7]),
+                footprint(face, lo, hi),
+                Some([-1.0, 1.0, -1.0, 1.0]),
                 "face {face}"
             );
         }
     }
 
     #[test]
-    fn a_distant_box_covers_the_cells_it_is_seen_through() {
+    fn a_distant_box_is_seen_through_its_own_window() {
         // A unit box 10 units up the +z axis, centred: u and v within ±0.05.
         let (lo, hi) = (DVec3::new(-0.5, -0.5, 10.0), DVec3::new(0.5, 0.5, 11.0));
-        assert_eq!(footprint(4, lo, hi, 100), Some([47, 52, 47, 52]));
+        let p = footprint(4, lo, hi).unwrap();
+        let e = FOOTPRINT_SLACK;
+        for (got, want) in p.iter().zip([-0.05 - e, 0.05 + e, -0.05 - e, 0.05 + e]) {
+            assert!((got - want).abs() < 1e-12, "{p:?}");
+        }
         for face in [0, 1, 2, 3, 5] {
-            assert_eq!(footprint(face, lo, hi, 100), None, "face {face}");
+            assert_eq!(footprint(face, lo, hi), None, "face {face}");
         }
         assert!((near_distance(lo, hi) - 10.0).abs() < 1e-3);
+        // The window is the footprint: its 100 cells span ±0.051, not the face's ±1.
+        let mut w = Window::EMPTY;
+        w.include(p);
+        w.finish(100);
+        assert_eq!((w.index(0, p[0], 100), w.index(0, p[1], 100)), (0, 99));
+        assert!(w.contains(0, 0.0) && !w.contains(0, 0.06));
+    }
+
+    #[test]
+    fn a_triangle_covers_the_cells_inside_its_outline_only() {
+        // A big triangle at z = 1 over the light: covers the centre of the +z face, not a
+        // rectangle that pokes out of its hypotenuse.
+        let mut g = Geometry::default();
+        let positions = vec![
+            Vec3::new(-1.0, -1.0, 1.0),
+            Vec3::new(1.0, -1.0, 1.0),
+            Vec3::new(-1.0, 1.0, 1.0),
+        ];
+        let mesh = crate::geometry::TriangleMesh::new(positions, vec![[0, 1, 2]], None, None);
+        g.add_mesh(mesh.unwrap(), 0);
+        let s = Silhouette::of(&g, 0, DVec3::ZERO, 4).unwrap();
+        assert!(s.covers(4, (-0.5, -0.1), (-0.5, -0.1)));
+        assert!(!s.covers(4, (-0.5, 0.1), (-0.5, 0.1)));
+        // Seen from the other side of its plane, it is on no face in front of the light.
+        assert!(Silhouette::of(&g, 0, DVec3::new(0.0, 0.0, 2.0), 4).is_none());
     }
 }

@@ -73,6 +73,9 @@ pub struct ShadowSpec {
     pub res: u32,
     /// The light buffers' memory budget in MiB; 0 takes the default.
     pub budget_mib: u32,
+    /// The longest list walk before a query asks the accelerator; 0 chooses from the
+    /// primitive count.
+    pub walk: u32,
 }
 
 impl ShadowSpec {
@@ -81,6 +84,14 @@ impl ShadowSpec {
         match self.res {
             0 => LightBuffer::auto_resolution(primitives),
             r => r,
+        }
+    }
+
+    /// The longest walk a buffer over `primitives` takes.
+    pub fn max_walk(&self, primitives: usize) -> usize {
+        match self.walk {
+            0 => LightBuffer::auto_max_walk(primitives),
+            w => w as usize,
         }
     }
 
@@ -128,10 +139,11 @@ impl FromStr for ShadowSpec {
             match key {
                 "res" => spec.res = number(1..=1024)?,
                 "budget" => spec.budget_mib = number(1..=1 << 20)?,
+                "walk" => spec.walk = number(1..=1 << 30)?,
                 _ => {
                     return Err(format!(
                         "unknown key '{key}' in '{s}': light-buffer takes res (cells along a \
-                         face's side) and budget (MiB)"
+                         face's side), budget (MiB) and walk (the longest list walk)"
                     ))
                 }
             }
@@ -150,6 +162,9 @@ impl fmt::Display for ShadowSpec {
         }
         if self.budget_mib != 0 {
             params.push(format!("budget={}", self.budget_mib));
+        }
+        if self.walk != 0 {
+            params.push(format!("walk={}", self.walk));
         }
         if !params.is_empty() {
             write!(f, ":{}", params.join(","))?;
@@ -189,6 +204,13 @@ impl<'a> Shadows<'a> {
         let mut unbuilt = Vec::with_capacity(lights.len());
         let geometry = &scene.scene.geometry;
         let res = spec.resolution(geometry.primitives.len());
+        let max_walk = spec.max_walk(geometry.primitives.len());
+        // Transparent surfaces never cover a cell (shadow rays pass through them).
+        let materials = &scene.scene.materials;
+        let opaque = |prim: u32| {
+            let m = geometry.primitives[prim as usize].material as usize;
+            materials[m].transmit.max_element() <= 0.0
+        };
         // The budget is shared out among the lights that want a buffer.
         let wanting = lights
             .iter()
@@ -203,9 +225,9 @@ impl<'a> Shadows<'a> {
                     Some("a directional light: its shadow rays use the accelerator".into()),
                 ),
                 (true, Some(p)) => {
-                    match LightBuffer::build(geometry, p, res, spec.budget_bytes() / wanting as u64)
-                    {
-                        Ok(b) => (Some(b), None),
+                    let budget = spec.budget_bytes() / wanting as u64;
+                    match LightBuffer::build_with(geometry, p, res, budget, &opaque) {
+                        Ok(b) => (Some(b.with_max_walk(max_walk)), None),
                         Err(Unbuilt::OverBudget {
                             entries,
                             budget_bytes,
@@ -316,7 +338,8 @@ impl Query<'_> {
         match self.buffer {
             Some(b) => {
                 stats.light_buffer_queries += 1;
-                b.query(geometry, ray, t_max, QueryMode::Any, stats)
+                let accel = &self.scene.intersector;
+                b.any_hit(geometry, accel, ray, t_max, None, stats)
             }
             None => self.scene.intersector.any_hit(geometry, ray, t_max, stats),
         }
@@ -327,7 +350,8 @@ impl Query<'_> {
         match self.buffer {
             Some(b) => {
                 stats.light_buffer_queries += 1;
-                b.query(geometry, ray, t_max, QueryMode::Nearest, stats)
+                let accel = &self.scene.intersector;
+                b.query(geometry, accel, ray, t_max, QueryMode::Nearest, stats)
             }
             None => self
                 .scene
@@ -364,16 +388,28 @@ fn cached_any_hit(
 ) -> bool {
     let slot = light * CACHE_DEPTHS + (depth as usize).min(CACHE_DEPTHS) - 1;
     let remembered = CACHE.with(|c| c.borrow().get(slot).copied().unwrap_or(u32::MAX));
-    if remembered != u32::MAX {
-        // The accelerators' own counted test: one hit settles an any-hit query.
-        let mut search = HitSearch::new(t_max, QueryMode::Any);
-        let geometry = &query.scene.scene.geometry;
-        if search.test(geometry, &TraceRay::new(*ray), remembered, stats) {
-            stats.shadow_cache_hits += 1;
-            return true;
+    let remembered = (remembered != u32::MAX).then_some(remembered);
+    let geometry = &query.scene.scene.geometry;
+    let answer = match query.buffer {
+        // The buffer asks its cell's covering primitive first, then the remembered one.
+        Some(b) => {
+            stats.light_buffer_queries += 1;
+            let accel = &query.scene.intersector;
+            b.any_hit(geometry, accel, ray, t_max, remembered, stats)
         }
-    }
-    match query.any(ray, t_max, stats) {
+        None => {
+            if let Some(prim) = remembered {
+                // The accelerators' own counted test: one hit settles an any-hit query.
+                let mut search = HitSearch::new(t_max, QueryMode::Any);
+                if search.test(geometry, &TraceRay::new(*ray), prim, stats) {
+                    stats.shadow_cache_hits += 1;
+                    return true;
+                }
+            }
+            query.any(ray, t_max, stats)
+        }
+    };
+    match answer {
         Some(hit) => {
             CACHE.with(|c| {
                 let mut c = c.borrow_mut();
