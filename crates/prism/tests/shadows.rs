@@ -10,7 +10,7 @@ use common::oracle::{random_ray, TestScene};
 use common::{icosphere, Rng};
 use prism::accel::{AccelSpec, QueryMode, SceneIntersector};
 use prism::geometry::{AaBox, Plane, Shape, Sphere};
-use prism::integrator::{LightBuffer, ShadowSpec};
+use prism::integrator::{BufferParams, LightBuffer, ShadowSpec};
 use prism::math::robust::offset_ray_origin;
 use prism::math::{Aabb, Ray, Vec3};
 use prism::render::render;
@@ -109,15 +109,21 @@ fn check_light(
     seed: u64,
 ) -> (usize, usize) {
     let g = &s.geometry;
-    let built = LightBuffer::build(g, light, res, 1 << 30).expect("within the budget");
     // Walks as long as they come (every answer the lists' own), and the automatic limit
     // beyond which the accelerator answers.
-    let auto = LightBuffer::auto_max_walk(g.primitives.len());
     let buffers = [
-        built.with_max_walk(usize::MAX),
-        LightBuffer::build(g, light, res, 1 << 30)
-            .unwrap()
-            .with_max_walk(auto),
+        LightBuffer::build(g, light, res, 1 << 30).expect("within the budget"),
+        LightBuffer::build_with(
+            g,
+            light,
+            &BufferParams {
+                res,
+                budget_bytes: 1 << 30,
+                max_walk: LightBuffer::auto_max_walk(g.primitives.len()),
+                opaque: &|_| true,
+            },
+        )
+        .unwrap(),
     ];
     let bounds = (0..g.primitives.len() as u32)
         .filter_map(|i| g.bounds(i))

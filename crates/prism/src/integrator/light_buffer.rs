@@ -33,26 +33,50 @@ const FOOTPRINT_SLACK: f64 = 1e-3;
 /// Relative error allowed for in distances from the light (f32 hit points and directions).
 const DISTANCE_SLACK: f64 = 1e-5;
 
-/// One list entry: a primitive and its nearest distance from the light.
+/// One list entry: a primitive, its nearest distance from the light and its bounding box,
+/// which a walk tests first, as a BVH tests a leaf's box (the same conservative test): a
+/// flat receiver's own box, say, lies wholly below its offset shadow rays.
 #[derive(Clone, Copy, Debug)]
 struct Entry {
     prim: u32,
     near: f32,
+    bounds: Aabb,
 }
 
-/// A cell's covering primitive: an opaque triangle or sphere that every direction of the
-/// cell (widened by the slack) meets, and its farthest distance from the light (rounded
-/// up). A point farther than `far` asks it first. Only a hint: the answer is its test's.
+/// One cell: its list (`entries[start..start + len]`, nearest first, at most `max_walk`
+/// long), the nearest distance of the first entry left out (a query reaching it would walk
+/// too far, and asks the accelerator), and its covering primitive: an opaque triangle or
+/// sphere that every direction of the cell (widened by the slack) meets, with its farthest
+/// distance from the light (rounded up). A point farther than `cover_far` tests it first;
+/// only a hint, the answer is that test's.
 #[derive(Clone, Copy, Debug)]
-struct Cover {
-    far: f32,
-    prim: u32,
+struct Cell {
+    start: u32,
+    len: u32,
+    limit: f32,
+    cover_far: f32,
+    cover: u32,
 }
 
-const NO_COVER: Cover = Cover {
-    far: f32::INFINITY,
-    prim: u32::MAX,
+const EMPTY_CELL: Cell = Cell {
+    start: 0,
+    len: 0,
+    limit: f32::INFINITY,
+    cover_far: f32::INFINITY,
+    cover: u32::MAX,
 };
+
+/// How a buffer is built.
+pub struct BufferParams<'a> {
+    /// Cells along a face's window side.
+    pub res: u32,
+    /// The most its lists may take.
+    pub budget_bytes: u64,
+    /// The longest walk a query takes; lists keep no more entries than this.
+    pub max_walk: usize,
+    /// The primitives that may cover a cell (transparent ones may not).
+    pub opaque: &'a dyn Fn(u32) -> bool,
+}
 
 /// Why a light has no buffer (its shadow rays then use the BVH).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -117,11 +141,8 @@ pub struct LightBuffer {
     light: DVec3,
     res: u32,
     windows: [Window; 6],
-    /// Cell c's entries are `entries[offsets[c]..offsets[c + 1]]`, nearest first.
-    offsets: Vec<u32>,
+    cells: Vec<Cell>,
     entries: Vec<Entry>,
-    /// Per cell, its nearest covering primitive (or `NO_COVER`).
-    covers: Vec<Cover>,
     /// Every bounded primitive, nearest first: the ones very near the light are tested for
     /// every query.
     by_distance: Vec<Entry>,
@@ -145,6 +166,8 @@ pub struct LightBufferInfo {
     pub covered_cells: usize,
     /// Cells with at least one entry.
     pub occupied_cells: usize,
+    /// Cells whose lists were cut at `max_walk` entries.
+    pub cut_cells: usize,
     /// Longest walk before a query asks the accelerator instead.
     pub max_walk: usize,
     pub memory_bytes: usize,
@@ -315,6 +338,8 @@ struct Plan<'a> {
     prefix: &'a [Entry],
     /// The cell's entries that begin before the shaded point.
     list: &'a [Entry],
+    /// Whether the walk would pass the buffer's `max_walk`.
+    too_long: bool,
     /// The cell's covering primitive, when the point lies beyond it.
     hint: Option<u32>,
 }
@@ -339,28 +364,33 @@ impl LightBuffer {
         (log as usize).div_ceil(2).max(2)
     }
 
-    /// Builds the buffer of the light at `light` over every primitive of `geometry`, every
-    /// primitive taken as opaque (any one may cover a cell), or says why not: its lists would
-    /// take more than `budget_bytes`.
+    /// Builds the buffer of the light at `light` over every primitive of `geometry`, with
+    /// whole lists (no walk limit) and every primitive taken as opaque, or says why not: its
+    /// lists would take more than `budget_bytes`.
     pub fn build(
         geometry: &Geometry,
         light: Vec3,
         res: u32,
         budget_bytes: u64,
     ) -> Result<LightBuffer, Unbuilt> {
-        Self::build_with(geometry, light, res, budget_bytes, &|_| true)
+        let params = BufferParams {
+            res,
+            budget_bytes,
+            max_walk: usize::MAX,
+            opaque: &|_| true,
+        };
+        Self::build_with(geometry, light, &params)
     }
 
-    /// As `build`, where only the primitives `opaque` accepts may cover a cell.
+    /// Builds the buffer of the light at `light` as `params` say.
     pub fn build_with(
         geometry: &Geometry,
         light: Vec3,
-        res: u32,
-        budget_bytes: u64,
-        opaque: &dyn Fn(u32) -> bool,
+        params: &BufferParams,
     ) -> Result<LightBuffer, Unbuilt> {
         let start = Instant::now();
-        let res = res.max(1);
+        let res = params.res.max(1);
+        let keep = params.max_walk.min(u32::MAX as usize) as u32;
         let l = light.as_dvec3();
         let mut by_distance = Vec::new();
         let mut unbounded = Vec::new();
@@ -376,6 +406,7 @@ impl LightBuffer {
             let entry = Entry {
                 prim,
                 near: near_distance(lo, hi),
+                bounds: b,
             };
             by_distance.push(entry);
             for (face, window) in windows.iter_mut().enumerate() {
@@ -388,6 +419,10 @@ impl LightBuffer {
         for w in &mut windows {
             w.finish(res);
         }
+        // Nearest first: each cell's list fills in order, and the first entry that finds
+        // it full is the nearest one left out.
+        let by_near = |a: &Entry, b: &Entry| a.near.total_cmp(&b.near).then(a.prim.cmp(&b.prim));
+        prints.sort_unstable_by(|a, b| by_near(&a.0, &b.0).then(a.2.cmp(&b.2)));
         let cells_of = |face: usize, p: [f64; 4]| {
             let w = &windows[face];
             [
@@ -397,87 +432,84 @@ impl LightBuffer {
                 w.index(1, p[3], res),
             ]
         };
-        let mut total: u64 = 0;
-        let budget_entries = budget_bytes / std::mem::size_of::<Entry>() as u64;
-        for &(_, _, face, p) in &prints {
-            let [iu0, iu1, iv0, iv1] = cells_of(face, p);
-            total += (iu1 - iu0 + 1) as u64 * (iv1 - iv0 + 1) as u64;
-            if total > budget_entries {
-                return Err(Unbuilt::OverBudget {
-                    entries: total,
-                    budget_bytes,
-                });
-            }
-        }
-        let cells = 6 * (res * res) as usize;
-        let cell = |face: usize, iu: u32, iv: u32| {
+        let cell_count = 6 * (res * res) as usize;
+        let cell_at = |face: usize, iu: u32, iv: u32| {
             (face * (res * res) as usize) + (iv * res + iu) as usize
         };
-        let mut offsets = vec![0u32; cells + 1];
+        let mut cells = vec![EMPTY_CELL; cell_count];
+        let mut total: u64 = 0;
+        let budget_entries = params.budget_bytes / std::mem::size_of::<Entry>() as u64;
         for &(_, _, face, p) in &prints {
             let [iu0, iu1, iv0, iv1] = cells_of(face, p);
             for iv in iv0..=iv1 {
                 for iu in iu0..=iu1 {
-                    offsets[cell(face, iu, iv) + 1] += 1;
+                    let cell = &mut cells[cell_at(face, iu, iv)];
+                    if cell.len < keep {
+                        cell.len += 1;
+                        total += 1;
+                    }
                 }
             }
+            if total > budget_entries {
+                return Err(Unbuilt::OverBudget {
+                    entries: total,
+                    budget_bytes: params.budget_bytes,
+                });
+            }
         }
-        for c in 0..cells {
-            offsets[c + 1] += offsets[c];
+        let mut next = 0;
+        for cell in &mut cells {
+            cell.start = next;
+            next += cell.len;
+            cell.len = 0;
         }
-        let mut fill = offsets.clone();
-        let mut entries = vec![Entry { prim: 0, near: 0.0 }; total as usize];
-        let mut covers = vec![NO_COVER; cells];
+        let none = Entry {
+            prim: 0,
+            near: 0.0,
+            bounds: Aabb::EMPTY,
+        };
+        let mut entries = vec![none; total as usize];
         for &(entry, far, face, p) in &prints {
             let [iu0, iu1, iv0, iv1] = cells_of(face, p);
-            let silhouette = opaque(entry.prim)
+            let silhouette = (params.opaque)(entry.prim)
                 .then(|| Silhouette::of(geometry, entry.prim, l, face))
                 .flatten();
             let w = &windows[face];
             for iv in iv0..=iv1 {
                 for iu in iu0..=iu1 {
-                    let c = cell(face, iu, iv);
-                    entries[fill[c] as usize] = entry;
-                    fill[c] += 1;
+                    let cell = &mut cells[cell_at(face, iu, iv)];
+                    if cell.len < keep {
+                        entries[(cell.start + cell.len) as usize] = entry;
+                        cell.len += 1;
+                    } else if cell.limit == f32::INFINITY {
+                        cell.limit = entry.near;
+                    }
                     if let Some(s) = &silhouette {
-                        if far < covers[c].far {
+                        if far < cell.cover_far {
                             let (u0, u1) = w.cell_span(0, iu);
                             let (v0, v1) = w.cell_span(1, iv);
                             let e = FOOTPRINT_SLACK;
                             if s.covers(face, (u0 - e, u1 + e), (v0 - e, v1 + e)) {
-                                covers[c] = Cover {
-                                    far,
-                                    prim: entry.prim,
-                                };
+                                cell.cover_far = far;
+                                cell.cover = entry.prim;
                             }
                         }
                     }
                 }
             }
         }
-        let by_near = |a: &Entry, b: &Entry| a.near.total_cmp(&b.near).then(a.prim.cmp(&b.prim));
-        for c in 0..cells {
-            entries[offsets[c] as usize..offsets[c + 1] as usize].sort_unstable_by(by_near);
-        }
         by_distance.sort_unstable_by(by_near);
         Ok(LightBuffer {
             light: l,
             res,
             windows,
-            offsets,
+            cells,
             entries,
-            covers,
             by_distance,
             unbounded,
-            max_walk: Self::auto_max_walk(geometry.primitives.len()),
+            max_walk: params.max_walk,
             build_time: start.elapsed(),
         })
-    }
-
-    /// Sets the longest walk before a query asks the accelerator (`usize::MAX`: never).
-    pub fn with_max_walk(mut self, max_walk: usize) -> LightBuffer {
-        self.max_walk = max_walk;
-        self
     }
 
     /// The cell of direction `d` (from the light); None outside every face's window, where
@@ -510,17 +542,22 @@ impl LightBuffer {
             }
             _ => &[],
         };
-        let (list, hint) = match self.cell_of(-dir) {
+        let (list, cut, hint) = match self.cell_of(-dir) {
             Some(c) => {
-                let all = &self.entries[self.offsets[c] as usize..self.offsets[c + 1] as usize];
-                let n = all.partition_point(|e| e.near <= far_limit);
-                let cover = self.covers[c];
-                let hint = ((cover.far as f64) < reach).then_some(cover.prim);
-                (&all[..n], hint)
+                let cell = &self.cells[c];
+                let kept = &self.entries[cell.start as usize..(cell.start + cell.len) as usize];
+                let n = kept.partition_point(|e| e.near <= far_limit);
+                let hint = ((cell.cover_far as f64) < reach).then_some(cell.cover);
+                (&kept[..n], cell.limit <= far_limit, hint)
             }
-            None => (&[][..], None),
+            None => (&[][..], false, None),
         };
-        Plan { prefix, list, hint }
+        Plan {
+            prefix,
+            list,
+            too_long: cut || prefix.len() + list.len() > self.max_walk,
+            hint,
+        }
     }
 
     /// The hit a ray from `ray.origin` towards the light meets before `t_max`: the nearest
@@ -569,7 +606,7 @@ impl LightBuffer {
                 return search.best();
             }
         }
-        if plan.prefix.len() + plan.list.len() > self.max_walk {
+        if plan.too_long {
             stats.light_buffer_fallbacks += 1;
             return accel.any_hit(geometry, ray, t_max, stats);
         }
@@ -581,7 +618,10 @@ impl LightBuffer {
             }
         }
         for e in plan.prefix.iter().chain(plan.list) {
-            if search.test(geometry, &tr, e.prim, stats) {
+            stats.node_visits += 1;
+            if e.bounds.hit(tr.ray.origin, tr.inv_dir, t_max).is_some()
+                && search.test(geometry, &tr, e.prim, stats)
+            {
                 return search.best();
             }
         }
@@ -598,14 +638,18 @@ impl LightBuffer {
         stats: &mut Stats,
     ) -> Option<Hit> {
         let plan = self.plan(ray);
-        if plan.prefix.len() + plan.list.len() > self.max_walk {
+        if plan.too_long {
             stats.light_buffer_fallbacks += 1;
             return accel.intersect(geometry, ray, t_max, stats);
         }
         let tr = TraceRay::new(*ray);
         let mut bounded = HitSearch::new(t_max, QueryMode::Nearest);
         for e in plan.prefix.iter().chain(plan.list) {
-            bounded.test(geometry, &tr, e.prim, stats);
+            stats.node_visits += 1;
+            let limit = bounded.nested_limit();
+            if e.bounds.hit(tr.ray.origin, tr.inv_dir, limit).is_some() {
+                bounded.test(geometry, &tr, e.prim, stats);
+            }
         }
         let mut search = HitSearch::new(t_max, QueryMode::Nearest);
         if let Some(hit) = bounded.best() {
@@ -618,20 +662,19 @@ impl LightBuffer {
     }
 
     pub fn info(&self) -> LightBufferInfo {
-        let cells = self.offsets.len() - 1;
-        let lists = self.offsets.windows(2).map(|w| (w[1] - w[0]) as usize);
+        let cells = self.cells.len();
         LightBufferInfo {
             resolution: self.res,
             cells,
             entries: self.entries.len(),
             mean_list: self.entries.len() as f64 / cells.max(1) as f64,
-            max_list: lists.clone().max().unwrap_or(0),
-            covered_cells: self.covers.iter().filter(|c| c.prim != u32::MAX).count(),
-            occupied_cells: lists.filter(|&n| n > 0).count(),
+            max_list: self.cells.iter().map(|c| c.len as usize).max().unwrap_or(0),
+            covered_cells: self.cells.iter().filter(|c| c.cover != u32::MAX).count(),
+            occupied_cells: self.cells.iter().filter(|c| c.len > 0).count(),
+            cut_cells: self.cells.iter().filter(|c| c.limit < f32::INFINITY).count(),
             max_walk: self.max_walk,
             memory_bytes: self.entries.len() * std::mem::size_of::<Entry>()
-                + self.offsets.len() * 4
-                + self.covers.len() * std::mem::size_of::<Cover>()
+                + self.cells.len() * std::mem::size_of::<Cell>()
                 + self.by_distance.len() * std::mem::size_of::<Entry>(),
             build_time: self.build_time,
         }

@@ -5,6 +5,6 @@ mod light_buffer;
 mod shadow;
 mod whitted;
 
-pub use light_buffer::{LightBuffer, LightBufferInfo};
+pub use light_buffer::{BufferParams, LightBuffer, LightBufferInfo};
 pub use shadow::{begin_piece, ShadowMethod, ShadowSpec, Shadows};
 pub use whitted::Whitted;
