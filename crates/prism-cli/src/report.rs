@@ -220,15 +220,39 @@ fn shadow_lines(options: &RenderOptions, result: &RenderResult) -> Vec<String> {
             100.0 * s.shadow_cache_hits as f64 / rays
         ));
     }
+    if s.light_buffer_queries > 0 {
+        lines.push(format!(
+            "{:<18} {:>14} {:>7.1}% of shadow rays",
+            "  buffer queries",
+            s.light_buffer_queries,
+            100.0 * s.light_buffer_queries as f64 / rays
+        ));
+        lines.push(format!(
+            "{:<18} {:>14} {:>7.1}% of shadow rays",
+            "  cover answers",
+            s.light_buffer_covered,
+            100.0 * s.light_buffer_covered as f64 / rays
+        ));
+        lines.push(format!(
+            "{:<18} {:>14} {:>7.1}% of shadow rays",
+            "  to the accel",
+            s.light_buffer_fallbacks,
+            100.0 * s.light_buffer_fallbacks as f64 / rays
+        ));
+    }
     for (i, b) in result.light_buffers.iter().enumerate() {
         if let Some(b) = b {
             lines.push(format!(
-                "  light {i} buffer   {}² cells × 6, {} entries (mean list {:.1}, max {}), \
-                 {:.1} MiB, built in {:.1} ms",
+                "  light {i} buffer   {}² cells × 6, {} entries (mean list {:.1}, max {}; \
+                 {} cells occupied, {} covered, {} cut at walk {}), {:.1} MiB, built in {:.1} ms",
                 b.resolution,
                 b.entries,
                 b.mean_list,
                 b.max_list,
+                b.occupied_cells,
+                b.covered_cells,
+                b.cut_cells,
+                b.max_walk,
                 b.memory_bytes as f64 / (1 << 20) as f64,
                 b.build_time.as_secs_f64() * 1e3
             ));

@@ -253,7 +253,10 @@ fn every_shadow_method_renders_the_same_image() {
             "cache",
             "light-buffer",
             "both",
+            "auto",
             "light-buffer:res=7",
+            "both:walk=1",
+            "light-buffer:res=5,walk=1000",
         ] {
             options.shadows = method.parse::<ShadowSpec>().unwrap();
             let result = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
@@ -268,7 +271,7 @@ fn every_shadow_method_renders_the_same_image() {
                     "{name}: {method} renders another image than any-hit"
                 ),
             }
-            if method != "any-hit" && method != "cache" {
+            if !["any-hit", "cache", "auto"].contains(&method) {
                 assert!(
                     result.stats.light_buffer_queries > 0 || scene.lights.is_empty(),
                     "{name}: {method} built no buffer"
@@ -294,7 +297,7 @@ fn spd_scenes_render_the_same_with_every_shadow_method() {
         options.height = 65;
         let prepared = scene.prepare(&options.accel);
         let mut reference = None;
-        for method in ["any-hit", "both"] {
+        for method in ["any-hit", "both", "auto", "light-buffer:res=48"] {
             options.shadows = method.parse::<ShadowSpec>().unwrap();
             let film = render(&prepared, &options, &|_| {}, &AtomicBool::new(false))
                 .unwrap()
@@ -375,4 +378,90 @@ fn per_pixel_shadow_work_adds_up_to_the_statistics() {
             assert!(rays.shadow_node_visits[i] <= rays.node_visits[i]);
         }
     }
+}
+
+/// A scene whose light-buffer windows span whole faces (a box around everything holds the
+/// light, so its cell borders are at −1 + 2i/res) with one large opaque triangle over the
+/// light at z = 2·scale.
+fn covered_scene(scale: f32) -> TestScene {
+    let mut s = TestScene::new();
+    s.add_box(AaBox::new(Vec3::splat(-50.0 * scale), Vec3::splat(50.0 * scale)));
+    s.add_triangles(&[[
+        Vec3::new(-3.0, -3.0, 2.0) * scale,
+        Vec3::new(3.0, -3.0, 2.0) * scale,
+        Vec3::new(-3.0, 3.0, 2.0) * scale,
+    ]]);
+    s
+}
+
+/// Cells wholly covered by an opaque triangle ask it first, for points behind it only; the
+/// answers stay the accelerator's at every cell border, on the triangle's outline, in front
+/// of it and behind it, at 1, 10⁻³ and 10³ scale.
+#[test]
+fn covered_cells_answer_as_the_accelerator_in_front_and_behind() {
+    for scale in [1.0f32, 1e-3, 1e3] {
+        let s = covered_scene(scale);
+        let g = &s.geometry;
+        let intersector = SceneIntersector::build(g, &AccelSpec::default());
+        let light = Vec3::ZERO;
+        let res = 8;
+        let buffer = LightBuffer::build(g, light, res, 1 << 24).unwrap();
+        assert!(buffer.info().covered_cells > 0, "scale {scale}: no cell covered");
+        let mut rng = Rng::new(7);
+        let (mut in_front, mut behind) = (Stats::default(), Stats::default());
+        let mut blocked = 0;
+        for i in 0..4000 {
+            // Face coordinates on cell borders, on the triangle's hypotenuse u + v = 0,
+            // or anywhere.
+            let border = |rng: &mut Rng| 2.0 * rng.below(res as usize + 1) as f32 / res as f32 - 1.0;
+            let (u, v) = match i % 3 {
+                0 => (border(&mut rng), border(&mut rng)),
+                1 => {
+                    let u = rng.range(-1.0, 1.0);
+                    (u, -u)
+                }
+                _ => (rng.range(-1.0, 1.0), border(&mut rng)),
+            };
+            let k = [1.0, 1.9, 2.0, 2.1, 6.0, 20.0][rng.below(6)];
+            let base = Vec3::new(u, v, 1.0) * (k * scale);
+            let step = rng.below(7) as i32 - 3;
+            let p = Vec3::new(f32::from_bits(base.x.to_bits().wrapping_add_signed(step)), base.y, base.z);
+            let d = light - p;
+            let distance = d.length();
+            let ray = Ray::new(p, d / distance);
+            let stats = if k < 2.0 { &mut in_front } else { &mut behind };
+            let a = buffer.query(g, &intersector, &ray, distance, QueryMode::Any, stats);
+            let b = intersector.occluded(g, &ray, distance, &mut Stats::default());
+            assert_eq!(a.is_some(), b, "scale {scale}, point {p}");
+            let n = buffer.query(g, &intersector, &ray, distance, QueryMode::Nearest, stats);
+            let m = intersector.intersect(g, &ray, distance, &mut Stats::default());
+            assert_eq!(n, m, "scale {scale}, point {p}: nearest hits differ");
+            blocked += b as usize;
+        }
+        assert!(blocked > 500, "scale {scale}: {blocked} blocked");
+        assert!(
+            behind.light_buffer_covered > 100,
+            "scale {scale}: the covers answered {} rays",
+            behind.light_buffer_covered
+        );
+        assert_eq!(in_front.light_buffer_covered, 0, "scale {scale}: asked in front");
+    }
+}
+
+/// Transparent surfaces never cover a cell: the buffer built with the triangle taken as
+/// transparent has no covered cell, and through `Shadows` a glass scene renders as any-hit.
+#[test]
+fn transparent_occluders_never_cover_a_cell() {
+    let s = covered_scene(1.0);
+    let g = &s.geometry;
+    let params = |opaque: &'static dyn Fn(u32) -> bool| BufferParams {
+        res: 8,
+        budget_bytes: 1 << 24,
+        max_walk: usize::MAX,
+        opaque,
+    };
+    let opaque = LightBuffer::build_with(g, Vec3::ZERO, &params(&|_| true)).unwrap();
+    let glass = LightBuffer::build_with(g, Vec3::ZERO, &params(&|_| false)).unwrap();
+    assert!(opaque.info().covered_cells > 0);
+    assert_eq!(glass.info().covered_cells, 0);
 }

@@ -345,14 +345,15 @@ struct Plan<'a> {
 }
 
 impl LightBuffer {
-    /// The resolution the buffer takes when none is asked for: 4·√n cells a side, within
-    /// 32 and 512. A scene seen from its light fills only part of the cube, and a list is
-    /// walked up to the shaded point, so cells must be much finer than one per primitive
-    /// (on SPD balls and tetra the tests per shadow ray fall about as 1/res up to this).
+    /// The resolution the buffer takes when none is asked for: √n / 2 cells along a
+    /// window's side, within 16 and 96. The windows put the cells where the scene is, lists
+    /// are cut at the walk limit and their boxes filter the tests, so finer cells buy few
+    /// tests and cost cache misses: on the SPD scenes 48 cells beat 96, which beat 362
+    /// (the old 4·√n), everywhere (prism bench, docs/shadows.md).
     pub fn auto_resolution(primitives: usize) -> u32 {
-        ((primitives as f64).sqrt() * 4.0)
+        ((primitives as f64).sqrt() * 0.5)
             .round()
-            .clamp(32.0, 512.0) as u32
+            .clamp(16.0, 96.0) as u32
     }
 
     /// The longest walk a query takes before it asks the accelerator instead, when none is
