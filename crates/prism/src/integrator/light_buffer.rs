@@ -17,9 +17,29 @@
 //! - candidates are tested with the accelerators' own `HitSearch`, whose tie rule makes the
 //!   nearest hit among any superset of the primitives a ray meets the brute-force one.
 //!
-//! The paper's other refinements (cells wholly covered by one opaque polygon answer without
-//! a test; polygons facing away from the light left out) are not here: each needs a proof
-//! that it gives the BVH's answer at the edges, which the tests could not yet hold it to.
+//! - each face's cells span only its *window*, the part of the face some footprint reaches
+//!   (a far light sees the scene in a narrow cone); directions outside every window meet no
+//!   bounded primitive;
+//! - a walk tests an entry's bounding box first (the BVH's own conservative slab test), so
+//!   a flat receiver's box, wholly below its offset shadow rays, costs no primitive test.
+//!
+//! Three refinements trade the lists' work for the accelerator's or for one test:
+//!
+//! - **walk limit**: lists keep at most `max_walk` entries; a query that would walk more
+//!   (its point lies beyond the last kept entry) asks the accelerator instead, so a grazing
+//!   light over a terrain no longer walks hundreds of triangles;
+//! - **covered cells** (the paper's refinement): a cell whose every direction, widened by
+//!   the slack, meets one opaque triangle or sphere remembers the nearest such one. A point
+//!   farther than it tests it *first*, and a hit answers the query. The paper answers such a
+//!   point "in shadow" without a test; here the test stays, because the f32 ray–triangle and
+//!   ray–sphere tests cannot be proven to hit near an outline, at every scale, from the
+//!   geometry alone, and exactness comes first. Transparent primitives never cover.
+//! - polygons facing away from the light are *not* left out: prism's shadow rays are
+//!   blocked by back faces too, and leaving them out is exact only for closed meshes and a
+//!   light outside them, which prism does not know.
+//!
+//! Every answer is therefore some primitive's own test or the accelerator's: exactness does
+//! not rest on the cover or the limit being right, only on the footprints.
 
 use crate::accel::{Hit, HitSearch, QueryMode, SceneIntersector};
 use crate::geometry::{Geometry, Shape};
