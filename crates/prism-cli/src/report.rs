@@ -243,8 +243,9 @@ fn shadow_lines(options: &RenderOptions, result: &RenderResult) -> Vec<String> {
     for (i, b) in result.light_buffers.iter().enumerate() {
         if let Some(b) = b {
             lines.push(format!(
-                "  light {i} buffer   {}² cells × 6, {} entries (mean list {:.1}, max {}; \
+                "  light {i} buffer   {} cells ({}² a face), {} entries (mean list {:.1}, max {}; \
                  {} cells occupied, {} covered, {} cut at walk {}), {:.1} MiB, built in {:.1} ms",
+                b.cells,
                 b.resolution,
                 b.entries,
                 b.mean_list,

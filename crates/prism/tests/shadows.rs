@@ -166,8 +166,14 @@ fn check_light(
                 occluded,
                 "light {light}, point {p}: the buffer says {any:?}, the accelerator {occluded}"
             );
-            let nearest =
-                buffer.query(g, intersector, &ray, distance, QueryMode::Nearest, &mut stats);
+            let nearest = buffer.query(
+                g,
+                intersector,
+                &ray,
+                distance,
+                QueryMode::Nearest,
+                &mut stats,
+            );
             assert_eq!(
                 nearest, expected,
                 "light {light}, point {p}: nearest hits differ"
@@ -385,7 +391,10 @@ fn per_pixel_shadow_work_adds_up_to_the_statistics() {
 /// light at z = 2·scale.
 fn covered_scene(scale: f32) -> TestScene {
     let mut s = TestScene::new();
-    s.add_box(AaBox::new(Vec3::splat(-50.0 * scale), Vec3::splat(50.0 * scale)));
+    s.add_box(AaBox::new(
+        Vec3::splat(-50.0 * scale),
+        Vec3::splat(50.0 * scale),
+    ));
     s.add_triangles(&[[
         Vec3::new(-3.0, -3.0, 2.0) * scale,
         Vec3::new(3.0, -3.0, 2.0) * scale,
@@ -406,14 +415,18 @@ fn covered_cells_answer_as_the_accelerator_in_front_and_behind() {
         let light = Vec3::ZERO;
         let res = 8;
         let buffer = LightBuffer::build(g, light, res, 1 << 24).unwrap();
-        assert!(buffer.info().covered_cells > 0, "scale {scale}: no cell covered");
+        assert!(
+            buffer.info().covered_cells > 0,
+            "scale {scale}: no cell covered"
+        );
         let mut rng = Rng::new(7);
         let (mut in_front, mut behind) = (Stats::default(), Stats::default());
         let mut blocked = 0;
         for i in 0..4000 {
             // Face coordinates on cell borders, on the triangle's hypotenuse u + v = 0,
             // or anywhere.
-            let border = |rng: &mut Rng| 2.0 * rng.below(res as usize + 1) as f32 / res as f32 - 1.0;
+            let border =
+                |rng: &mut Rng| 2.0 * rng.below(res as usize + 1) as f32 / res as f32 - 1.0;
             let (u, v) = match i % 3 {
                 0 => (border(&mut rng), border(&mut rng)),
                 1 => {
@@ -425,7 +438,11 @@ fn covered_cells_answer_as_the_accelerator_in_front_and_behind() {
             let k = [1.0, 1.9, 2.0, 2.1, 6.0, 20.0][rng.below(6)];
             let base = Vec3::new(u, v, 1.0) * (k * scale);
             let step = rng.below(7) as i32 - 3;
-            let p = Vec3::new(f32::from_bits(base.x.to_bits().wrapping_add_signed(step)), base.y, base.z);
+            let p = Vec3::new(
+                f32::from_bits(base.x.to_bits().wrapping_add_signed(step)),
+                base.y,
+                base.z,
+            );
             let d = light - p;
             let distance = d.length();
             let ray = Ray::new(p, d / distance);
@@ -444,7 +461,10 @@ fn covered_cells_answer_as_the_accelerator_in_front_and_behind() {
             "scale {scale}: the covers answered {} rays",
             behind.light_buffer_covered
         );
-        assert_eq!(in_front.light_buffer_covered, 0, "scale {scale}: asked in front");
+        assert_eq!(
+            in_front.light_buffer_covered, 0,
+            "scale {scale}: asked in front"
+        );
     }
 }
 

@@ -114,6 +114,8 @@ struct Window {
     hi: [f64; 2],
     /// Cells per unit of face coordinate.
     scale: [f64; 2],
+    /// Where the face's cells begin (faces no footprint reaches have none).
+    base: usize,
 }
 
 impl Window {
@@ -121,6 +123,7 @@ impl Window {
         lo: [f64::INFINITY; 2],
         hi: [f64::NEG_INFINITY; 2],
         scale: [0.0; 2],
+        base: 0,
     };
 
     fn include(&mut self, r: [f64; 4]) {
@@ -128,12 +131,16 @@ impl Window {
         self.hi = [self.hi[0].max(r[1]), self.hi[1].max(r[3])];
     }
 
-    fn finish(&mut self, res: u32) {
-        for a in 0..2 {
-            if self.lo[a] <= self.hi[a] {
-                self.scale[a] = res as f64 / (self.hi[a] - self.lo[a]).max(1e-9);
-            }
+    /// Fixes the cells' size and where they begin; returns how many the face has.
+    fn finish(&mut self, res: u32, base: usize) -> usize {
+        self.base = base;
+        if self.lo[0] > self.hi[0] {
+            return 0;
         }
+        for a in 0..2 {
+            self.scale[a] = res as f64 / (self.hi[a] - self.lo[a]).max(1e-9);
+        }
+        (res * res) as usize
     }
 
     /// The cell along axis `a` that face coordinate `t` falls in (the edge cells take
@@ -156,7 +163,7 @@ impl Window {
     }
 }
 
-/// A light buffer around one point: 6 faces × res × res cells.
+/// A light buffer around one point: res × res cells on each face some primitive is seen on.
 pub struct LightBuffer {
     light: DVec3,
     res: u32,
@@ -371,9 +378,7 @@ impl LightBuffer {
     /// tests and cost cache misses: on the SPD scenes 48 cells beat 96, which beat 362
     /// (the old 4·√n), everywhere (prism bench, docs/shadows.md).
     pub fn auto_resolution(primitives: usize) -> u32 {
-        ((primitives as f64).sqrt() * 0.5)
-            .round()
-            .clamp(16.0, 96.0) as u32
+        ((primitives as f64).sqrt() * 0.5).round().clamp(16.0, 96.0) as u32
     }
 
     /// The longest walk a query takes before it asks the accelerator instead, when none is
@@ -437,8 +442,9 @@ impl LightBuffer {
                 }
             }
         }
+        let mut cell_count = 0;
         for w in &mut windows {
-            w.finish(res);
+            cell_count += w.finish(res, cell_count);
         }
         // Nearest first: each cell's list fills in order, and the first entry that finds
         // it full is the nearest one left out.
@@ -453,10 +459,7 @@ impl LightBuffer {
                 w.index(1, p[3], res),
             ]
         };
-        let cell_count = 6 * (res * res) as usize;
-        let cell_at = |face: usize, iu: u32, iv: u32| {
-            (face * (res * res) as usize) + (iv * res + iu) as usize
-        };
+        let cell_at = |face: usize, iu: u32, iv: u32| windows[face].base + (iv * res + iu) as usize;
         let mut cells = vec![EMPTY_CELL; cell_count];
         let mut total: u64 = 0;
         let budget_entries = params.budget_bytes / std::mem::size_of::<Entry>() as u64;
@@ -542,7 +545,7 @@ impl LightBuffer {
             return None;
         }
         let res = self.res;
-        Some((face * (res * res) as usize) + (w.index(1, v, res) * res + w.index(0, u, res)) as usize)
+        Some(w.base + (w.index(1, v, res) * res + w.index(0, u, res)) as usize)
     }
 
     /// What a query along `ray` (towards the light) would test.
@@ -692,7 +695,11 @@ impl LightBuffer {
             max_list: self.cells.iter().map(|c| c.len as usize).max().unwrap_or(0),
             covered_cells: self.cells.iter().filter(|c| c.cover != u32::MAX).count(),
             occupied_cells: self.cells.iter().filter(|c| c.len > 0).count(),
-            cut_cells: self.cells.iter().filter(|c| c.limit < f32::INFINITY).count(),
+            cut_cells: self
+                .cells
+                .iter()
+                .filter(|c| c.limit < f32::INFINITY)
+                .count(),
             max_walk: self.max_walk,
             memory_bytes: self.entries.len() * std::mem::size_of::<Entry>()
                 + self.cells.len() * std::mem::size_of::<Cell>()
@@ -747,7 +754,9 @@ mod tests {
         // The window is the footprint: its 100 cells span ±0.051, not the face's ±1.
         let mut w = Window::EMPTY;
         w.include(p);
-        w.finish(100);
+        assert_eq!(w.finish(100, 7), 100 * 100);
+        let mut empty = Window::EMPTY;
+        assert_eq!(empty.finish(100, 7), 0);
         assert_eq!((w.index(0, p[0], 100), w.index(0, p[1], 100)), (0, 99));
         assert!(w.contains(0, 0.0) && !w.contains(0, 0.06));
     }

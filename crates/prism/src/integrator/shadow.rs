@@ -501,6 +501,9 @@ mod tests {
         let err = "light-buffer:size=3".parse::<ShadowSpec>().unwrap_err();
         assert!(err.contains("unknown key 'size'"), "{err}");
         let err = "buffer".parse::<ShadowSpec>().unwrap_err();
-        assert!(err.contains("any-hit, cache, light-buffer, both, auto"), "{err}");
+        assert!(
+            err.contains("any-hit, cache, light-buffer, both, auto"),
+            "{err}"
+        );
     }
 }
