@@ -183,9 +183,11 @@ pub struct RenderArgs {
     pub accel: Option<AccelSpec>,
 
     /// Who answers shadow rays, METHOD[:KEY=VALUE,...]: any-hit (the accelerator, the
-    /// default), cache (the last blocker per light and depth tried first), light-buffer
-    /// (Haines & Greenberg's direction cube per point light; keys res = cells along a face's
-    /// side, budget = MiB for all lights) or both. Every method gives the same image.
+    /// default), cache (the last blocker per light and depth tried first, after a blocked
+    /// ray), light-buffer (Haines & Greenberg's direction cube per point light; keys res =
+    /// cells along a face window's side, budget = MiB for all lights, walk = the longest
+    /// list walk before the accelerator answers), both, or auto (what is predicted to pay:
+    /// today the cache). Every method gives the same image.
     #[arg(long, value_name = "SPEC")]
     pub shadows: Option<prism::integrator::ShadowSpec>,
 

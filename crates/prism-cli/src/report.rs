@@ -222,10 +222,10 @@ fn shadow_lines(options: &RenderOptions, result: &RenderResult) -> Vec<String> {
     }
     if s.light_buffer_queries > 0 {
         lines.push(format!(
-            "{:<18} {:>14} {:>7.1}% of shadow rays",
+            "{:<18} {:>14} {:>8.2} per shadow ray (segments through glass ask again)",
             "  buffer queries",
             s.light_buffer_queries,
-            100.0 * s.light_buffer_queries as f64 / rays
+            s.light_buffer_queries as f64 / rays
         ));
         lines.push(format!(
             "{:<18} {:>14} {:>7.1}% of shadow rays",

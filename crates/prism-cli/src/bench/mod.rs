@@ -79,7 +79,7 @@ pub struct BenchArgs {
 
     /// Also time shadow methods (as `render --shadows` takes them, separated by ';') on
     /// each scene's shadow rays with the default BVH, in turns, e.g.
-    /// "any-hit;cache;light-buffer;both".
+    /// "any-hit;cache;light-buffer;both;auto".
     #[arg(long, value_name = "LIST")]
     pub shadows: Option<String>,
 
