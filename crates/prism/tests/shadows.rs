@@ -121,6 +121,7 @@ fn check_light(
                 budget_bytes: 1 << 30,
                 max_walk: LightBuffer::auto_max_walk(g.primitives.len()),
                 opaque: &|_| true,
+                bounds: None,
             },
         )
         .unwrap(),
@@ -479,6 +480,7 @@ fn transparent_occluders_never_cover_a_cell() {
         budget_bytes: 1 << 24,
         max_walk: usize::MAX,
         opaque,
+        bounds: None,
     };
     let opaque = LightBuffer::build_with(g, Vec3::ZERO, &params(&|_| true)).unwrap();
     let glass = LightBuffer::build_with(g, Vec3::ZERO, &params(&|_| false)).unwrap();

@@ -53,14 +53,25 @@ const FOOTPRINT_SLACK: f64 = 1e-3;
 /// Relative error allowed for in distances from the light (f32 hit points and directions).
 const DISTANCE_SLACK: f64 = 1e-5;
 
-/// One list entry: a primitive, its nearest distance from the light and its bounding box,
-/// which a walk tests first, as a BVH tests a leaf's box (the same conservative test): a
-/// flat receiver's own box, say, lies wholly below its offset shadow rays.
+/// One list entry: a primitive and its nearest distance from the light. A walk tests the
+/// primitive's bounding box (`PrimBounds`) first, as a BVH tests a leaf's box (the same
+/// conservative test): a flat receiver's own box, say, lies wholly below its offset shadow
+/// rays.
 #[derive(Clone, Copy, Debug)]
 struct Entry {
     prim: u32,
     near: f32,
-    bounds: Aabb,
+}
+
+/// Every primitive's bounding box (empty for planes), by primitive id: one copy shared by
+/// the buffers of all lights, small next to their lists.
+pub type PrimBounds = std::sync::Arc<[Aabb]>;
+
+/// The bounds `LightBuffer` tests entries with.
+pub fn prim_bounds(geometry: &Geometry) -> PrimBounds {
+    (0..geometry.primitives.len() as u32)
+        .map(|p| geometry.bounds(p).unwrap_or(Aabb::EMPTY))
+        .collect()
 }
 
 /// One cell: its list (`entries[start..start + len]`, nearest first, at most `max_walk`
@@ -96,6 +107,8 @@ pub struct BufferParams<'a> {
     pub max_walk: usize,
     /// The primitives that may cover a cell (transparent ones may not).
     pub opaque: &'a dyn Fn(u32) -> bool,
+    /// The primitives' boxes, if already made (`prim_bounds`) for another light.
+    pub bounds: Option<PrimBounds>,
 }
 
 /// Why a light has no buffer (its shadow rays then use the BVH).
@@ -168,6 +181,7 @@ pub struct LightBuffer {
     light: DVec3,
     res: u32,
     windows: [Window; 6],
+    bounds: PrimBounds,
     cells: Vec<Cell>,
     entries: Vec<Entry>,
     /// Every bounded primitive, nearest first: the ones very near the light are tested for
@@ -404,6 +418,7 @@ impl LightBuffer {
             budget_bytes,
             max_walk: usize::MAX,
             opaque: &|_| true,
+            bounds: None,
         };
         Self::build_with(geometry, light, &params)
     }
@@ -432,7 +447,6 @@ impl LightBuffer {
             let entry = Entry {
                 prim,
                 near: near_distance(lo, hi),
-                bounds: b,
             };
             by_distance.push(entry);
             for (face, window) in windows.iter_mut().enumerate() {
@@ -487,12 +501,7 @@ impl LightBuffer {
             next += cell.len;
             cell.len = 0;
         }
-        let none = Entry {
-            prim: 0,
-            near: 0.0,
-            bounds: Aabb::EMPTY,
-        };
-        let mut entries = vec![none; total as usize];
+        let mut entries = vec![Entry { prim: 0, near: 0.0 }; total as usize];
         for &(entry, far, face, p) in &prints {
             let [iu0, iu1, iv0, iv1] = cells_of(face, p);
             let silhouette = (params.opaque)(entry.prim)
@@ -527,6 +536,10 @@ impl LightBuffer {
             light: l,
             res,
             windows,
+            bounds: params
+                .bounds
+                .clone()
+                .unwrap_or_else(|| prim_bounds(geometry)),
             cells,
             entries,
             by_distance,
@@ -643,7 +656,9 @@ impl LightBuffer {
         }
         for e in plan.prefix.iter().chain(plan.list) {
             stats.node_visits += 1;
-            if e.bounds.hit(tr.ray.origin, tr.inv_dir, t_max).is_some()
+            if self.bounds[e.prim as usize]
+                .hit(tr.ray.origin, tr.inv_dir, t_max)
+                .is_some()
                 && search.test(geometry, &tr, e.prim, stats)
             {
                 return search.best();
@@ -671,7 +686,10 @@ impl LightBuffer {
         for e in plan.prefix.iter().chain(plan.list) {
             stats.node_visits += 1;
             let limit = bounded.nested_limit();
-            if e.bounds.hit(tr.ray.origin, tr.inv_dir, limit).is_some() {
+            if self.bounds[e.prim as usize]
+                .hit(tr.ray.origin, tr.inv_dir, limit)
+                .is_some()
+            {
                 bounded.test(geometry, &tr, e.prim, stats);
             }
         }

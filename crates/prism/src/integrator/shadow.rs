@@ -19,7 +19,7 @@
 //! - `auto`: what is predicted to pay: today the cache alone (measured in docs/shadows.md,
 //!   no light buffer beats the BVH with the cache on the SPD scenes).
 
-use super::light_buffer::{BufferParams, LightBuffer, LightBufferInfo, Unbuilt};
+use super::light_buffer::{prim_bounds, BufferParams, LightBuffer, LightBufferInfo, Unbuilt};
 use crate::accel::{Hit, HitSearch, QueryMode};
 use crate::geometry::SurfacePoint;
 use crate::light::{Light, LightSample};
@@ -214,6 +214,7 @@ impl<'a> Shadows<'a> {
         let max_walk = spec.max_walk(geometry.primitives.len());
         // Transparent surfaces never cover a cell (shadow rays pass through them).
         let materials = &scene.scene.materials;
+        let bounds = prim_bounds(geometry);
         let opaque = |prim: u32| {
             let m = geometry.primitives[prim as usize].material as usize;
             materials[m].transmit.max_element() <= 0.0
@@ -237,6 +238,7 @@ impl<'a> Shadows<'a> {
                         budget_bytes: spec.budget_bytes() / wanting as u64,
                         max_walk,
                         opaque: &opaque,
+                        bounds: Some(bounds.clone()),
                     };
                     match LightBuffer::build_with(geometry, p, &params) {
                         Ok(b) => (Some(b), None),
