@@ -253,7 +253,7 @@ impl RenderArgs {
     /// The scene to render and a name for reports.
     pub fn load_scene(&self) -> Result<(Scene, String)> {
         if let Some(path) = &self.scene {
-            let scene = prism::scene::load(path)?;
+            let scene = prism_io::scene::load(path)?;
             return Ok((scene, path.display().to_string()));
         }
         let name = self.builtin.as_deref().unwrap_or("whitted");

@@ -3,8 +3,8 @@
 
 use anyhow::{Context, Result};
 use clap::Args;
-use prism::metrics::{self, flip::DEFAULT_PPD};
-use prism::output::{heatmap::heatmap, read_image};
+use prism_lab::metrics::{self, flip::DEFAULT_PPD};
+use prism_io::output::{heatmap::heatmap, read_image};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -81,7 +81,7 @@ pub fn run(args: &CompareArgs) -> Result<ExitCode> {
             Some(1.0),
             &caption,
         );
-        prism::output::write_png_rgb8(path, &image)?;
+        prism_io::output::write_png_rgb8(path, &image)?;
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -6,7 +6,7 @@
 //! thread count.
 
 use anyhow::{bail, Result};
-use prism::output::heatmap::heatmap;
+use prism_io::output::heatmap::heatmap;
 use prism::render::RayCounts;
 use std::path::Path;
 
@@ -79,6 +79,6 @@ pub fn write(
         method.to_uppercase()
     );
     let image = heatmap(&values, rays.width, rays.height, None, &caption);
-    prism::output::write_png_rgb8(path, &image)?;
+    prism_io::output::write_png_rgb8(path, &image)?;
     Ok(())
 }

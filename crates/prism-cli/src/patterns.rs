@@ -92,7 +92,7 @@ pub fn run(args: &PatternsArgs) -> Result<ExitCode> {
         draw(&mut s, p, x0, y0);
     }
     s.push_str("</svg>\n");
-    prism::output::write_atomic(&args.output, s.as_bytes())?;
+    prism_io::output::write_atomic(&args.output, s.as_bytes())?;
     Ok(ExitCode::SUCCESS)
 }
 

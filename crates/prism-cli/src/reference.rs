@@ -1,9 +1,9 @@
 //! `prism reference`: the exact box-filtered image of the checkerboard scene, computed from
-//! the geometry with no sampling (prism::reference), with its error bound.
+//! the geometry with no sampling (prism_lab::reference), with its error bound.
 
 use anyhow::Result;
 use clap::Args;
-use prism::reference::{checkerboard, DEFAULT_TOLERANCE};
+use prism_lab::reference::{checkerboard, DEFAULT_TOLERANCE};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -60,11 +60,11 @@ pub fn run(args: &ReferenceArgs) -> Result<ExitCode> {
     options
         .validate()
         .map_err(|e| anyhow::anyhow!("invalid option: {e}"))?;
-    prism::output::ImageFormat::from_path(&args.output)?;
+    prism_io::output::ImageFormat::from_path(&args.output)?;
     crate::outputs::check_writable(&args.output)?;
     let start = std::time::Instant::now();
     let reference = checkerboard(&scene, width, height, args.tolerance)?;
-    prism::output::write_image(&args.output, &reference.film)?;
+    prism_io::output::write_image(&args.output, &reference.film)?;
     if !args.quiet {
         eprintln!(
             "prism: wrote {} ({name}, {width}×{height}, exact to {:.1e} per pixel, {:.2} s)",

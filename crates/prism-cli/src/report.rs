@@ -188,7 +188,7 @@ impl Report {
             println!("{text}");
             return Ok(());
         }
-        prism::output::write_atomic(path, (text + "\n").as_bytes())
+        prism_io::output::write_atomic(path, (text + "\n").as_bytes())
             .with_context(|| format!("cannot write statistics to {}", path.display()))
     }
 }

@@ -12,7 +12,7 @@ mod table;
 use anyhow::{Context, Result};
 use clap::Args;
 use prism::accel::{AccelKind, AccelSpec};
-use prism::bench::{measure_all, Clock, MeasureOptions, RaySet};
+use prism_lab::bench::{measure_all, Clock, MeasureOptions, RaySet};
 use results::{Outcome, Row, SceneResult};
 use scenes::SceneSource;
 use std::path::PathBuf;
@@ -245,7 +245,7 @@ pub fn run(args: &BenchArgs) -> Result<ExitCode> {
         outputs.push((p, chart::svg(&results, &method_names, &title).into_bytes()));
     }
     for (path, bytes) in outputs {
-        prism::output::write_atomic(path, &bytes)?;
+        prism_io::output::write_atomic(path, &bytes)?;
     }
     let wrong: Vec<String> = results
         .iter()
@@ -304,7 +304,7 @@ fn bench_scene(
         if !quiet {
             eprintln!("bench: {name}: shadow methods");
         }
-        prism::bench::measure_shadow_methods(&reference, &rays, shadow_specs, options)
+        prism_lab::bench::measure_shadow_methods(&reference, &rays, shadow_specs, options)
     };
     let bounded = (0..scene.geometry.primitives.len() as u32)
         .filter(|&i| scene.geometry.bounds(i).is_some())

@@ -3,7 +3,7 @@
 //! speed relative to it).
 
 use prism::accel::AccelSpec;
-use prism::bench::{Measured, RaySetSize};
+use prism_lab::bench::{Measured, RaySetSize};
 
 pub enum Outcome {
     Measured(Box<Measured>),
@@ -51,7 +51,7 @@ pub struct SceneResult {
     pub primary_hits: usize,
     pub rows: Vec<Row>,
     /// The shadow methods on the same shadow rays (`--shadows`), if asked for.
-    pub shadow_methods: Vec<prism::bench::ShadowMeasured>,
+    pub shadow_methods: Vec<prism_lab::bench::ShadowMeasured>,
 }
 
 impl SceneResult {

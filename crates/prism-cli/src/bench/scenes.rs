@@ -47,7 +47,7 @@ impl SceneSource {
         match self {
             SceneSource::Builtin(n) => crate::args::find_builtin(n),
             SceneSource::File(p) => {
-                prism::scene::load(p).with_context(|| format!("cannot load {}", p.display()))
+                prism_io::scene::load(p).with_context(|| format!("cannot load {}", p.display()))
             }
         }
     }

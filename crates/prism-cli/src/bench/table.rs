@@ -2,7 +2,7 @@
 //! primary rays (nearest hit), "S" shadow rays (any hit).
 
 use super::results::SceneResult;
-use prism::bench::RayKindResult;
+use prism_lab::bench::RayKindResult;
 use std::fmt::Write;
 
 /// Nodes and tests per ray and Mrays/s, or dashes when a scene has no rays of the kind

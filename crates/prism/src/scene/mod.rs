@@ -1,26 +1,9 @@
 //! `Scene` is plain data: camera, lights, materials, shapes and the render options the
-//! scene suggests. Loaders and built-ins produce it; `prepare` builds what rendering needs.
+//! scene suggests. The built-ins (`builtin`) and the file loaders of prism-io produce it;
+//! `prepare` builds what rendering needs.
 
 pub mod builtin;
-mod faces;
-mod framing;
-mod gltf;
-mod load;
-pub mod mesh_file;
-pub mod nff;
-pub mod obj;
-pub mod ply;
 mod scale;
-mod sniff;
-mod toml;
-
-/// Parses the bytes of a .gltf or .glb file; the path names it in errors and anchors the
-/// relative URIs of its buffers and images.
-pub use self::gltf::parse as parse_gltf;
-/// Parses TOML scene text; the path names it in errors and anchors relative file names.
-pub use self::toml::parse as parse_toml;
-pub use load::{load, LoadError};
-pub use mesh_file::{load_mesh_file, mesh_scene, MeshFile, MeshPart};
 
 use crate::accel::{AccelSpec, SceneIntersector};
 use crate::camera::{Camera, Projection};

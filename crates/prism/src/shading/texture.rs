@@ -3,7 +3,6 @@
 
 use crate::math::{Color, Vec2, Vec3};
 use crate::transfer::srgb_decode;
-use std::path::Path;
 use std::sync::Arc;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -61,34 +60,18 @@ pub struct ImageTexture {
     pub scale: Vec2,
 }
 
-#[derive(Debug, thiserror::Error)]
-pub enum TextureError {
-    #[error("cannot read image texture {path}: {message}")]
-    Read { path: String, message: String },
-}
-
 impl ImageTexture {
-    /// Loads a PNG or JPEG; 8-bit values are taken as sRGB-encoded.
-    pub fn load(path: &Path) -> Result<Self, TextureError> {
-        let read_error = |message: String| TextureError::Read {
-            path: path.display().to_string(),
-            message,
-        };
-        let bytes = std::fs::read(path).map_err(|e| read_error(e.to_string()))?;
-        let img = super::image_decode::decode(&bytes).map_err(read_error)?;
-        Ok(Self::from_srgb(&img))
-    }
-
-    /// Converts a decoded image whose 8-bit values are sRGB-encoded (as PNG and JPEG
-    /// colour images are) to linear texels.
-    pub fn from_srgb(img: &image::DynamicImage) -> Self {
-        let rgb = img.to_rgb8();
+    /// Converts 8-bit RGB values in rows from the top, sRGB-encoded as PNG and JPEG colour
+    /// images hold them, to linear texels. The decoding of image files lives in prism-io;
+    /// this is the part every source of texels shares.
+    pub fn from_srgb8(width: usize, height: usize, rgb: &[u8]) -> Self {
+        assert_eq!(rgb.len(), width * height * 3, "three bytes per texel");
         let lut: Vec<f32> = (0..256).map(|i| srgb_decode(i as f32 / 255.0)).collect();
         let texels = rgb
-            .pixels()
+            .chunks_exact(3)
             .map(|p| Color::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize]))
             .collect();
-        Self::from_texels(rgb.width() as usize, rgb.height() as usize, texels)
+        Self::from_texels(width, height, texels)
     }
 
     /// The same image with every texel multiplied by `factor` (a tint, such as glTF's
