@@ -4,12 +4,12 @@
 
 use crate::args::DensityRays;
 use anyhow::{bail, Result};
-use prism_io::output::heatmap::heatmap;
 use prism::render::RayCounts;
+use prism_io::output::heatmap::heatmap;
 use std::path::Path;
 
 /// Fails early on a name the view cannot be written under.
-pub fn check(path: &Path) -> Result<()> {
+pub(crate) fn check(path: &Path) -> Result<()> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -24,7 +24,7 @@ pub fn check(path: &Path) -> Result<()> {
     Ok(())
 }
 
-pub fn write(path: &Path, rays: &RayCounts, kind: DensityRays) -> Result<()> {
+pub(crate) fn write(path: &Path, rays: &RayCounts, kind: DensityRays) -> Result<()> {
     let (counts, what) = match kind {
         DensityRays::All => (&rays.total, "RAYS"),
         DensityRays::Camera => (&rays.camera, "CAMERA RAYS"),

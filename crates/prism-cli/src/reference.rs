@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Args, Debug)]
-pub struct ReferenceArgs {
+pub(crate) struct ReferenceArgs {
     /// Scene file (.toml); without it the built-in checkerboard.
     pub scene: Option<PathBuf>,
 
@@ -38,7 +38,7 @@ pub struct ReferenceArgs {
     pub quiet: bool,
 }
 
-pub fn run(args: &ReferenceArgs) -> Result<ExitCode> {
+pub(crate) fn run(args: &ReferenceArgs) -> Result<ExitCode> {
     let render_args = crate::args::RenderArgs {
         scene: args.scene.clone(),
         builtin: Some(

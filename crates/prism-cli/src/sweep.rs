@@ -8,10 +8,10 @@ use crate::args::{per_axis, RenderArgs};
 use crate::plot::{LogLogPlot, Series, PALETTE};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use prism_lab::metrics::{compare, flip::DEFAULT_PPD, Comparison};
 use prism::render::{render, Film, FilterKind};
 use prism::sampling::{AdaptiveRule, SamplerKind};
 use prism::RenderOptions;
+use prism_lab::metrics::{compare, flip::DEFAULT_PPD, Comparison};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -19,7 +19,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 #[derive(Args, Debug)]
-pub struct SweepArgs {
+pub(crate) struct SweepArgs {
     /// Scene file (.toml or .nff); without it a built-in scene.
     pub scene: Option<PathBuf>,
 
@@ -119,7 +119,7 @@ pub struct SweepArgs {
 
 /// An adaptive rule with a jitter amount and a stratified pass.
 #[derive(Clone, Copy, Debug)]
-pub struct Variant {
+pub(crate) struct Variant {
     rule: AdaptiveRule,
     jitter: f32,
     texture_spp: u32,
@@ -217,7 +217,7 @@ struct Measured {
     seconds: f64,
 }
 
-pub fn run(args: &SweepArgs) -> Result<ExitCode> {
+pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
     let loader = RenderArgs {
         scene: args.scene.clone(),
         builtin: Some(

@@ -9,9 +9,9 @@ use prism::geometry::{ShapeHit, TriangleMesh};
 use prism::light::Light;
 use prism::math::{Color, Vec3};
 use prism::render::{render, Film};
-use prism_io::scene::{load, LoadError};
 use prism::shading::{FresnelMode, Highlight, Texture};
 use prism::Scene;
+use prism_io::scene::{load, LoadError};
 // The helpers every suite shares live beside the engine's tests (ARCHITECTURE.md).
 #[path = "../../prism/tests/common/mod.rs"]
 mod common;

@@ -3,9 +3,9 @@
 
 use prism::geometry::{Shape, ShapeKind};
 use prism::math::Color;
+use prism::transfer::Transfer;
 use prism_io::scene::nff::parse;
 use prism_io::scene::LoadError;
-use prism::transfer::Transfer;
 
 const VIEW: &str = "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 64 48\n";
 

@@ -23,9 +23,9 @@ const BYTES_PER_INPUT_BYTE: usize = 512;
 const BASE_BYTES: usize = 1 << 20;
 use common::scratch::ScratchDir;
 use prism::math::{Color, Vec3};
+use prism::shading::{FresnelMode, Highlight, Texture};
 use prism_io::scene::mesh_file::{load_mesh_file, Materials, MeshFile};
 use prism_io::scene::{load, obj, parse_toml, LoadError};
-use prism::shading::{FresnelMode, Highlight, Texture};
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 

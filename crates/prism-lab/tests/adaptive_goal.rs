@@ -4,12 +4,12 @@
 //! counts; the checkerboard has no lights, so all rays are camera rays). The default scene
 //! needs a rendered reference and is measured by scripts/adaptive-goal.sh instead.
 
-use prism_lab::metrics::compare;
-use prism_lab::reference::{checkerboard, DEFAULT_TOLERANCE};
 use prism::render::{render, RenderResult};
 use prism::sampling::SamplerKind;
 use prism::scene::builtin;
 use prism::RenderOptions;
+use prism_lab::metrics::compare;
+use prism_lab::reference::{checkerboard, DEFAULT_TOLERANCE};
 use std::sync::atomic::AtomicBool;
 
 fn run(scene: &prism::Scene, options: &RenderOptions) -> RenderResult {

@@ -4,11 +4,11 @@
 
 use prism::camera::{Camera, Projection};
 use prism::math::{Color, Vec3};
-use prism_lab::reference::{checkerboard, ReferenceError};
 use prism::render::render;
 use prism::sampling::SamplerKind;
 use prism::scene::builtin;
 use prism::RenderOptions;
+use prism_lab::reference::{checkerboard, ReferenceError};
 use std::sync::atomic::AtomicBool;
 
 /// The built-in checkerboard seen from straight above, 8×8 pixels covering exactly the

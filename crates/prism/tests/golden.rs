@@ -5,9 +5,9 @@
 //! Regenerate on purpose with `scripts/bless-golden.sh` (PRISM_BLESS=1), then look at the
 //! images before committing them.
 
-use prism_io::output::to_rgb8;
 use prism::render::render;
 use prism::scene::builtin;
+use prism_io::output::to_rgb8;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 

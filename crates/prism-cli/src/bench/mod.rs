@@ -20,13 +20,13 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 /// The methods measured when none are given. Any spec `--accel` takes may be added.
-pub const DEFAULT_METHODS: &[&str] = &["bvh", "grid", "kdtree", "octree", "brute-force"];
+pub(crate) const DEFAULT_METHODS: &[&str] = &["bvh", "grid", "kdtree", "octree", "brute-force"];
 
 /// Brute force is skipped when primitives × rays exceeds this (about ten seconds a pass).
 const BRUTE_FORCE_BUDGET: u64 = 1_000_000_000;
 
 #[derive(Args, Debug)]
-pub struct BenchArgs {
+pub(crate) struct BenchArgs {
     /// Scenes, comma separated: built-in names (see `prism list`), sphereflake:N, or scene
     /// files [default: every built-in, the bad cases included].
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
@@ -135,7 +135,7 @@ impl BenchArgs {
     }
 }
 
-pub fn run(args: &BenchArgs) -> Result<ExitCode> {
+pub(crate) fn run(args: &BenchArgs) -> Result<ExitCode> {
     let methods = args.methods()?;
     let shadow_specs: Vec<prism::integrator::ShadowSpec> = match &args.shadows {
         None => Vec::new(),

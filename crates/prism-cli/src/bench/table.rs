@@ -31,7 +31,7 @@ fn rate(v: f64) -> String {
     }
 }
 
-pub fn header() -> String {
+pub(super) fn header() -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -54,7 +54,7 @@ pub fn header() -> String {
 }
 
 /// One scene's lines; the fastest method for primary rays is marked with `*`.
-pub fn scene_block(scene: &SceneResult) -> String {
+pub(super) fn scene_block(scene: &SceneResult) -> String {
     let mut s = String::new();
     let fastest = scene.fastest();
     for (i, row) in scene.rows.iter().enumerate() {
@@ -100,7 +100,7 @@ pub fn scene_block(scene: &SceneResult) -> String {
 /// The shadow methods' lines of a scene (none unless `--shadows` asked for them): build
 /// time, memory, work per shadow ray, cache hit rate and throughput against the first
 /// method's.
-pub fn shadow_block(s: &SceneResult) -> String {
+pub(super) fn shadow_block(s: &SceneResult) -> String {
     let Some(first) = s.shadow_methods.first() else {
         return String::new();
     };

@@ -4,12 +4,12 @@ use super::to_rgb8;
 use prism::render::Film;
 use std::io::Cursor;
 
-pub fn png(film: &Film) -> Result<Vec<u8>, String> {
+pub(super) fn png(film: &Film) -> Result<Vec<u8>, String> {
     png_rgb8(&to_rgb8(film), film.width, film.height)
 }
 
 /// PNG of 8-bit RGB rows from the top.
-pub fn png_rgb8(data: &[u8], width: u32, height: u32) -> Result<Vec<u8>, String> {
+pub(super) fn png_rgb8(data: &[u8], width: u32, height: u32) -> Result<Vec<u8>, String> {
     use image::ImageEncoder;
     let mut out = Vec::new();
     image::codecs::png::PngEncoder::new(&mut out)
@@ -21,7 +21,7 @@ pub fn png_rgb8(data: &[u8], width: u32, height: u32) -> Result<Vec<u8>, String>
 /// OpenEXR, linear RGB. Compressed chunk by chunk on this thread: exr's parallel writer
 /// stores chunks in the order its threads finish them, so the same pixels would give files
 /// with different bytes from run to run.
-pub fn exr(film: &Film, half: bool) -> Result<Vec<u8>, String> {
+pub(super) fn exr(film: &Film, half: bool) -> Result<Vec<u8>, String> {
     use exr::prelude::*;
     let film = film.displayed_linear();
     let (w, h) = (film.width as usize, film.height as usize);
@@ -51,7 +51,7 @@ pub fn exr(film: &Film, half: bool) -> Result<Vec<u8>, String> {
 }
 
 /// Portable float map: a text header, then little-endian f32 RGB rows from the bottom up.
-pub fn pfm(film: &Film) -> Vec<u8> {
+pub(super) fn pfm(film: &Film) -> Vec<u8> {
     let film = film.displayed_linear();
     let mut out = format!("PF\n{} {}\n-1.0\n", film.width, film.height).into_bytes();
     let w = film.width as usize;

@@ -56,18 +56,18 @@ fn glyph(c: char) -> [u8; 7] {
 }
 
 /// Width in pixels of `text` at `scale` (6 columns a character, the last one blank).
-pub fn text_width(text: &str, scale: u32) -> u32 {
+pub(super) fn text_width(text: &str, scale: u32) -> u32 {
     text.chars().count() as u32 * 6 * scale
 }
 
 /// Height in pixels of a line at `scale`.
-pub fn text_height(scale: u32) -> u32 {
+pub(super) fn text_height(scale: u32) -> u32 {
     7 * scale
 }
 
 /// Draws `text` with its top-left corner at (x, y) into an RGB8 image, clipping at the
 /// image's edges.
-pub fn draw_text(
+pub(super) fn draw_text(
     image: &mut [u8],
     size: (u32, u32),
     x: u32,

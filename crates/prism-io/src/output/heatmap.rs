@@ -32,8 +32,11 @@ pub fn viridis(t: f32) -> [u8; 3] {
 /// An RGB8 image, rows from the top.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Rgb8 {
+    /// Pixels per row.
     pub width: u32,
+    /// Rows.
     pub height: u32,
+    /// Three bytes (R, G, B) per pixel, row-major.
     pub data: Vec<u8>,
 }
 

@@ -18,24 +18,49 @@ pub use read::{parse_pfm, read_image, ReadError};
 use prism::render::Film;
 use std::path::{Path, PathBuf};
 
+/// The image file formats prism writes, chosen by extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ImageFormat {
+    /// 8-bit display values through the film's transfer.
     Png,
-    Exr { half: bool },
+    /// OpenEXR, linear light, in 32-bit floats or (`half`) 16-bit.
+    Exr {
+        /// 16-bit half floats instead of 32-bit floats.
+        half: bool,
+    },
+    /// Portable float map, linear light in 32-bit floats.
     Pfm,
 }
 
+/// Why an image could not be written.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
+    /// The extension names no format prism writes.
     #[error("{path}: unknown image format '.{ext}'; use .png, .exr or .pfm")]
-    UnknownFormat { path: PathBuf, ext: String },
+    UnknownFormat {
+        /// The file asked for.
+        path: PathBuf,
+        /// Its extension.
+        ext: String,
+    },
+    /// The file name has no extension to choose a format by.
     #[error("{path}: no file extension; use .png, .exr or .pfm")]
-    NoExtension { path: PathBuf },
+    NoExtension {
+        /// The file asked for.
+        path: PathBuf,
+    },
+    /// Encoding or writing the file failed; the message says how.
     #[error("cannot write {path}: {message}")]
-    Write { path: PathBuf, message: String },
+    Write {
+        /// The file asked for.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
 }
 
 impl ImageFormat {
+    /// The format the extension of `path` names, in any letter case.
     pub fn from_path(path: &Path) -> Result<Self, OutputError> {
         let ext =
             path.extension()
@@ -61,6 +86,7 @@ pub fn write_image(path: &Path, film: &Film) -> Result<(), OutputError> {
     write_image_as(path, film, format)
 }
 
+/// Encodes `film` as `format` and writes it atomically, whatever the extension of `path`.
 pub fn write_image_as(path: &Path, film: &Film, format: ImageFormat) -> Result<(), OutputError> {
     let err = |message: String| OutputError::Write {
         path: path.to_path_buf(),

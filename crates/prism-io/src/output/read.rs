@@ -6,10 +6,13 @@ use prism::render::Film;
 use prism::transfer::srgb_decode;
 use std::path::Path;
 
+/// Why an image could not be read back.
 #[derive(Debug, thiserror::Error)]
 #[error("cannot read image {path}: {message}")]
 pub struct ReadError {
+    /// The file.
     pub path: String,
+    /// What went wrong.
     pub message: String,
 }
 

@@ -9,11 +9,11 @@ use prism::math::{Vec2, Vec3};
 /// Ear clipping costs up to cubic time in the corner count; non-convex faces larger than
 /// this are refused rather than left to run for minutes. Convex faces of any size fan out
 /// in linear time.
-pub const MAX_NONCONVEX_CORNERS: usize = 1024;
+pub(super) const MAX_NONCONVEX_CORNERS: usize = 1024;
 
 /// Why a face could not be triangulated.
 #[derive(Debug, PartialEq)]
-pub enum FaceError {
+pub(super) enum FaceError {
     /// A face needs three corners.
     TooFewCorners(usize),
     /// A non-convex face with more than `MAX_NONCONVEX_CORNERS` corners.
@@ -38,7 +38,7 @@ impl std::fmt::Display for FaceError {
 /// Appends the triangles of the face whose corners index `positions` (all in range) to
 /// `out`, wound like the face. Triangles pass through unchanged; a polygon of zero area
 /// gives no triangles. `scratch` is reused between calls to avoid an allocation per face.
-pub fn triangulate(
+pub(super) fn triangulate(
     positions: &[Vec3],
     corners: &[u32],
     out: &mut Vec<[u32; 3]>,

@@ -18,7 +18,7 @@ const LIGHT_DIRECTION: Vec3 = Vec3::new(0.6, -1.0, -0.8);
 
 /// Sets the scene's camera, light, ambient light and background so that the geometry
 /// fills the view. Fails when the geometry has no extent to frame.
-pub fn frame(scene: &mut Scene) -> Result<(), String> {
+pub(super) fn frame(scene: &mut Scene) -> Result<(), String> {
     let bounds = scene.geometry.world_bounds();
     let radius = 0.5 * bounds.extent().length();
     if bounds.is_empty() || !(radius > 0.0 && radius.is_finite()) {

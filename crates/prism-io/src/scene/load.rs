@@ -4,26 +4,49 @@
 use super::Scene;
 use std::path::Path;
 
+/// Why a scene file could not be loaded; every variant names the file, and syntax errors the line
+/// and column.
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
+    /// The file (or one it names) could not be read.
     #[error("cannot read {path}: {message}")]
-    Io { path: String, message: String },
+    Io {
+        /// The file that could not be read.
+        path: String,
+        /// Why, as the system said it.
+        message: String,
+    },
+    /// The extension names no format prism reads.
     #[error(
         "{path}: unknown scene format '{ext}'; prism reads .toml, .nff, .gltf and .glb scenes \
          and .obj and .ply meshes"
     )]
-    UnknownFormat { path: String, ext: String },
+    UnknownFormat {
+        /// The file.
+        path: String,
+        /// Its extension, in lower case.
+        ext: String,
+    },
     /// A parse or validation error that names the file, line and column.
     #[error("{path}:{line}:{column}: {message}")]
     Syntax {
+        /// The file.
         path: String,
+        /// Line, from 1.
         line: usize,
+        /// Column, from 1, in characters.
         column: usize,
+        /// What is wrong there.
         message: String,
     },
     /// A problem with the scene as a whole (no single place in the file).
     #[error("{path}: {message}")]
-    Invalid { path: String, message: String },
+    Invalid {
+        /// The file.
+        path: String,
+        /// What is wrong with it.
+        message: String,
+    },
 }
 
 /// Loads a scene file, choosing the format by extension.

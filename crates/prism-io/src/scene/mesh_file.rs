@@ -11,6 +11,7 @@ use std::path::Path;
 /// One mesh of a file with the material its faces use.
 #[derive(Clone, Debug)]
 pub struct MeshPart {
+    /// The triangles.
     pub mesh: TriangleMesh,
     /// An index into `MeshFile::materials`; `None` when the file gives the faces none.
     pub material: Option<usize>,
@@ -19,7 +20,9 @@ pub struct MeshPart {
 /// Everything read from a mesh file.
 #[derive(Clone, Debug, Default)]
 pub struct MeshFile {
+    /// The meshes, one per material the faces use.
     pub parts: Vec<MeshPart>,
+    /// The materials the file's libraries define (OBJ's MTL), indexed by `MeshPart::material`.
     pub materials: Vec<Material>,
     /// Vertices the file defines. The parts keep only those that faces use (and an OBJ
     /// vertex once per distinct uv and normal it is used with), so this may differ from
@@ -32,16 +35,19 @@ pub struct MeshFile {
 /// Whether to read the materials a mesh file refers to (OBJ's `mtllib` and `usemtl`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Materials {
+    /// Read the material libraries the file names.
     Read,
     /// The caller supplies a material: material libraries are not even opened.
     Ignore,
 }
 
 impl MeshFile {
+    /// Triangles over all parts.
     pub fn triangle_count(&self) -> usize {
         self.parts.iter().map(|p| p.mesh.triangle_count()).sum()
     }
 
+    /// Vertices over all parts, as the meshes hold them.
     pub fn vertex_count(&self) -> usize {
         self.parts.iter().map(|p| p.mesh.vertex_count()).sum()
     }
@@ -109,6 +115,7 @@ pub fn mesh_scene(file: MeshFile, path: &Path) -> Result<Scene, LoadError> {
     Ok(scene)
 }
 
+/// The lower-case extension of `path` ("" when it has none), which picks the mesh format.
 pub fn extension(path: &Path) -> String {
     path.extension()
         .and_then(|e| e.to_str())

@@ -13,6 +13,7 @@ use prism::transfer::Transfer;
 use std::collections::HashMap;
 use std::path::Path;
 
+/// Reads and parses an NFF file.
 pub fn load(path: &Path) -> Result<Scene, LoadError> {
     let text = std::fs::read_to_string(path).map_err(|e| LoadError::Io {
         path: path.display().to_string(),
@@ -103,6 +104,8 @@ struct Parser<'a> {
     saw_view: bool,
 }
 
+/// Parses NFF text (Haines' Neutral File Format, as the SPD scenes write it); `path` names the file
+/// in errors.
 pub fn parse(text: &str, path: &str) -> Result<Scene, LoadError> {
     let mut p = Parser {
         path,

@@ -5,6 +5,7 @@
 
 use std::time::{Duration, Instant};
 
+/// What a benchmark's times are read from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Clock {
     /// Elapsed real time.
@@ -23,6 +24,7 @@ impl Clock {
         }
     }
 
+    /// Starts a stopwatch on this clock.
     pub fn start(self) -> Stopwatch {
         Stopwatch {
             clock: self,
@@ -35,6 +37,7 @@ impl Clock {
     }
 }
 
+/// A running measurement on one clock, from the moment `Clock::start` made it.
 pub struct Stopwatch {
     clock: Clock,
     wall: Instant,
@@ -42,6 +45,7 @@ pub struct Stopwatch {
 }
 
 impl Stopwatch {
+    /// Time since the start on the stopwatch's clock.
     pub fn elapsed(&self) -> Duration {
         match (self.clock, self.cpu, process_cpu_time()) {
             (Clock::ProcessCpu, Some(start), Some(now)) => now.saturating_sub(start),

@@ -14,7 +14,9 @@ use serde::Serialize;
 /// Hits and their fingerprint for one ray kind.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct HitDigest {
+    /// Rays that hit (or were blocked).
     pub hits: usize,
+    /// A hash of every ray's answer (primitive and distance), in ray order.
     pub fingerprint: u64,
 }
 
@@ -35,7 +37,11 @@ fn mix(mut x: u64) -> u64 {
 }
 
 /// The nearest hit of every ray: which primitive, at exactly which distance.
-pub fn primary(intersector: &SceneIntersector, geometry: &Geometry, rays: &[Ray]) -> HitDigest {
+pub(super) fn primary(
+    intersector: &SceneIntersector,
+    geometry: &Geometry,
+    rays: &[Ray],
+) -> HitDigest {
     rays.par_iter()
         .enumerate()
         .map(|(i, ray)| {
@@ -54,7 +60,7 @@ pub fn primary(intersector: &SceneIntersector, geometry: &Geometry, rays: &[Ray]
 }
 
 /// Which shadow rays are blocked.
-pub fn shadow(
+pub(super) fn shadow(
     intersector: &SceneIntersector,
     geometry: &Geometry,
     rays: &[ShadowRay],

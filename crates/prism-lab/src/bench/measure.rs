@@ -18,6 +18,7 @@ use std::time::Duration;
 /// next to the tracing.
 const CHUNK: usize = 1024;
 
+/// How long and how often a measurement runs, and on which clock.
 #[derive(Clone, Debug)]
 pub struct MeasureOptions {
     /// Timed repetitions of each ray kind (at least 1); the median counts.
@@ -54,13 +55,17 @@ impl Default for MeasureOptions {
 /// Primary or shadow rays traced with one method.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct RayKindResult {
+    /// Rays in the set.
     pub rays: usize,
     /// Rays that hit (primary) or were blocked (shadow).
     pub hits: usize,
+    /// Mean acceleration-structure node visits per ray.
     pub node_visits_per_ray: f64,
+    /// Mean ray–primitive tests per ray.
     pub primitive_tests_per_ray: f64,
     /// Median time of one pass over all the rays.
     pub seconds: f64,
+    /// Millions of rays per second, from the median time.
     pub mrays_per_s: f64,
     /// Passes timed.
     pub repetitions: usize,
@@ -69,14 +74,19 @@ pub struct RayKindResult {
 /// Everything measured for one method on one scene.
 #[derive(Clone, Debug, Serialize)]
 pub struct Measured {
+    /// The structure's figures: nodes, memory, depth.
     pub accel: AccelInfo,
     /// Median build time.
     pub build_ms: f64,
+    /// Builds timed.
     pub builds: usize,
+    /// The camera rays.
     pub primary: RayKindResult,
+    /// The shadow rays.
     pub shadow: RayKindResult,
     /// What the method answered (an untimed pass), to compare with the reference's.
     pub primary_digest: super::HitDigest,
+    /// What the method answered for the shadow rays.
     pub shadow_digest: super::HitDigest,
 }
 

@@ -13,7 +13,9 @@ use serde::Serialize;
 /// A ray to a light and the distance to it (infinite for directional lights).
 #[derive(Clone, Copy, Debug)]
 pub struct ShadowRay {
+    /// The ray, from a hit point towards the light.
     pub ray: Ray,
+    /// Distance to the light (infinite for directional lights).
     pub t_max: f32,
     /// The light it goes to (an index into the scene's lights).
     pub light: u32,
@@ -22,21 +24,28 @@ pub struct ShadowRay {
 /// The fixed rays of one scene.
 #[derive(Clone, Debug, Default)]
 pub struct RaySet {
+    /// Image width the camera rays were made for.
     pub width: u32,
+    /// Image height the camera rays were made for.
     pub height: u32,
+    /// One camera ray per pixel, row-major.
     pub primary: Vec<Ray>,
+    /// The shadow rays of the camera rays' hits.
     pub shadow: Vec<ShadowRay>,
     /// Primary rays that hit something.
     pub primary_hits: usize,
     /// The reference's answers, which every method must reproduce.
     pub primary_digest: super::HitDigest,
+    /// The reference's answers for the shadow rays.
     pub shadow_digest: super::HitDigest,
 }
 
 /// Counts for reports.
 #[derive(Clone, Copy, Debug, Default, Serialize)]
 pub struct RaySetSize {
+    /// Camera rays.
     pub primary: usize,
+    /// Shadow rays.
     pub shadow: usize,
 }
 
@@ -98,6 +107,7 @@ impl RaySet {
         Ok(set)
     }
 
+    /// How many rays of each kind the set holds.
     pub fn size(&self) -> RaySetSize {
         RaySetSize {
             primary: self.primary.len(),

@@ -13,14 +13,19 @@ use std::time::{Duration, Instant};
 /// One shadow method's figures on one scene.
 #[derive(Clone, Debug, Serialize)]
 pub struct ShadowMeasured {
+    /// The shadow method, as `--shadows` writes it.
     pub method: String,
     /// Time to build its light buffers (0 without).
     pub build_ms: f64,
     /// Bytes its light buffers hold.
     pub memory_bytes: usize,
+    /// Shadow rays traced.
     pub rays: usize,
+    /// Rays found blocked.
     pub blocked: usize,
+    /// Mean ray–primitive tests per shadow ray.
     pub tests_per_ray: f64,
+    /// Mean acceleration-structure node visits per shadow ray.
     pub node_visits_per_ray: f64,
     /// Share of the rays the shadow cache answered alone.
     pub cache_hit_rate: f64,

@@ -4,12 +4,16 @@
 /// One channel of an image, row-major.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plane {
+    /// Pixels per row.
     pub width: usize,
+    /// Rows.
     pub height: usize,
+    /// One value per pixel, row-major.
     pub values: Vec<f32>,
 }
 
 impl Plane {
+    /// A plane of the given size over `values` (width × height of them).
     pub fn new(width: usize, height: usize, values: Vec<f32>) -> Self {
         debug_assert_eq!(values.len(), width * height);
         Plane {
@@ -19,6 +23,7 @@ impl Plane {
         }
     }
 
+    /// The plane with `f` applied to every value.
     pub fn map(&self, f: impl Fn(f32) -> f32) -> Plane {
         Plane::new(
             self.width,
@@ -27,6 +32,7 @@ impl Plane {
         )
     }
 
+    /// The plane of `f(a, b)` over corresponding values of two planes of the same size.
     pub fn zip(&self, other: &Plane, f: impl Fn(f32, f32) -> f32) -> Plane {
         let values = self
             .values
@@ -66,7 +72,7 @@ impl Plane {
 }
 
 /// A normalised Gaussian of standard deviation `sigma` (pixels) over ±`radius`.
-pub fn gaussian(sigma: f32, radius: usize) -> Vec<f32> {
+pub(super) fn gaussian(sigma: f32, radius: usize) -> Vec<f32> {
     let k: Vec<f32> = (0..=2 * radius)
         .map(|i| {
             let x = i as f32 - radius as f32;

@@ -10,8 +10,8 @@ mod ssim;
 
 pub use convolve::Plane;
 
-use prism::transfer::Transfer;
 use prism::render::Film;
+use prism::transfer::Transfer;
 use serde::Serialize;
 
 /// How far one image is from another.
@@ -32,10 +32,13 @@ pub struct Comparison {
     pub pixels: usize,
 }
 
+/// Why two images cannot be compared.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum CompareError {
+    /// Their sizes differ: width × height of each.
     #[error("the images differ in size: {0}×{1} and {2}×{3}")]
     Size(u32, u32, u32, u32),
+    /// The mask leaves no pixel to compare.
     #[error("the mask selects no pixels")]
     EmptyMask,
 }
@@ -140,7 +143,9 @@ fn luma(film: &Film) -> Plane {
         .pixels
         .iter()
         .map(|c| {
-            let e = c.to_array().map(|v| Transfer::Srgb.encode8(v) as f32 / 255.0);
+            let e = c
+                .to_array()
+                .map(|v| Transfer::Srgb.encode8(v) as f32 / 255.0);
             0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]
         })
         .collect();

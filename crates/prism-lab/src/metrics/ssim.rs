@@ -8,7 +8,7 @@ const C1: f32 = 0.01 * 0.01;
 const C2: f32 = 0.03 * 0.03;
 
 /// The SSIM of every pixel (1 where the images agree), from two luma planes.
-pub fn ssim_map(a: &Plane, b: &Plane) -> Plane {
+pub(super) fn ssim_map(a: &Plane, b: &Plane) -> Plane {
     let k = gaussian(1.5, 5);
     let blur = |p: &Plane| p.convolve(&k, &k);
     let (mu_a, mu_b) = (blur(a), blur(b));

@@ -17,13 +17,13 @@
 //! error bound; Δ is chosen so that the bound stays below the requested tolerance. All
 //! arithmetic is in f64.
 
+use glam::DVec3;
 use prism::camera::CameraError;
 use prism::geometry::Shape;
 use prism::math::{Color, Frame};
 use prism::render::Film;
 use prism::scene::Scene;
 use prism::shading::{CheckerSpace, Texture};
-use glam::DVec3;
 use rayon::prelude::*;
 
 /// Largest error of any pixel's value (per channel, in the scene's linear units) when no
@@ -35,8 +35,10 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-4;
 /// Guard against runaway work: breaks per pixel.
 const MAX_BREAKS: f64 = 5e7;
 
+/// The exact image of a checkerboard scene, with what each pixel covers and how exact it is.
 #[derive(Clone, Debug)]
 pub struct CheckerReference {
+    /// The reference image.
     pub film: Film,
     /// Checker squares a pixel spans, along the row or in depth, whichever is more
     /// (infinite where the pixel reaches the horizon; 0 for pure sky).
@@ -53,12 +55,16 @@ impl CheckerReference {
     }
 }
 
+/// Why no reference could be computed.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ReferenceError {
+    /// The scene is not one this reference can compute.
     #[error("no exact reference for this scene: {0}")]
     Unsupported(String),
+    /// The scene's camera makes no rays.
     #[error(transparent)]
     Camera(#[from] CameraError),
+    /// The tolerance asked for is not positive.
     #[error("the tolerance must be a positive number, got {0}")]
     Tolerance(f64),
 }

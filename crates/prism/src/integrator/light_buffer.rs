@@ -65,13 +65,19 @@ pub struct LightBuffer {
 /// What `prism info` and the statistics say about a buffer.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LightBufferInfo {
+    /// Cells along each side of a direction-cube face.
     pub resolution: u32,
+    /// Cells over all six faces.
     pub cells: usize,
     /// Entries over all cells (a primitive counts once per cell it covers).
     pub entries: usize,
+    /// Mean length of a non-empty cell's list.
     pub mean_list: f64,
+    /// Longest list of one cell.
     pub max_list: usize,
+    /// Bytes the buffer's offsets and lists take.
     pub memory_bytes: usize,
+    /// How long building it took.
     pub build_time: Duration,
 }
 
@@ -309,6 +315,7 @@ impl LightBuffer {
         }
     }
 
+    /// The buffer's figures, for `prism info` and the statistics.
     pub fn info(&self) -> LightBufferInfo {
         let cells = self.offsets.len() - 1;
         let max_list = self

@@ -14,15 +14,20 @@ use crate::options::RenderOptions;
 use crate::shading::Material;
 use std::time::{Duration, Instant};
 
+/// A scene as plain data: everything a render needs, nothing derived (see `prepare`).
 #[derive(Clone, Debug)]
 pub struct Scene {
+    /// Where the picture is taken from.
     pub camera: Camera,
     /// Radiance of rays that hit nothing.
     pub background: Color,
     /// Ia, the ambient light every surface receives (scaled by its ka).
     pub ambient: Color,
+    /// Every light source.
     pub lights: Vec<Light>,
+    /// Materials, referred to by index from the primitives.
     pub materials: Vec<Material>,
+    /// Every shape.
     pub geometry: Geometry,
     /// Settings the scene asks for (size, depth…); the CLI may override them.
     pub options: RenderOptions,
@@ -32,14 +37,20 @@ pub struct Scene {
     pub warnings: Vec<String>,
 }
 
+/// Why a scene cannot be rendered as it is.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum SceneError {
+    /// The camera defines no view.
     #[error(transparent)]
     Camera(#[from] crate::camera::CameraError),
+    /// A primitive names a material that does not exist.
     #[error("primitive {prim} uses material {material}, but only {count} materials exist")]
     MissingMaterial {
+        /// The primitive's index.
         prim: usize,
+        /// The material index it names.
         material: u32,
+        /// How many materials the scene has.
         count: usize,
     },
 }
@@ -72,6 +83,8 @@ impl Scene {
         self.materials.len() as u32 - 1
     }
 
+    /// Checks what loaders cannot rule out by construction: a usable camera and material indices in
+    /// range.
     pub fn validate(&self) -> Result<(), SceneError> {
         self.camera.validate()?;
         let count = self.materials.len();
@@ -106,8 +119,11 @@ impl Scene {
 
 /// A scene ready to trace: the data plus its acceleration structure.
 pub struct PreparedScene<'a> {
+    /// The scene.
     pub scene: &'a Scene,
+    /// The accelerator over its bounded primitives, with the unbounded ones beside it.
     pub intersector: SceneIntersector,
+    /// How long building the accelerator took.
     pub build_time: Duration,
     /// Whether shadow rays must look through transparent surfaces.
     pub has_transmissive: bool,

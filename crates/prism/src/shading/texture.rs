@@ -5,13 +5,18 @@ use crate::math::{Color, Vec2, Vec3};
 use crate::transfer::srgb_decode;
 use std::sync::Arc;
 
+/// Where a material's diffuse colour comes from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Texture {
+    /// One colour everywhere.
     Solid(Color),
+    /// A procedural checkerboard.
     Checker(Checker),
+    /// An image mapped by the surface's uv.
     Image(ImageTexture),
 }
 
+/// Where a checkerboard's squares are laid out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CheckerSpace {
     /// Squares in the surface's (u, v) parameters.
@@ -20,16 +25,21 @@ pub enum CheckerSpace {
     Solid,
 }
 
+/// A checkerboard of two colours.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Checker {
+    /// Colour of the squares with even parity (including the one at the origin).
     pub a: Color,
+    /// Colour of the squares with odd parity.
     pub b: Color,
     /// Edge length of one square (or cube), in uv or world units.
     pub size: f32,
+    /// Squares in uv or cubes in space.
     pub space: CheckerSpace,
 }
 
 impl Checker {
+    /// The colour at uv `uv` or point `p`, whichever the layout uses.
     pub fn eval(&self, uv: Vec2, p: Vec3) -> Color {
         let parity = match self.space {
             CheckerSpace::Uv => {
@@ -94,6 +104,7 @@ impl ImageTexture {
         }
     }
 
+    /// The bilinearly interpolated colour at `uv`, wrapping around at the edges.
     pub fn eval(&self, uv: Vec2) -> Color {
         if self.width == 0 || self.height == 0 {
             return Color::ZERO;
@@ -115,6 +126,7 @@ impl ImageTexture {
 }
 
 impl Texture {
+    /// The colour at uv `uv` and point `p`.
     pub fn eval(&self, uv: Vec2, p: Vec3) -> Color {
         match self {
             Texture::Solid(c) => *c,

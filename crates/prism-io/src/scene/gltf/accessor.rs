@@ -8,7 +8,7 @@ use gltf::json::Root;
 use std::borrow::Cow;
 
 /// Reads accessors of one document against its loaded buffers.
-pub struct Accessors<'a> {
+pub(super) struct Accessors<'a> {
     root: &'a Root,
     buffers: &'a [Cow<'a, [u8]>],
 }
@@ -75,7 +75,7 @@ fn type_name(ty: Type) -> &'static str {
 }
 
 impl<'a> Accessors<'a> {
-    pub fn new(root: &'a Root, buffers: &'a [Cow<'a, [u8]>]) -> Self {
+    pub(super) fn new(root: &'a Root, buffers: &'a [Cow<'a, [u8]>]) -> Self {
         Accessors { root, buffers }
     }
 
@@ -85,7 +85,7 @@ impl<'a> Accessors<'a> {
     }
 
     /// A VEC2 or VEC3 attribute (`N` = 2 or 3) as floats; every value must be finite.
-    pub fn floats<const N: usize>(&self, index: usize) -> Result<Vec<[f32; N]>, String> {
+    pub(super) fn floats<const N: usize>(&self, index: usize) -> Result<Vec<[f32; N]>, String> {
         let expected = if N == 2 { Type::Vec2 } else { Type::Vec3 };
         let (ty, normalized) = self.layout(index, expected)?;
         let size = ty.size();
@@ -101,7 +101,7 @@ impl<'a> Accessors<'a> {
     }
 
     /// A SCALAR accessor of unsigned integers (vertex indices).
-    pub fn indices(&self, index: usize) -> Result<Vec<u32>, String> {
+    pub(super) fn indices(&self, index: usize) -> Result<Vec<u32>, String> {
         let (ty, _) = self.layout(index, Type::Scalar)?;
         if unsigned(&[0; 4], ty).is_none() {
             return Err(format!(

@@ -8,7 +8,7 @@ use std::borrow::Cow;
 use std::path::Path;
 
 /// Loads every buffer, cut to its declared `byteLength`.
-pub fn load<'a>(
+pub(super) fn load<'a>(
     root: &Root,
     glb_bin: Option<&'a [u8]>,
     base_dir: &Path,
@@ -59,7 +59,7 @@ pub fn load<'a>(
 }
 
 /// Reads the bytes a uri names; `what` ("buffer 2", "image 0") starts error messages.
-pub fn read<'a>(u: &str, base_dir: &Path, what: &str) -> Result<Cow<'a, [u8]>, String> {
+pub(super) fn read<'a>(u: &str, base_dir: &Path, what: &str) -> Result<Cow<'a, [u8]>, String> {
     match uri::resolve(u, base_dir).map_err(|e| format!("{what}: {e}"))? {
         Source::Inline(bytes) => Ok(Cow::Owned(bytes)),
         Source::File(file) => read_regular_file(&file).map(Cow::Owned).map_err(|e| {
@@ -73,7 +73,7 @@ pub fn read<'a>(u: &str, base_dir: &Path, what: &str) -> Result<Cow<'a, [u8]>, S
 }
 
 /// The bytes of buffer view `view`, checked to lie inside its buffer.
-pub fn view<'b>(
+pub(super) fn view<'b>(
     root: &Root,
     buffers: &'b [Cow<'_, [u8]>],
     view: usize,

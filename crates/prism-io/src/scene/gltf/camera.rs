@@ -7,11 +7,11 @@
 //! view (or the window's size) across the shorter image side, which for a portrait image is
 //! the horizontal one.
 
+use glam::{DAffine3, DVec3};
+use gltf::json::Root;
 use prism::camera::{Camera, Projection};
 use prism::math::{Aabb, Vec3};
 use prism::options::RenderOptions;
-use glam::{DAffine3, DVec3};
-use gltf::json::Root;
 
 /// The default camera's field of view, in degrees.
 const DEFAULT_FOV_DEGREES: f32 = 40.0;
@@ -21,7 +21,7 @@ const DEFAULT_VIEW_FROM: Vec3 = Vec3::new(0.0, 0.3, 1.0);
 const DEFAULT_MARGIN: f32 = 1.1;
 
 /// The camera for the scene; `options` gets the image size a camera's aspectRatio asks for.
-pub fn camera(
+pub(super) fn camera(
     root: &Root,
     placed: Option<(usize, DAffine3)>,
     bounds: Aabb,

@@ -13,7 +13,7 @@ use std::path::Path;
 const MAX_FINDINGS: usize = 5;
 
 /// Parses and validates the JSON text of a .gltf file or of a .glb's JSON chunk.
-pub fn parse(json: &[u8], path: &Path, in_glb: bool) -> Result<Root, LoadError> {
+pub(super) fn parse(json: &[u8], path: &Path, in_glb: bool) -> Result<Root, LoadError> {
     let file = path.display().to_string();
     let root = Root::from_slice(json).map_err(|e| {
         let message = without_position(&e.to_string(), e.line(), e.column());

@@ -10,14 +10,14 @@ const CHUNK_BIN: u32 = 0x004E_4942;
 
 /// The chunks of a GLB file, borrowed from its bytes.
 #[derive(Debug)]
-pub struct Glb<'a> {
+pub(super) struct Glb<'a> {
     pub json: &'a [u8],
     /// The first BIN chunk: the data of buffer 0 when that buffer has no `uri`.
     pub bin: Option<&'a [u8]>,
 }
 
 /// Whether the bytes start like a GLB file (whatever the file's extension says).
-pub fn is_glb(bytes: &[u8]) -> bool {
+pub(super) fn is_glb(bytes: &[u8]) -> bool {
     bytes.starts_with(MAGIC)
 }
 
@@ -28,7 +28,7 @@ fn read_u32(bytes: &[u8], at: usize) -> Option<u32> {
 
 /// Splits a GLB file into its chunks. Chunks of unknown type are skipped, as the
 /// specification asks.
-pub fn split(bytes: &[u8]) -> Result<Glb<'_>, String> {
+pub(super) fn split(bytes: &[u8]) -> Result<Glb<'_>, String> {
     if bytes.len() < HEADER_LEN || !is_glb(bytes) {
         return Err(format!(
             "expected a 12-byte GLB header starting with 'glTF', the file has {} bytes",

@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::rc::Rc;
 
-pub struct Images<'a> {
+pub(super) struct Images<'a> {
     root: &'a Root,
     buffers: &'a [Cow<'a, [u8]>],
     base_dir: &'a Path,
@@ -18,7 +18,7 @@ pub struct Images<'a> {
 }
 
 impl<'a> Images<'a> {
-    pub fn new(root: &'a Root, buffers: &'a [Cow<'a, [u8]>], base_dir: &'a Path) -> Self {
+    pub(super) fn new(root: &'a Root, buffers: &'a [Cow<'a, [u8]>], base_dir: &'a Path) -> Self {
         Images {
             root,
             buffers,
@@ -28,7 +28,7 @@ impl<'a> Images<'a> {
     }
 
     /// The image of texture `texture`.
-    pub fn texture(&mut self, texture: usize) -> Result<Rc<DynamicImage>, String> {
+    pub(super) fn texture(&mut self, texture: usize) -> Result<Rc<DynamicImage>, String> {
         let t = self.root.textures.get(texture).ok_or_else(|| {
             format!(
                 "texture {texture} does not exist (the file has {})",

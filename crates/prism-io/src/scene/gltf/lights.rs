@@ -9,13 +9,13 @@
 //! kept, and the absolute units (which exporters choose very differently) do not decide
 //! whether the image is black or white: an automatic exposure.
 
-use prism::camera::Camera;
-use prism::light::Light;
-use prism::math::{Aabb, Color, Vec3};
 use glam::{DAffine3, DVec3};
 use gltf::json::extensions::scene::khr_lights_punctual::Type;
 use gltf::json::validation::Checked;
 use gltf::json::Root;
+use prism::camera::Camera;
+use prism::light::Light;
+use prism::math::{Aabb, Color, Vec3};
 
 /// Point lights closer to the reference point than this fraction of the scene's size are
 /// treated as being this far, so one light inside an object cannot take all the exposure.
@@ -118,7 +118,7 @@ fn direction(index: usize, world: &DAffine3) -> Result<Vec3, String> {
 }
 
 /// The lights the scene's nodes place, exposed for a scene within `bounds`.
-pub fn lights(
+pub(super) fn lights(
     root: &Root,
     placed: &[(usize, DAffine3)],
     bounds: Aabb,
@@ -192,7 +192,7 @@ pub fn lights(
 
 /// The light of a scene that defines none: white, directional, coming over the viewer's
 /// left shoulder (45° above the view direction, a little from the left).
-pub fn default_light(camera: &Camera) -> Light {
+pub(super) fn default_light(camera: &Camera) -> Light {
     let forward = (camera.look_at - camera.eye).normalize_or(Vec3::NEG_Z);
     let right = forward.cross(camera.up).normalize_or(Vec3::X);
     let up = right.cross(forward);

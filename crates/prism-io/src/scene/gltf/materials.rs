@@ -8,9 +8,9 @@
 //! Fresnel-weighted glass whose transmission the base colour tints (as the extension says).
 
 use super::images::Images;
+use gltf::json::Root;
 use prism::math::Color;
 use prism::shading::{FresnelMode, Highlight, Material, Texture};
-use gltf::json::Root;
 
 /// Highlight exponents are capped here: a mirror-smooth surface's highlight is already
 /// a single bright pixel at this exponent.
@@ -18,7 +18,7 @@ const MAX_SHININESS: f32 = 10_000.0;
 
 /// The glTF inputs of one material, after textures' constant parts are folded in.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Pbr {
+pub(super) struct Pbr {
     /// Linear RGB base colour (baseColorFactor's rgb; alpha is ignored).
     pub base: Color,
     pub metallic: f32,
@@ -45,7 +45,7 @@ impl Default for Pbr {
 
 /// The Whitted material for `pbr`, its diffuse colour from `color` (which already holds
 /// the base colour, as a constant or a tinted image).
-pub fn whitted(name: String, pbr: &Pbr, color: Texture) -> Material {
+pub(super) fn whitted(name: String, pbr: &Pbr, color: Texture) -> Material {
     let m = pbr.metallic.clamp(0.0, 1.0);
     let r = pbr.roughness.clamp(0.0, 1.0);
     // The dielectric's reflectance at normal incidence: 0.04 for glTF's default ior 1.5.
@@ -90,7 +90,7 @@ pub fn whitted(name: String, pbr: &Pbr, color: Texture) -> Material {
 }
 
 /// Builds prism's material for glTF material `index` (`None`: the default material).
-pub fn material(
+pub(super) fn material(
     root: &Root,
     images: &mut Images,
     index: Option<usize>,
@@ -168,7 +168,7 @@ pub fn material(
 }
 
 /// The TEXCOORD set the base colour texture of material `index` reads.
-pub fn uv_set(root: &Root, index: Option<usize>) -> u32 {
+pub(super) fn uv_set(root: &Root, index: Option<usize>) -> u32 {
     index
         .and_then(|i| root.materials.get(i))
         .and_then(|m| m.pbr_metallic_roughness.base_color_texture.as_ref())

@@ -6,14 +6,14 @@
 
 use super::accessor::Accessors;
 use super::transform::Placement;
-use prism::geometry::TriangleMesh;
-use prism::math::{Vec2, Vec3};
 use gltf::json::mesh::{Mode, Semantic};
 use gltf::json::validation::Checked;
 use gltf::json::Root;
+use prism::geometry::TriangleMesh;
+use prism::math::{Vec2, Vec3};
 
 /// One primitive of a mesh, in the mesh's coordinates.
-pub struct Primitive {
+pub(super) struct Primitive {
     positions: Vec<Vec3>,
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
@@ -24,7 +24,7 @@ pub struct Primitive {
 
 /// Decodes the triangle primitives of mesh `index`. `uv_set` says which TEXCOORD_n set a
 /// material's base colour texture reads.
-pub fn decode(
+pub(super) fn decode(
     root: &Root,
     accessors: &Accessors,
     index: usize,
@@ -168,18 +168,18 @@ fn assemble(mode: Mode, v: &[u32]) -> Result<Vec<[u32; 3]>, String> {
 }
 
 impl Primitive {
-    pub fn is_empty(&self) -> bool {
+    pub(super) fn is_empty(&self) -> bool {
         self.triangles.is_empty()
     }
 
-    pub fn triangle_count(&self) -> usize {
+    pub(super) fn triangle_count(&self) -> usize {
         self.triangles.len()
     }
 
     /// A world-space copy. Normals go through the inverse transpose; a mirroring transform
     /// reverses the winding so the outside stays outside; a flattening one (a zero scale)
     /// keeps the flat triangles but drops the vertex normals, which it leaves undefined.
-    pub fn place(&self, at: &Placement) -> Result<TriangleMesh, String> {
+    pub(super) fn place(&self, at: &Placement) -> Result<TriangleMesh, String> {
         let positions = self.positions.iter().map(|&p| at.point(p)).collect();
         let normals = match &self.normals {
             Some(ns) if !at.flattens() => Some(

@@ -32,7 +32,7 @@ use std::path::Path;
 use transform::Placement;
 
 /// Reads a .gltf or .glb file. The content decides which: GLB files start with "glTF".
-pub fn load(path: &Path) -> Result<Scene, LoadError> {
+pub(super) fn load(path: &Path) -> Result<Scene, LoadError> {
     let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
         path: path.display().to_string(),
         message: e.to_string(),

@@ -8,7 +8,7 @@ use gltf::json::Root;
 
 /// What the scene's nodes place in the world.
 #[derive(Default)]
-pub struct Placed {
+pub(super) struct Placed {
     /// Node index, mesh index and world transform, one entry per node that has a mesh.
     pub meshes: Vec<(usize, usize, DAffine3)>,
     /// The first camera met in the walk, with its world transform.
@@ -42,7 +42,7 @@ fn roots(root: &Root) -> Result<Vec<usize>, String> {
     Ok((0..root.nodes.len()).filter(|&i| !is_child[i]).collect())
 }
 
-pub fn walk(root: &Root) -> Result<Placed, String> {
+pub(super) fn walk(root: &Root) -> Result<Placed, String> {
     let mut placed = Placed::default();
     let mut visited = vec![false; root.nodes.len()];
     let mut stack: Vec<(usize, DAffine3)> = roots(root)?

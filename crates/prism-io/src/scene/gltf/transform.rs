@@ -2,13 +2,13 @@
 //! composed from the root down in f64 so deep hierarchies do not accumulate f32 rounding,
 //! and what a world transform does to points, normals and winding.
 
-use prism::math::Vec3;
 use glam::{DAffine3, DMat3, DMat4, DQuat, DVec3};
 use gltf::json::scene::Node;
+use prism::math::Vec3;
 
 /// A node's transform relative to its parent. Only the affine part of a `matrix` is used
 /// (glTF requires node matrices to be affine).
-pub fn local(node: &Node) -> Result<DAffine3, String> {
+pub(super) fn local(node: &Node) -> Result<DAffine3, String> {
     let finite = |values: &[f32], what: &str| {
         if values.iter().all(|v| v.is_finite()) {
             Ok(())
@@ -41,37 +41,37 @@ pub fn local(node: &Node) -> Result<DAffine3, String> {
 }
 
 /// A world transform applied to mesh data.
-pub struct Placement {
+pub(super) struct Placement {
     affine: DAffine3,
     /// The inverse transpose of the linear part; `None` when it is singular.
     normal: Option<DMat3>,
 }
 
 impl Placement {
-    pub fn new(affine: DAffine3) -> Self {
+    pub(super) fn new(affine: DAffine3) -> Self {
         let det = affine.matrix3.determinant();
         let normal = (det != 0.0 && det.is_finite()).then(|| affine.matrix3.inverse().transpose());
         Placement { affine, normal }
     }
 
-    pub fn point(&self, p: Vec3) -> Vec3 {
+    pub(super) fn point(&self, p: Vec3) -> Vec3 {
         self.affine.transform_point3(p.as_dvec3()).as_vec3()
     }
 
     /// The transformed normal's direction, or `None` if the transform flattens space.
     /// Computed in f64 and normalised there, so scales of 1e-3 or 1e3 lose nothing.
-    pub fn normal(&self, n: Vec3) -> Option<Vec3> {
+    pub(super) fn normal(&self, n: Vec3) -> Option<Vec3> {
         let m = self.normal?;
         (m * n.as_dvec3()).try_normalize().map(|v| v.as_vec3())
     }
 
-    pub fn flattens(&self) -> bool {
+    pub(super) fn flattens(&self) -> bool {
         self.normal.is_none()
     }
 
     /// A transform with negative determinant mirrors: counter-clockwise faces turn
     /// clockwise, so their winding must be reversed to keep the outside outside.
-    pub fn mirrors(&self) -> bool {
+    pub(super) fn mirrors(&self) -> bool {
         self.affine.matrix3.determinant() < 0.0
     }
 }

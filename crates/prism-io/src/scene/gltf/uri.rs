@@ -5,14 +5,14 @@
 use std::path::{Path, PathBuf};
 
 /// Where a URI's bytes come from.
-pub enum Source {
+pub(super) enum Source {
     /// The decoded payload of a `data:` URI.
     Inline(Vec<u8>),
     File(PathBuf),
 }
 
 /// Resolves `uri` against `base_dir`, decoding it if it is a `data:` URI.
-pub fn resolve(uri: &str, base_dir: &Path) -> Result<Source, String> {
+pub(super) fn resolve(uri: &str, base_dir: &Path) -> Result<Source, String> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (header, payload) = rest
             .split_once(',')
@@ -49,7 +49,7 @@ fn scheme(uri: &str) -> Option<&str> {
 }
 
 /// Long data URIs would flood an error message; keep their start.
-pub fn shorten(uri: &str) -> String {
+pub(super) fn shorten(uri: &str) -> String {
     const KEEP: usize = 60;
     match uri.char_indices().nth(KEEP) {
         Some((end, _)) => format!("{}…", &uri[..end]),
@@ -96,7 +96,7 @@ fn base64_value(c: u8) -> Option<u32> {
 }
 
 /// Decodes base64 (standard or URL-safe alphabet, padding optional).
-pub fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
+pub(super) fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
     let data = text.trim_end_matches('=').as_bytes();
     if text.len() - data.len() > 2 {
         return Err("base64 payload ends in more than two '=' padding characters".into());

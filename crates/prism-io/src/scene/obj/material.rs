@@ -9,7 +9,7 @@ use prism::shading::{FresnelMode, Highlight, ImageTexture, Material, Texture};
 
 /// What prism reads from an MTL material beside tobj.
 #[derive(Clone, Debug, Default)]
-pub struct Extras {
+pub(super) struct Extras {
     /// `map_Kd`: the diffuse colour's image.
     pub texture: Option<ImageTexture>,
     /// `Tf`: the transmission filter.
@@ -23,7 +23,7 @@ fn mean(c: [f32; 3]) -> f32 {
 }
 
 /// The prism material for an MTL material.
-pub fn whitted(m: &tobj::Material, extras: &Extras) -> Material {
+pub(super) fn whitted(m: &tobj::Material, extras: &Extras) -> Material {
     let d = Material::default();
     let illum = m.illumination_model.unwrap_or(2);
     let ks = m.specular.map_or(0.0, mean);

@@ -14,9 +14,9 @@ mod scan;
 use super::faces;
 use super::load::LoadError;
 use super::mesh_file::{Materials, MeshFile, MeshPart};
+use mtl::{Library, TextureCache};
 use prism::geometry::TriangleMesh;
 use prism::math::{Vec2, Vec3};
-use mtl::{Library, TextureCache};
 use std::path::Path;
 
 /// Reads the OBJ file at `path` and, unless told to ignore them, its material libraries.

@@ -6,22 +6,22 @@
 
 use super::material::{whitted, Extras};
 use super::scan::Words;
-use prism::math::{Color, Vec2};
 use crate::scene::load::LoadError;
+use prism::math::{Color, Vec2};
 use prism::shading::{ImageTexture, Material};
 use std::collections::HashMap;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
 /// Images already read while loading one OBJ file, so materials sharing one load it once.
-pub type TextureCache = HashMap<PathBuf, ImageTexture>;
+pub(super) type TextureCache = HashMap<PathBuf, ImageTexture>;
 
 /// tobj's own reading of a library: its materials and their names' indices.
-pub type TobjMaterials = (Vec<tobj::Material>, HashMap<String, usize>);
+pub(super) type TobjMaterials = (Vec<tobj::Material>, HashMap<String, usize>);
 
 /// One or more libraries named on one `mtllib` line.
 #[derive(Clone, Debug, Default)]
-pub struct Library {
+pub(super) struct Library {
     /// Handed back to tobj when it reaches the `mtllib` line.
     pub tobj: TobjMaterials,
     /// prism's materials, in tobj's order.
@@ -32,7 +32,7 @@ pub struct Library {
 
 impl Library {
     /// Appends `other` as tobj merges libraries: later names win.
-    pub fn append(&mut self, other: Library) {
+    pub(super) fn append(&mut self, other: Library) {
         let offset = self.tobj.0.len();
         self.tobj.0.extend(other.tobj.0);
         for (name, index) in other.tobj.1 {
@@ -42,24 +42,24 @@ impl Library {
         self.warnings.extend(other.warnings);
     }
 
-    pub fn names(&self) -> Vec<String> {
+    pub(super) fn names(&self) -> Vec<String> {
         self.tobj.0.iter().map(|m| m.name.clone()).collect()
     }
 }
 
 /// A library's text checked and read: the library, or an error located in it.
-pub type Parsed = Result<Library, LoadError>;
+pub(super) type Parsed = Result<Library, LoadError>;
 
 /// Reads the library at `path`; image files are resolved against its folder. The outer
 /// error is the file's (the caller knows where it was named); the inner one is located in
 /// the library.
-pub fn load(path: &Path, textures: &mut TextureCache) -> Result<Parsed, std::io::Error> {
+pub(super) fn load(path: &Path, textures: &mut TextureCache) -> Result<Parsed, std::io::Error> {
     let bytes = crate::scene::load::read_regular_file(path)?;
     Ok(parse(&String::from_utf8_lossy(&bytes), path, textures))
 }
 
 /// Checks and reads library text; `path` names it in errors and anchors image files.
-pub fn parse(text: &str, path: &Path, textures: &mut TextureCache) -> Parsed {
+pub(super) fn parse(text: &str, path: &Path, textures: &mut TextureCache) -> Parsed {
     let mut checker = Checker {
         path,
         dir: path.parent().unwrap_or(Path::new("")),

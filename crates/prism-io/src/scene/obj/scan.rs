@@ -13,7 +13,7 @@ use std::fmt::Write;
 
 /// What the scan needs from the material side: `mtllib` lines open libraries (relative to
 /// the OBJ file), which define the names that `usemtl` may use.
-pub trait Libraries {
+pub(super) trait Libraries {
     /// Opens the libraries named by the rest of an `mtllib` line, which starts at
     /// `line`:`column`. Returns the number to write after `mtllib` for tobj and the material
     /// names the libraries define.
@@ -42,13 +42,13 @@ struct Counts {
 }
 
 /// One statement's words with their byte offsets in the line.
-pub struct Words<'a> {
+pub(super) struct Words<'a> {
     line: &'a str,
     pub words: Vec<(usize, &'a str)>,
 }
 
 impl<'a> Words<'a> {
-    pub fn new(line: &'a str) -> Self {
+    pub(super) fn new(line: &'a str) -> Self {
         let mut words = Vec::new();
         let mut rest = line;
         let mut offset = 0;
@@ -63,7 +63,7 @@ impl<'a> Words<'a> {
     }
 
     /// The rest of the line after word `index`, trimmed, with its byte offset.
-    pub fn rest_after(&self, index: usize) -> (usize, &'a str) {
+    pub(super) fn rest_after(&self, index: usize) -> (usize, &'a str) {
         let (at, word) = self.words[index];
         let after = &self.line[at + word.len()..];
         let start = after.len() - after.trim_start().len();
@@ -82,7 +82,7 @@ struct Scanner<'a, 'l> {
 }
 
 /// The OBJ text rewritten for tobj, and how many positions (`v`) the file defines.
-pub struct Checked {
+pub(super) struct Checked {
     pub text: String,
     pub positions: usize,
 }
@@ -90,7 +90,7 @@ pub struct Checked {
 /// Checks the OBJ `text` (read from `path`) and rewrites it for tobj. Without
 /// `libraries`, `mtllib` and `usemtl` statements are dropped: the caller supplies a
 /// material of its own.
-pub fn check(
+pub(super) fn check(
     text: &str,
     path: &str,
     libraries: Option<&mut dyn Libraries>,

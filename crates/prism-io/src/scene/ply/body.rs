@@ -6,20 +6,20 @@ use super::header::Scalar;
 
 /// Where a value starts: a line and column in text, a byte offset in binary.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Location {
+pub(super) enum Location {
     LineColumn(usize, usize),
     Byte(usize),
 }
 
 /// A value that could not be read, and why.
 #[derive(Debug)]
-pub struct BodyError {
+pub(super) struct BodyError {
     pub at: Location,
     pub message: String,
 }
 
 /// A stream of values of given types.
-pub trait Source {
+pub(super) trait Source {
     /// Reads one value of type `ty`.
     fn read(&mut self, ty: Scalar) -> Result<f64, BodyError>;
     /// Skips `n` values of type `ty`.
@@ -33,7 +33,7 @@ pub trait Source {
 }
 
 /// Packed binary values.
-pub struct Binary<'a> {
+pub(super) struct Binary<'a> {
     bytes: &'a [u8],
     pos: usize,
     last: usize,
@@ -43,7 +43,7 @@ pub struct Binary<'a> {
 }
 
 impl<'a> Binary<'a> {
-    pub fn new(bytes: &'a [u8], base: usize, big_endian: bool) -> Self {
+    pub(super) fn new(bytes: &'a [u8], base: usize, big_endian: bool) -> Self {
         Binary {
             bytes,
             pos: 0,
@@ -125,7 +125,7 @@ impl Source for Binary<'_> {
 }
 
 /// Whitespace-separated text values.
-pub struct Ascii<'a> {
+pub(super) struct Ascii<'a> {
     bytes: &'a [u8],
     pos: usize,
     line: usize,
@@ -138,7 +138,7 @@ pub struct Ascii<'a> {
 
 impl<'a> Ascii<'a> {
     /// `bytes` is the body, whose first line is line `first_line` of the file.
-    pub fn new(bytes: &'a [u8], first_line: usize) -> Self {
+    pub(super) fn new(bytes: &'a [u8], first_line: usize) -> Self {
         Ascii {
             bytes,
             pos: 0,

@@ -3,7 +3,7 @@
 
 /// How the body is encoded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
+pub(super) enum Format {
     Ascii,
     BinaryLittleEndian,
     BinaryBigEndian,
@@ -11,7 +11,7 @@ pub enum Format {
 
 /// The scalar types of PLY, under their old and their sized names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Scalar {
+pub(super) enum Scalar {
     Char,
     UChar,
     Short,
@@ -38,7 +38,7 @@ impl Scalar {
     }
 
     /// Bytes in the binary formats.
-    pub fn size(self) -> usize {
+    pub(super) fn size(self) -> usize {
         match self {
             Scalar::Char | Scalar::UChar => 1,
             Scalar::Short | Scalar::UShort => 2,
@@ -47,12 +47,12 @@ impl Scalar {
         }
     }
 
-    pub fn is_integer(self) -> bool {
+    pub(super) fn is_integer(self) -> bool {
         !matches!(self, Scalar::Float | Scalar::Double)
     }
 
     /// The range of an integer type (every one fits an f64 exactly).
-    pub fn integer_range(self) -> (i64, i64) {
+    pub(super) fn integer_range(self) -> (i64, i64) {
         match self {
             Scalar::Char => (i8::MIN.into(), i8::MAX.into()),
             Scalar::UChar => (0, u8::MAX.into()),
@@ -64,7 +64,7 @@ impl Scalar {
         }
     }
 
-    pub fn name(self) -> &'static str {
+    pub(super) fn name(self) -> &'static str {
         match self {
             Scalar::Char => "char",
             Scalar::UChar => "uchar",
@@ -79,7 +79,7 @@ impl Scalar {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PropertyType {
+pub(super) enum PropertyType {
     Scalar(Scalar),
     /// A count of type `count`, then that many values of type `item`.
     List {
@@ -89,7 +89,7 @@ pub enum PropertyType {
 }
 
 #[derive(Clone, Debug)]
-pub struct Property {
+pub(super) struct Property {
     pub name: String,
     pub ty: PropertyType,
     /// Where it is declared, for errors about it.
@@ -97,7 +97,7 @@ pub struct Property {
 }
 
 #[derive(Clone, Debug)]
-pub struct Element {
+pub(super) struct Element {
     pub name: String,
     pub count: usize,
     pub properties: Vec<Property>,
@@ -108,7 +108,7 @@ pub struct Element {
 
 impl Element {
     /// Bytes one instance needs at least in a binary body (every list empty).
-    pub fn min_binary_size(&self) -> usize {
+    pub(super) fn min_binary_size(&self) -> usize {
         self.properties
             .iter()
             .map(|p| match p.ty {
@@ -120,7 +120,7 @@ impl Element {
 }
 
 #[derive(Clone, Debug)]
-pub struct Header {
+pub(super) struct Header {
     pub format: Format,
     pub elements: Vec<Element>,
     /// Byte offset of the body.
@@ -131,14 +131,14 @@ pub struct Header {
 
 /// A header problem at a line and column.
 #[derive(Debug)]
-pub struct HeaderError {
+pub(super) struct HeaderError {
     pub line: usize,
     pub column: usize,
     pub message: String,
 }
 
 /// Reads the header at the start of `bytes`.
-pub fn parse(bytes: &[u8]) -> Result<Header, HeaderError> {
+pub(super) fn parse(bytes: &[u8]) -> Result<Header, HeaderError> {
     let mut format = None;
     let mut elements: Vec<Element> = Vec::new();
     let mut pos = 0;

@@ -14,10 +14,10 @@ mod header;
 use super::faces;
 use super::load::LoadError;
 use super::mesh_file::{MeshFile, MeshPart};
-use prism::geometry::TriangleMesh;
-use prism::math::{Vec2, Vec3};
 use body::{Ascii, Binary, BodyError, Location, Source};
 use header::{Element, Format, Header, PropertyType, Scalar};
+use prism::geometry::TriangleMesh;
+use prism::math::{Vec2, Vec3};
 use std::path::Path;
 
 /// Reads the PLY file at `path`.

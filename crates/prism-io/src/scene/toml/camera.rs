@@ -8,7 +8,7 @@ use std::ops::Range;
 use toml::Spanned;
 
 /// The camera, keys left out keeping `defaults`; a problem points at the key that causes it.
-pub fn camera(def: Spanned<CameraDef>, defaults: Camera) -> Result<Camera, Problem> {
+pub(super) fn camera(def: Spanned<CameraDef>, defaults: Camera) -> Result<Camera, Problem> {
     let table = def.span();
     let def = def.into_inner();
     let camera = Camera {

@@ -7,27 +7,27 @@ use std::path::Path;
 
 /// A problem found in the file, at a byte range when one is known.
 #[derive(Debug)]
-pub struct Problem {
+pub(super) struct Problem {
     pub span: Option<Range<usize>>,
     pub message: String,
 }
 
 impl Problem {
-    pub fn at(span: Range<usize>, message: impl Into<String>) -> Self {
+    pub(super) fn at(span: Range<usize>, message: impl Into<String>) -> Self {
         Problem {
             span: Some(span),
             message: message.into(),
         }
     }
 
-    pub fn from_toml(e: &toml::de::Error) -> Self {
+    pub(super) fn from_toml(e: &toml::de::Error) -> Self {
         Problem {
             span: e.span(),
             message: reword(e.message()),
         }
     }
 
-    pub fn into_load_error(self, path: &Path, text: &str) -> LoadError {
+    pub(super) fn into_load_error(self, path: &Path, text: &str) -> LoadError {
         let path = path.display().to_string();
         match self.span {
             Some(span) => {
@@ -49,7 +49,7 @@ impl Problem {
 
 /// 1-based line and column (in characters) of a byte offset; an offset inside a
 /// character or past the end is clamped rather than trusted.
-pub fn line_column(text: &str, offset: usize) -> (usize, usize) {
+pub(super) fn line_column(text: &str, offset: usize) -> (usize, usize) {
     let before = &text.as_bytes()[..offset.min(text.len())];
     let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
     let line_start = before

@@ -14,7 +14,7 @@ use toml::Spanned;
 /// Adds the meshes of the file named by `def` (whose table starts at `span`). `material`
 /// is the object's own; without it the file's materials apply, and faces the file gives no
 /// material get `default(scene)`.
-pub fn add_mesh_file(
+pub(super) fn add_mesh_file(
     scene: &mut Scene,
     def: MeshDef,
     file: Spanned<String>,

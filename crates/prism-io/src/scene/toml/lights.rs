@@ -11,7 +11,7 @@ use toml::Spanned;
 const DEFAULT_SPOT_OUTER_DEGREES: f32 = 45.0;
 
 /// The light whose table is `def`.
-pub fn light(def: Spanned<LightDef>) -> Result<Light, Problem> {
+pub(super) fn light(def: Spanned<LightDef>) -> Result<Light, Problem> {
     let span = def.span();
     let scaled = |color: Option<Rgb>, intensity: Option<NonNegative>| {
         let c = color.map_or(Color::ONE, |c| c.0) * intensity.map_or(1.0, |i| i.0);

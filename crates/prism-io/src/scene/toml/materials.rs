@@ -8,7 +8,7 @@ use std::path::Path;
 use toml::Spanned;
 
 /// Builds the material `name`; image paths are resolved against `base_dir`.
-pub fn material(name: &str, def: MaterialDef, base_dir: &Path) -> Result<Material, Problem> {
+pub(super) fn material(name: &str, def: MaterialDef, base_dir: &Path) -> Result<Material, Problem> {
     let d = Material::default();
     let color = match (def.color, def.texture) {
         (Some(_), Some(t)) => {

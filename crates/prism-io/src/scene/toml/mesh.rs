@@ -4,20 +4,20 @@
 
 use super::diagnostics::Problem;
 use super::schema::{MeshDef, TransformDef};
+use glam::Mat3;
 use prism::geometry::TriangleMesh;
 use prism::math::Vec3;
-use glam::Mat3;
 use std::ops::Range;
 
 /// The affine map of a `transform` table, and what it does to normals.
-pub struct Transform {
+pub(super) struct Transform {
     rotation: Mat3,
     scale: Vec3,
     translate: Vec3,
 }
 
 impl Transform {
-    pub fn new(def: &TransformDef) -> Self {
+    pub(super) fn new(def: &TransformDef) -> Self {
         let r = def.rotate.map_or(Vec3::ZERO, |r| r.0);
         Transform {
             rotation: Mat3::from_rotation_z(r.z.to_radians())
@@ -48,7 +48,7 @@ impl Transform {
 
     /// Moves a mesh that is already built, keeping its outside outside. Fails when a
     /// position overflows.
-    pub fn apply(&self, mesh: &mut TriangleMesh) -> Result<(), String> {
+    pub(super) fn apply(&self, mesh: &mut TriangleMesh) -> Result<(), String> {
         mesh.transform(|p| self.point(p), |n| self.normal(n));
         if self.mirrors() {
             mesh.reverse_winding();
@@ -64,7 +64,7 @@ impl Transform {
 }
 
 /// Builds the mesh of an `objects` entry whose table starts at `span`.
-pub fn mesh(def: MeshDef, span: Range<usize>) -> Result<TriangleMesh, Problem> {
+pub(super) fn mesh(def: MeshDef, span: Range<usize>) -> Result<TriangleMesh, Problem> {
     let (Some(positions), Some(indices)) = (def.positions, def.indices) else {
         return Err(Problem::at(
             span,

@@ -4,8 +4,8 @@
 //! `tagged` rewrites `type = "…"` tables so serde can check keys per type; serde fills the
 //! `schema` structs, whose `values` types reject bad numbers on the spot; `build` below,
 //! with `camera`, `lights`, `materials`, `objects`, `mesh` and `include` (mesh files),
-//! checks what involves more than one value. Every problem carries a span, turned into a line and column at the end
-//! (`diagnostics`).
+//! checks what involves more than one value. Every problem carries a span, turned into a line
+//! and column at the end (`diagnostics`).
 
 mod camera;
 mod diagnostics;
@@ -20,15 +20,15 @@ mod values;
 
 use super::load::LoadError;
 use super::Scene;
-use prism::shading::Material;
 use diagnostics::Problem;
+use prism::shading::Material;
 use schema::{ObjectDef, SceneDef};
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::path::Path;
 
 /// Reads and parses the scene file at `path`.
-pub fn load(path: &Path) -> Result<Scene, LoadError> {
+pub(super) fn load(path: &Path) -> Result<Scene, LoadError> {
     let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
         path: path.display().to_string(),
         message: e.to_string(),

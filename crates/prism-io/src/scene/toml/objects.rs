@@ -7,7 +7,7 @@ use prism::geometry::{AaBox, Cone, Geometry, Plane, Shape, Sphere};
 use std::ops::Range;
 
 /// Adds the object whose table starts at `span`, with material index `material`.
-pub fn add_object(
+pub(super) fn add_object(
     geometry: &mut Geometry,
     def: ObjectDef,
     span: Range<usize>,

@@ -15,7 +15,7 @@ use toml::Spanned;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SceneDef {
+pub(super) struct SceneDef {
     pub render: Option<Spanned<RenderOptions>>,
     pub camera: Option<Spanned<CameraDef>>,
     #[serde(default)]
@@ -30,7 +30,7 @@ pub struct SceneDef {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct CameraDef {
+pub(super) struct CameraDef {
     pub eye: Option<Spanned<Point>>,
     pub look_at: Option<Spanned<Point>>,
     pub up: Option<Spanned<Direction>>,
@@ -41,14 +41,14 @@ pub struct CameraDef {
 
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct WorldDef {
+pub(super) struct WorldDef {
     pub background: Option<Rgb>,
     pub ambient: Option<Rgb>,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct MaterialDef {
+pub(super) struct MaterialDef {
     pub color: Option<Rgb>,
     pub texture: Option<Spanned<TextureDef>>,
     pub ambient: Option<NonNegative>,
@@ -63,11 +63,11 @@ pub struct MaterialDef {
     pub fresnel: Option<FresnelMode>,
 }
 
-pub const TEXTURE_TYPES: &[&str] = &["solid", "checker", "image"];
+pub(super) const TEXTURE_TYPES: &[&str] = &["solid", "checker", "image"];
 
 #[derive(Debug, Deserialize)]
 #[serde(rename_all = "lowercase")]
-pub enum TextureDef {
+pub(super) enum TextureDef {
     Solid(SolidDef),
     Checker(CheckerDef),
     Image(ImageDef),
@@ -75,13 +75,13 @@ pub enum TextureDef {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SolidDef {
+pub(super) struct SolidDef {
     pub color: Rgb,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct CheckerDef {
+pub(super) struct CheckerDef {
     pub a: Rgb,
     pub b: Rgb,
     pub size: Option<Positive>,
@@ -91,7 +91,7 @@ pub struct CheckerDef {
 
 #[derive(Clone, Copy, Debug, Default, Deserialize)]
 #[serde(rename_all = "lowercase")]
-pub enum CheckerSpaceDef {
+pub(super) enum CheckerSpaceDef {
     #[default]
     Uv,
     Solid,
@@ -99,16 +99,16 @@ pub enum CheckerSpaceDef {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct ImageDef {
+pub(super) struct ImageDef {
     pub path: Spanned<String>,
     pub scale: Option<Scale2>,
 }
 
-pub const LIGHT_TYPES: &[&str] = &["point", "directional", "spot"];
+pub(super) const LIGHT_TYPES: &[&str] = &["point", "directional", "spot"];
 
 #[derive(Debug, Deserialize)]
 #[serde(rename_all = "lowercase")]
-pub enum LightDef {
+pub(super) enum LightDef {
     Point(PointLightDef),
     Directional(DirectionalLightDef),
     Spot(SpotLightDef),
@@ -116,7 +116,7 @@ pub enum LightDef {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct PointLightDef {
+pub(super) struct PointLightDef {
     pub position: Point,
     pub color: Option<Rgb>,
     pub intensity: Option<NonNegative>,
@@ -126,7 +126,7 @@ pub struct PointLightDef {
 /// from `inner_angle` to `outer_angle` (degrees from the axis).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SpotLightDef {
+pub(super) struct SpotLightDef {
     pub position: Point,
     pub direction: Direction,
     pub inner_angle: Option<Spanned<NonNegative>>,
@@ -137,17 +137,17 @@ pub struct SpotLightDef {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct DirectionalLightDef {
+pub(super) struct DirectionalLightDef {
     pub direction: Direction,
     pub color: Option<Rgb>,
     pub intensity: Option<NonNegative>,
 }
 
-pub const OBJECT_TYPES: &[&str] = &["sphere", "plane", "cylinder", "cone", "box", "mesh"];
+pub(super) const OBJECT_TYPES: &[&str] = &["sphere", "plane", "cylinder", "cone", "box", "mesh"];
 
 #[derive(Debug, Deserialize)]
 #[serde(rename_all = "lowercase")]
-pub enum ObjectDef {
+pub(super) enum ObjectDef {
     Sphere(SphereDef),
     Plane(PlaneDef),
     Cylinder(CylinderDef),
@@ -158,7 +158,7 @@ pub enum ObjectDef {
 
 impl ObjectDef {
     /// The material reference every object may carry.
-    pub fn material(&self) -> Option<&Spanned<String>> {
+    pub(super) fn material(&self) -> Option<&Spanned<String>> {
         match self {
             ObjectDef::Sphere(o) => o.material.as_ref(),
             ObjectDef::Plane(o) => o.material.as_ref(),
@@ -172,7 +172,7 @@ impl ObjectDef {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SphereDef {
+pub(super) struct SphereDef {
     pub center: Point,
     pub radius: Positive,
     #[serde(default)]
@@ -182,7 +182,7 @@ pub struct SphereDef {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct PlaneDef {
+pub(super) struct PlaneDef {
     pub point: Point,
     pub normal: Direction,
     pub material: Option<Spanned<String>>,
@@ -190,7 +190,7 @@ pub struct PlaneDef {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct CylinderDef {
+pub(super) struct CylinderDef {
     pub base: Point,
     pub top: Point,
     pub radius: Positive,
@@ -201,7 +201,7 @@ pub struct CylinderDef {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct ConeDef {
+pub(super) struct ConeDef {
     pub base: Point,
     pub base_radius: NonNegative,
     pub apex: Point,
@@ -213,7 +213,7 @@ pub struct ConeDef {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct BoxDef {
+pub(super) struct BoxDef {
     pub min: Point,
     pub max: Point,
     pub material: Option<Spanned<String>>,
@@ -222,7 +222,7 @@ pub struct BoxDef {
 /// A mesh written out (`positions`, `indices`…) or read from a `file`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct MeshDef {
+pub(super) struct MeshDef {
     /// An OBJ or PLY file, relative to the scene file; excludes the inline keys.
     pub file: Option<Spanned<String>>,
     pub positions: Option<Vec<Point>>,
@@ -236,7 +236,7 @@ pub struct MeshDef {
 
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct TransformDef {
+pub(super) struct TransformDef {
     pub translate: Option<Point>,
     /// Degrees about x, then y, then z.
     pub rotate: Option<Point>,

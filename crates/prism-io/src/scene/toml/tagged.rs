@@ -9,7 +9,7 @@ use toml::Spanned;
 
 /// Rewrites the tagged tables of a parsed scene: `objects`, `lights` and every
 /// material's `texture`. Other values of the wrong shape are left for serde to report.
-pub fn retag_scene(root: &mut DeTable<'_>) -> Result<(), Problem> {
+pub(super) fn retag_scene(root: &mut DeTable<'_>) -> Result<(), Problem> {
     if let Some(DeValue::Array(objects)) = root.get_mut("objects").map(Spanned::get_mut) {
         for object in objects.iter_mut() {
             retag(object, "an object", OBJECT_TYPES)?;

@@ -11,40 +11,40 @@ use std::fmt;
 
 /// A finite number, written as a TOML integer or float.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Finite(pub f32);
+pub(super) struct Finite(pub f32);
 
 /// A finite number ≥ 0 (radii, weights, intensities).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NonNegative(pub f32);
+pub(super) struct NonNegative(pub f32);
 
 /// A finite number > 0 (sizes, indices of refraction).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Positive(pub f32);
+pub(super) struct Positive(pub f32);
 
 /// A position or offset `[x, y, z]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Point(pub Vec3);
+pub(super) struct Point(pub Vec3);
 
 /// A direction `[x, y, z]` of any non-zero length, stored normalised.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Direction(pub Vec3);
+pub(super) struct Direction(pub Vec3);
 
 /// A texture coordinate `[u, v]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Uv(pub Vec2);
+pub(super) struct Uv(pub Vec2);
 
 /// A linear RGB colour `[r, g, b]` with components ≥ 0, or one number for a grey.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Rgb(pub Color);
+pub(super) struct Rgb(pub Color);
 
 /// A scale factor per axis, each finite and non-zero, written as one number (uniform) or
 /// `[x, y, z]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Scale3(pub Vec3);
+pub(super) struct Scale3(pub Vec3);
 
 /// A positive scale per texture axis, one number (uniform) or `[u, v]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Scale2(pub Vec2);
+pub(super) struct Scale2(pub Vec2);
 
 /// Accepts TOML integers and floats; `what` completes "expected …" in messages.
 struct NumberVisitor {
