@@ -7,8 +7,10 @@ use std::path::Path;
 
 /// The folder the inputs are parsed as if they were in: fuzz/data, which holds a material
 /// library (`lib.mtl`) and an image (`card.png`) for inputs to name, and nothing else, so a
-/// run depends on the input alone.
-const BASE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
+/// run depends on the input alone. The crate that compiles these targets says where it is
+/// (`crate::DATA`): this crate, and prism-io's `fuzz_corpora` suite, which replays the
+/// corpora through these same bodies.
+const BASE: &str = crate::DATA;
 
 /// Text formats see the bytes as UTF-8 with bad sequences replaced, so that every input
 /// reaches the parser; the loaders reject non-UTF-8 files before parsing.
