@@ -63,8 +63,8 @@ pub struct LightSample {
 }
 
 impl Light {
-    /// The direction, distance and strength of this light as seen from point `p`; `None` when `p`
-    /// is outside a spot light's cone.
+    /// The direction, distance and strength of this light as seen from point `p`; `None`
+    /// when `p` is at the light itself or outside a spot light's cone.
     pub fn sample(&self, p: Vec3) -> Option<LightSample> {
         match *self {
             Light::Point { position, color } => {

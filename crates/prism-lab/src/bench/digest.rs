@@ -16,7 +16,8 @@ use serde::Serialize;
 pub struct HitDigest {
     /// Rays that hit (or were blocked).
     pub hits: usize,
-    /// A hash of every ray's answer (primitive and distance), in ray order.
+    /// The sum of one hash per ray of its index and answer, so the same answers give the
+    /// same number whatever order the rays were traced in.
     pub fingerprint: u64,
 }
 

@@ -71,7 +71,7 @@ pub struct LightBufferInfo {
     pub cells: usize,
     /// Entries over all cells (a primitive counts once per cell it covers).
     pub entries: usize,
-    /// Mean length of a non-empty cell's list.
+    /// Mean list length over all cells (`entries / cells`).
     pub mean_list: f64,
     /// Longest list of one cell.
     pub max_list: usize,
