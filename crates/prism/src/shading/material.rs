@@ -25,7 +25,8 @@ pub enum Highlight {
 /// weights of the reflected and refracted rays.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
-    /// The name the scene file gave it, for messages.
+    /// The name the scene file gave it (MTL's `newmtl`, a TOML table's key); rendering
+    /// never reads it.
     pub name: String,
     /// Diffuse (and ambient) colour.
     pub color: Texture,
