@@ -4,8 +4,8 @@
 
 use prism::accel::AccelSpec;
 use prism::integrator::Whitted;
-use prism::scene::LoadError;
 use prism::{Scene, Stats};
+use prism_io::scene::LoadError;
 
 /// The traced image is this many pixels on each side: enough to reach every shape kind's
 /// intersection and shading code, few enough to keep executions fast.

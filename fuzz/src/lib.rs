@@ -2,6 +2,9 @@
 //! raw bytes AFL++ generates. The binaries in src/bin hand them to AFL (feature `afl`) or
 //! replay files with them; `cargo test` runs them over the committed corpora.
 
+/// fuzz/data, the folder inputs are parsed as if they were in (see `targets`).
+const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
+
 mod exercise;
 mod replay;
 pub mod targets;

@@ -2,13 +2,15 @@
 //! checked and traced. A panic anywhere is a finding.
 
 use crate::exercise::{self, Outcome};
-use prism::scene::mesh_file::Materials;
+use prism_io::scene::mesh_file::Materials;
 use std::path::Path;
 
 /// The folder the inputs are parsed as if they were in: fuzz/data, which holds a material
 /// library (`lib.mtl`) and an image (`card.png`) for inputs to name, and nothing else, so a
-/// run depends on the input alone.
-const BASE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
+/// run depends on the input alone. The crate that compiles these targets says where it is
+/// (`crate::DATA`): this crate, and prism-io's `fuzz_corpora` suite, which replays the
+/// corpora through these same bodies.
+const BASE: &str = crate::DATA;
 
 /// Text formats see the bytes as UTF-8 with bad sequences replaced, so that every input
 /// reaches the parser; the loaders reject non-UTF-8 files before parsing.
@@ -16,41 +18,41 @@ fn text(data: &[u8]) -> std::borrow::Cow<'_, str> {
     String::from_utf8_lossy(data)
 }
 
-/// NFF text (`prism::scene::nff::parse`).
+/// NFF text (`prism_io::scene::nff::parse`).
 pub fn nff(data: &[u8]) -> Outcome {
     let text = text(data);
     let path = format!("{BASE}/input.nff");
-    exercise::outcome(prism::scene::nff::parse(&text, &path), Some(&text))
+    exercise::outcome(prism_io::scene::nff::parse(&text, &path), Some(&text))
 }
 
-/// TOML scene text (`prism::scene::parse_toml`).
+/// TOML scene text (`prism_io::scene::parse_toml`).
 pub fn toml(data: &[u8]) -> Outcome {
     let text = text(data);
     let path = Path::new(BASE).join("input.toml");
-    exercise::outcome(prism::scene::parse_toml(&text, &path), Some(&text))
+    exercise::outcome(prism_io::scene::parse_toml(&text, &path), Some(&text))
 }
 
-/// glTF JSON (`prism::scene::parse_gltf`); the corpus holds .gltf documents.
+/// glTF JSON (`prism_io::scene::parse_gltf`); the corpus holds .gltf documents.
 pub fn gltf(data: &[u8]) -> Outcome {
     let path = Path::new(BASE).join("input.gltf");
-    exercise::outcome(prism::scene::parse_gltf(data, &path), None)
+    exercise::outcome(prism_io::scene::parse_gltf(data, &path), None)
 }
 
 /// Binary glTF containers, the same entry point as `gltf` with a corpus of .glb files
 /// (their headers, chunk lengths and BIN data are what the fuzzer mutates).
 pub fn glb(data: &[u8]) -> Outcome {
     let path = Path::new(BASE).join("input.glb");
-    exercise::outcome(prism::scene::parse_gltf(data, &path), None)
+    exercise::outcome(prism_io::scene::parse_gltf(data, &path), None)
 }
 
-/// Wavefront OBJ text (`prism::scene::obj::parse`), made a scene as `prism::scene::load`
+/// Wavefront OBJ text (`prism_io::scene::obj::parse`), made a scene as `prism_io::scene::load`
 /// makes one (`mesh_scene`). `mtllib` names files, which the base folder does not hold.
 pub fn obj(data: &[u8]) -> Outcome {
     let text = text(data);
     let path = Path::new(BASE).join("input.obj");
-    let file = prism::scene::obj::parse(&text, &path, Materials::Read);
+    let file = prism_io::scene::obj::parse(&text, &path, Materials::Read);
     let outcome = exercise::outcome(
-        file.and_then(|f| prism::scene::mesh_scene(f, &path)),
+        file.and_then(|f| prism_io::scene::mesh_scene(f, &path)),
         Some(&text),
     );
     tobj_agrees(outcome)
@@ -68,21 +70,24 @@ fn tobj_agrees(outcome: Outcome) -> Outcome {
     outcome
 }
 
-/// MTL material library text (`prism::scene::obj::parse_mtl`).
+/// MTL material library text (`prism_io::scene::obj::parse_mtl`).
 pub fn mtl(data: &[u8]) -> Outcome {
     let text = text(data);
     let path = Path::new(BASE).join("input.mtl");
-    match prism::scene::obj::parse_mtl(&text, &path) {
+    match prism_io::scene::obj::parse_mtl(&text, &path) {
         Ok(materials) => Outcome::Materials(materials.len()),
         Err(e) => tobj_agrees(exercise::outcome(Err(e), Some(&text))),
     }
 }
 
-/// PLY files, ASCII or binary (`prism::scene::ply::parse`), made a scene like `obj`.
+/// PLY files, ASCII or binary (`prism_io::scene::ply::parse`), made a scene like `obj`.
 pub fn ply(data: &[u8]) -> Outcome {
     let path = Path::new(BASE).join("input.ply");
-    let file = prism::scene::ply::parse(data, &path.display().to_string());
-    exercise::outcome(file.and_then(|f| prism::scene::mesh_scene(f, &path)), None)
+    let file = prism_io::scene::ply::parse(data, &path.display().to_string());
+    exercise::outcome(
+        file.and_then(|f| prism_io::scene::mesh_scene(f, &path)),
+        None,
+    )
 }
 
 pub type Target = fn(&[u8]) -> Outcome;

@@ -371,16 +371,16 @@ fn run(o: &Options) -> Result<(), String> {
 /// (from /proc/stat) minus this process's own.
 struct Load {
     busy: Option<f64>,
-    own: prism::bench::Stopwatch,
-    wall: prism::bench::Stopwatch,
+    own: prism_lab::bench::Stopwatch,
+    wall: prism_lab::bench::Stopwatch,
 }
 
 impl Load {
     fn start() -> Self {
         Load {
             busy: machine_busy_seconds(),
-            own: prism::bench::Clock::ProcessCpu.start(),
-            wall: prism::bench::Clock::Wall.start(),
+            own: prism_lab::bench::Clock::ProcessCpu.start(),
+            wall: prism_lab::bench::Clock::Wall.start(),
         }
     }
 

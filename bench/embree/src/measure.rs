@@ -3,9 +3,9 @@
 use crate::embree;
 use crate::workload::RaySet;
 use prism::accel::SceneIntersector;
-use prism::bench::Clock;
 use prism::geometry::Geometry;
 use prism::Stats;
+use prism_lab::bench::Clock;
 use std::sync::Mutex;
 use std::time::Duration;
 

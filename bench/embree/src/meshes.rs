@@ -2,7 +2,7 @@
 //! here, deterministically, each normalised (centred on the origin, largest extent 100).
 
 use prism::math::{Frame, Vec3};
-use prism::scene::mesh_file::Materials;
+use prism_io::scene::mesh_file::Materials;
 use std::collections::HashMap;
 use std::f32::consts::{PI, TAU};
 use std::path::Path;
@@ -51,7 +51,8 @@ fn bunny(dir: &Path) -> Result<Mesh, String> {
     if !path.exists() {
         return Err(format!("{} is absent", path.display()));
     }
-    let file = prism::scene::load_mesh_file(&path, Materials::Ignore).map_err(|e| e.to_string())?;
+    let file =
+        prism_io::scene::load_mesh_file(&path, Materials::Ignore).map_err(|e| e.to_string())?;
     let mut mesh = Mesh {
         name: "bunny",
         positions: Vec::new(),

@@ -18,13 +18,13 @@ use std::path::PathBuf;
     long_about = "A Whitted ray tracer with switchable, measurable acceleration methods.\n\n\
                   Run `prism render` to render the built-in Whitted scene to prism.png."
 )]
-pub struct Cli {
+pub(crate) struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
 }
 
 #[derive(Subcommand, Debug)]
-pub enum Command {
+pub(crate) enum Command {
     /// Render a scene file or a built-in scene to an image (the default command).
     Render(RenderArgs),
     /// List the built-in scenes.
@@ -48,7 +48,7 @@ pub enum Command {
 }
 
 #[derive(Args, Debug)]
-pub struct InfoArgs {
+pub(crate) struct InfoArgs {
     /// Scene file (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply), or builtin:NAME for
     /// a built-in scene.
     #[arg(required_unless_present = "builtin")]
@@ -65,14 +65,14 @@ pub struct InfoArgs {
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DensityRays {
+pub(crate) enum DensityRays {
     #[default]
     All,
     Camera,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Preset {
+pub(crate) enum Preset {
     /// Eric Haines' Standard Procedural Databases testing procedure.
     Spd,
     /// POV-Ray's adaptive anti-aliasing +AM2 at its default +R3: corners on the lattice,
@@ -81,7 +81,7 @@ pub enum Preset {
 }
 
 #[derive(Args, Debug, Default)]
-pub struct RenderArgs {
+pub(crate) struct RenderArgs {
     /// Scene file to render (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply: framed by a
     /// default camera and light). Without it (and without --builtin), the built-in
     /// `whitted` scene is rendered.
@@ -241,7 +241,7 @@ pub struct RenderArgs {
 }
 
 /// A built-in scene by name, or an error listing the names there are.
-pub fn find_builtin(name: &str) -> Result<Scene> {
+pub(crate) fn find_builtin(name: &str) -> Result<Scene> {
     match builtin::find(name) {
         Some(scene) => Ok(scene),
         None => bail!(
@@ -253,9 +253,9 @@ pub fn find_builtin(name: &str) -> Result<Scene> {
 
 impl RenderArgs {
     /// The scene to render and a name for reports.
-    pub fn load_scene(&self) -> Result<(Scene, String)> {
+    pub(crate) fn load_scene(&self) -> Result<(Scene, String)> {
         if let Some(path) = &self.scene {
-            let scene = prism::scene::load(path)?;
+            let scene = prism_io::scene::load(path)?;
             return Ok((scene, path.display().to_string()));
         }
         let name = self.builtin.as_deref().unwrap_or("whitted");
@@ -263,7 +263,7 @@ impl RenderArgs {
     }
 
     /// The scene's options with the command line's on top.
-    pub fn options(&self, scene: &RenderOptions) -> Result<RenderOptions> {
+    pub(crate) fn options(&self, scene: &RenderOptions) -> Result<RenderOptions> {
         let mut o = scene.clone();
         // A bundle of sampling options: the command line's own options refine it.
         if self.preset == Some(Preset::Pov) {
@@ -344,7 +344,7 @@ impl RenderArgs {
 
 /// Samples per axis for `spp` samples per pixel, which must be a square of at most
 /// 64 × 64. Errors echo the value as the user typed it.
-pub fn per_axis(spp: u32) -> Result<u32> {
+pub(crate) fn per_axis(spp: u32) -> Result<u32> {
     let max = prism::options::MAX_SAMPLES_PER_AXIS;
     if spp > max * max {
         bail!(

@@ -3,13 +3,13 @@
 
 use anyhow::{Context, Result};
 use clap::Args;
-use prism::metrics::{self, flip::DEFAULT_PPD};
-use prism::output::{heatmap::heatmap, read_image};
+use prism_io::output::{heatmap::heatmap, read_image};
+use prism_lab::metrics::{self, flip::DEFAULT_PPD};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Args, Debug)]
-pub struct CompareArgs {
+pub(crate) struct CompareArgs {
     /// The reference image (.png, .jpg, .exr or .pfm; 8-bit images are taken as sRGB).
     pub reference: PathBuf,
 
@@ -30,7 +30,7 @@ pub struct CompareArgs {
     pub json: bool,
 }
 
-pub fn run(args: &CompareArgs) -> Result<ExitCode> {
+pub(crate) fn run(args: &CompareArgs) -> Result<ExitCode> {
     if !(args.ppd > 0.0 && args.ppd.is_finite()) {
         anyhow::bail!("--ppd must be a positive number, got {}", args.ppd);
     }
@@ -81,7 +81,7 @@ pub fn run(args: &CompareArgs) -> Result<ExitCode> {
             Some(1.0),
             &caption,
         );
-        prism::output::write_png_rgb8(path, &image)?;
+        prism_io::output::write_png_rgb8(path, &image)?;
     }
     Ok(ExitCode::SUCCESS)
 }

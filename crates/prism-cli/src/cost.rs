@@ -6,13 +6,13 @@
 //! thread count.
 
 use anyhow::{bail, Result};
-use prism::output::heatmap::heatmap;
 use prism::render::RayCounts;
+use prism_io::output::heatmap::heatmap;
 use std::path::Path;
 
 /// Which work the cost view shows.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum CostMetric {
+pub(crate) enum CostMetric {
     /// Acceleration-structure nodes whose bounds were tested.
     #[default]
     Nodes,
@@ -21,7 +21,7 @@ pub enum CostMetric {
 }
 
 /// Fails early on a name the view cannot be written under.
-pub fn check(path: &Path) -> Result<()> {
+pub(crate) fn check(path: &Path) -> Result<()> {
     if !path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("png"))
@@ -36,7 +36,7 @@ pub fn check(path: &Path) -> Result<()> {
 
 /// Whose work the cost view counts.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum CostRays {
+pub(crate) enum CostRays {
     /// Every ray a pixel spawned: camera, shadow, reflected, refracted.
     #[default]
     All,
@@ -45,7 +45,7 @@ pub enum CostRays {
 }
 
 /// Work per camera ray of each pixel (0 where a pixel traced no camera ray).
-pub fn per_camera_ray(rays: &RayCounts, metric: CostMetric, whose: CostRays) -> Vec<f32> {
+pub(crate) fn per_camera_ray(rays: &RayCounts, metric: CostMetric, whose: CostRays) -> Vec<f32> {
     let work = match (metric, whose) {
         (CostMetric::Nodes, CostRays::All) => &rays.node_visits,
         (CostMetric::Prims, CostRays::All) => &rays.primitive_tests,
@@ -58,7 +58,7 @@ pub fn per_camera_ray(rays: &RayCounts, metric: CostMetric, whose: CostRays) -> 
         .collect()
 }
 
-pub fn write(
+pub(crate) fn write(
     path: &Path,
     rays: &RayCounts,
     (metric, whose): (CostMetric, CostRays),
@@ -79,6 +79,6 @@ pub fn write(
         method.to_uppercase()
     );
     let image = heatmap(&values, rays.width, rays.height, None, &caption);
-    prism::output::write_png_rgb8(path, &image)?;
+    prism_io::output::write_png_rgb8(path, &image)?;
     Ok(())
 }

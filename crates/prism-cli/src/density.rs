@@ -4,12 +4,12 @@
 
 use crate::args::DensityRays;
 use anyhow::{bail, Result};
-use prism::output::heatmap::heatmap;
 use prism::render::RayCounts;
+use prism_io::output::heatmap::heatmap;
 use std::path::Path;
 
 /// Fails early on a name the view cannot be written under.
-pub fn check(path: &Path) -> Result<()> {
+pub(crate) fn check(path: &Path) -> Result<()> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -24,7 +24,7 @@ pub fn check(path: &Path) -> Result<()> {
     Ok(())
 }
 
-pub fn write(path: &Path, rays: &RayCounts, kind: DensityRays) -> Result<()> {
+pub(crate) fn write(path: &Path, rays: &RayCounts, kind: DensityRays) -> Result<()> {
     let (counts, what) = match kind {
         DensityRays::All => (&rays.total, "RAYS"),
         DensityRays::Camera => (&rays.camera, "CAMERA RAYS"),
@@ -38,13 +38,13 @@ pub fn write(path: &Path, rays: &RayCounts, kind: DensityRays) -> Result<()> {
         for (p, &v) in film.pixels.iter_mut().zip(&values) {
             *p = prism::math::Color::splat(v);
         }
-        prism::output::write_image(path, &film)?;
+        prism_io::output::write_image(path, &film)?;
         return Ok(());
     }
     let mean = values.iter().map(|&v| v as f64).sum::<f64>() / values.len().max(1) as f64;
     let max = values.iter().copied().fold(0.0, f32::max);
     let caption = format!("{what} PER PIXEL: MEAN {mean:.2}, MAX {max:.0}");
     let image = heatmap(&values, rays.width, rays.height, None, &caption);
-    prism::output::write_png_rgb8(path, &image)?;
+    prism_io::output::write_png_rgb8(path, &image)?;
     Ok(())
 }

@@ -7,7 +7,7 @@ use prism::geometry::ShapeKind;
 use prism::Scene;
 use std::time::Instant;
 
-pub fn print(scene: &Scene, name: &str, accel: &AccelSpec) -> Result<()> {
+pub(crate) fn print(scene: &Scene, name: &str, accel: &AccelSpec) -> Result<()> {
     let g = &scene.geometry;
     println!("scene              {name}");
     println!("primitives         {}", g.primitives.len());

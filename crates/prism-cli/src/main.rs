@@ -69,7 +69,7 @@ fn info(args: &args::InfoArgs) -> Result<ExitCode> {
     };
     let scene = match name.strip_prefix("builtin:") {
         Some(builtin) => args::find_builtin(builtin)?,
-        None => prism::scene::load(Path::new(&name))?,
+        None => prism_io::scene::load(Path::new(&name))?,
     };
     let accel = args.accel.as_ref().unwrap_or(&scene.options.accel);
     info::print(&scene, &name, accel)?;
@@ -89,7 +89,7 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     // nothing and a bad extra output means nothing is written.
     let mut outputs = outputs::Outputs::default();
     outputs.add(&args.output, &[])?;
-    let format = prism::output::ImageFormat::from_path(&args.output)?;
+    let format = prism_io::output::ImageFormat::from_path(&args.output)?;
     if let Some(path) = &args.density {
         density::check(path)?;
         outputs.add(path, &[])?;
@@ -103,8 +103,8 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     }
     let mut warnings = warnings::Warnings::new(args.strict);
     let format = match format {
-        prism::output::ImageFormat::Exr { .. } => {
-            prism::output::ImageFormat::Exr { half: args.half }
+        prism_io::output::ImageFormat::Exr { .. } => {
+            prism_io::output::ImageFormat::Exr { half: args.half }
         }
         other => {
             if args.half {
@@ -150,7 +150,7 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     bar.finish();
 
     let mut written = vec![args.output.clone()];
-    prism::output::write_image_as(&args.output, &result.film, format)?;
+    prism_io::output::write_image_as(&args.output, &result.film, format)?;
     if let Some(path) = &args.density {
         density::write(path, &result.rays, args.density_rays)?;
         written.push(path.clone());

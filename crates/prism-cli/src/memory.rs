@@ -17,7 +17,7 @@ fn output_bytes_per_pixel(path: &std::path::Path) -> u64 {
 }
 
 /// Fails with the bytes needed when the render would need more memory than is available.
-pub fn check(scene: &Scene, options: &RenderOptions, args: &RenderArgs) -> Result<()> {
+pub(crate) fn check(scene: &Scene, options: &RenderOptions, args: &RenderArgs) -> Result<()> {
     let pixels = options.width as u64 * options.height as u64;
     let mut need = prism::render::memory_estimate(options);
     need.add(

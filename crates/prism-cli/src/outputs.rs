@@ -7,14 +7,14 @@ use std::path::{Path, PathBuf};
 
 /// The outputs of one command, checked together.
 #[derive(Default)]
-pub struct Outputs {
+pub(crate) struct Outputs {
     paths: Vec<PathBuf>,
 }
 
 impl Outputs {
     /// Checks that `path` can be written and that no other output of this command has the
     /// same name; `extensions` (lower case) are the ones accepted, if any are required.
-    pub fn add(&mut self, path: &Path, extensions: &[&str]) -> Result<()> {
+    pub(crate) fn add(&mut self, path: &Path, extensions: &[&str]) -> Result<()> {
         if !extensions.is_empty()
             && !path
                 .extension()
@@ -56,7 +56,7 @@ fn same_file(a: &Path, b: &Path) -> bool {
 
 /// Fails, before any work, on an output that could not be written at the end: a directory
 /// in its place, a folder that does not exist or cannot be written.
-pub fn check_writable(path: &Path) -> Result<()> {
+pub(crate) fn check_writable(path: &Path) -> Result<()> {
     if path.is_dir() {
         bail!("cannot write {}: it is a directory", path.display());
     }

@@ -15,7 +15,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Args, Debug)]
-pub struct PatternsArgs {
+pub(crate) struct PatternsArgs {
     /// Output picture (SVG).
     #[arg(short, long, value_name = "FILE", default_value = "patterns.svg")]
     pub output: PathBuf,
@@ -51,7 +51,7 @@ struct Panel {
     checker: Option<f32>,
 }
 
-pub fn run(args: &PatternsArgs) -> Result<ExitCode> {
+pub(crate) fn run(args: &PatternsArgs) -> Result<ExitCode> {
     let n = per_axis(args.spp)?;
     crate::outputs::check_writable(&args.output)?;
     let mut panels = Vec::new();
@@ -92,7 +92,7 @@ pub fn run(args: &PatternsArgs) -> Result<ExitCode> {
         draw(&mut s, p, x0, y0);
     }
     s.push_str("</svg>\n");
-    prism::output::write_atomic(&args.output, s.as_bytes())?;
+    prism_io::output::write_atomic(&args.output, s.as_bytes())?;
     Ok(ExitCode::SUCCESS)
 }
 

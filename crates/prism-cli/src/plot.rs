@@ -6,19 +6,19 @@ use std::fmt::Write;
 
 /// Okabe and Ito's colour-blind-safe palette without its yellow (too pale on white),
 /// then three of Paul Tol's muted colours and a grey.
-pub const PALETTE: [&str; 10] = [
+pub(crate) const PALETTE: [&str; 10] = [
     "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000", "#882255",
     "#999933", "#777777",
 ];
 
-pub struct Series {
+pub(crate) struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
     pub colour: &'static str,
     pub dashed: bool,
 }
 
-pub struct LogLogPlot {
+pub(crate) struct LogLogPlot {
     pub title: String,
     pub x_label: String,
     pub y_label: String,
@@ -32,7 +32,7 @@ const TOP: f64 = 44.0;
 const BOTTOM: f64 = 60.0;
 
 /// Escapes text for SVG.
-pub fn escape(s: &str) -> String {
+pub(crate) fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
@@ -41,7 +41,7 @@ pub fn escape(s: &str) -> String {
 
 /// A log axis from `lo` to `hi` (positive): the range with a little room on both sides,
 /// as powers of ten, and its labelled ticks (1, 2, 5 or 1, 3 times powers of ten).
-pub fn axis(lo: f64, hi: f64) -> (f64, f64, Vec<f64>) {
+pub(crate) fn axis(lo: f64, hi: f64) -> (f64, f64, Vec<f64>) {
     let (mut a, mut b) = (lo.log10(), hi.log10());
     if b - a < 0.5 {
         let mid = 0.5 * (a + b);
@@ -70,7 +70,7 @@ pub fn axis(lo: f64, hi: f64) -> (f64, f64, Vec<f64>) {
 }
 
 /// A tick label: 0.001, 0.02, 1, 30, 1000, 1e5.
-pub fn tick_label(v: f64) -> String {
+pub(crate) fn tick_label(v: f64) -> String {
     if (1e-4..1e5).contains(&v) {
         let s = format!("{v:.4}");
         s.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -80,7 +80,7 @@ pub fn tick_label(v: f64) -> String {
 }
 
 impl LogLogPlot {
-    pub fn svg(&self) -> String {
+    pub(crate) fn svg(&self) -> String {
         let all: Vec<(f64, f64)> = self
             .series
             .iter()

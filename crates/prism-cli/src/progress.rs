@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 const ETA_MIN_ELAPSED: Duration = Duration::from_secs(1);
 const ETA_MIN_DONE: f64 = 0.03;
 
-pub struct RenderProgress {
+pub(crate) struct RenderProgress {
     bar: ProgressBar,
     total: u64,
     done: AtomicU64,
@@ -25,7 +25,7 @@ pub struct RenderProgress {
 }
 
 impl RenderProgress {
-    pub fn new(options: &RenderOptions, quiet: bool) -> Self {
+    pub(crate) fn new(options: &RenderOptions, quiet: bool) -> Self {
         let total = prism::render::progress_total(options);
         let bar = if quiet || !std::io::stderr().is_terminal() {
             ProgressBar::hidden()
@@ -47,7 +47,7 @@ impl RenderProgress {
         }
     }
 
-    pub fn tile_done(&self, tile: TileDone) {
+    pub(crate) fn tile_done(&self, tile: TileDone) {
         let rays = self.rays.fetch_add(tile.rays, Ordering::Relaxed) + tile.rays;
         let done = self.done.fetch_add(tile.pixels, Ordering::Relaxed) + tile.pixels;
         let elapsed = self.start.elapsed();
@@ -62,12 +62,12 @@ impl RenderProgress {
     }
 
     /// Removes the bar, so that whatever is printed next starts on a line of its own.
-    pub fn finish(&self) {
+    pub(crate) fn finish(&self) {
         self.bar.finish_and_clear();
     }
 
     /// The share of the work done, 0 to 1.
-    pub fn fraction_done(&self) -> f64 {
+    pub(crate) fn fraction_done(&self) -> f64 {
         self.done.load(Ordering::Relaxed) as f64 / self.total.max(1) as f64
     }
 }

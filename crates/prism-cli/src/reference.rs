@@ -1,14 +1,14 @@
 //! `prism reference`: the exact box-filtered image of the checkerboard scene, computed from
-//! the geometry with no sampling (prism::reference), with its error bound.
+//! the geometry with no sampling (prism_lab::reference), with its error bound.
 
 use anyhow::Result;
 use clap::Args;
-use prism::reference::{checkerboard, DEFAULT_TOLERANCE};
+use prism_lab::reference::{checkerboard, DEFAULT_TOLERANCE};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Args, Debug)]
-pub struct ReferenceArgs {
+pub(crate) struct ReferenceArgs {
     /// Scene file (.toml); without it the built-in checkerboard.
     pub scene: Option<PathBuf>,
 
@@ -38,7 +38,7 @@ pub struct ReferenceArgs {
     pub quiet: bool,
 }
 
-pub fn run(args: &ReferenceArgs) -> Result<ExitCode> {
+pub(crate) fn run(args: &ReferenceArgs) -> Result<ExitCode> {
     let render_args = crate::args::RenderArgs {
         scene: args.scene.clone(),
         builtin: Some(
@@ -60,11 +60,11 @@ pub fn run(args: &ReferenceArgs) -> Result<ExitCode> {
     options
         .validate()
         .map_err(|e| anyhow::anyhow!("invalid option: {e}"))?;
-    prism::output::ImageFormat::from_path(&args.output)?;
+    prism_io::output::ImageFormat::from_path(&args.output)?;
     crate::outputs::check_writable(&args.output)?;
     let start = std::time::Instant::now();
     let reference = checkerboard(&scene, width, height, args.tolerance)?;
-    prism::output::write_image(&args.output, &reference.film)?;
+    prism_io::output::write_image(&args.output, &reference.film)?;
     if !args.quiet {
         eprintln!(
             "prism: wrote {} ({name}, {width}×{height}, exact to {:.1e} per pixel, {:.2} s)",

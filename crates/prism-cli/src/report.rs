@@ -9,7 +9,7 @@ use serde_json::json;
 use std::path::Path;
 use std::time::Duration;
 
-pub struct Report {
+pub(crate) struct Report {
     json: serde_json::Value,
     /// The shadow rays' lines of the table.
     shadows: Vec<String>,
@@ -21,7 +21,7 @@ pub struct Report {
 }
 
 impl Report {
-    pub fn new(
+    pub(crate) fn new(
         scene: &str,
         prepared: &PreparedScene,
         options: &RenderOptions,
@@ -107,7 +107,7 @@ impl Report {
         }
     }
 
-    pub fn print_table(&self) {
+    pub(crate) fn print_table(&self) {
         let s = &self.stats;
         let total = s.total_rays().max(1) as f64;
         println!("accelerator        {}", self.accel);
@@ -182,13 +182,13 @@ impl Report {
         );
     }
 
-    pub fn write_json(&self, path: &Path) -> Result<()> {
+    pub(crate) fn write_json(&self, path: &Path) -> Result<()> {
         let text = serde_json::to_string_pretty(&self.json).expect("the report serialises");
         if path == Path::new("-") {
             println!("{text}");
             return Ok(());
         }
-        prism::output::write_atomic(path, (text + "\n").as_bytes())
+        prism_io::output::write_atomic(path, (text + "\n").as_bytes())
             .with_context(|| format!("cannot write statistics to {}", path.display()))
     }
 }

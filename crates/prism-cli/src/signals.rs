@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 /// Set by the first SIGINT or SIGTERM; a render polls it between tiles.
 #[derive(Clone)]
-pub struct Interrupt {
+pub(crate) struct Interrupt {
     pub cancel: Arc<AtomicBool>,
     /// 128 + the signal's number once one came; 0 before.
     exit_code: Arc<AtomicU8>,
@@ -18,7 +18,7 @@ pub struct Interrupt {
 
 impl Interrupt {
     /// The exit code for an interrupted run: 130 after SIGINT, 143 after SIGTERM.
-    pub fn exit_code(&self) -> u8 {
+    pub(crate) fn exit_code(&self) -> u8 {
         match self.exit_code.load(Ordering::SeqCst) {
             0 => 130,
             code => code,
@@ -26,7 +26,7 @@ impl Interrupt {
     }
 
     /// What stopped the run, for the closing message.
-    pub fn cause(&self) -> &'static str {
+    pub(crate) fn cause(&self) -> &'static str {
         if self.exit_code() == 143 {
             "terminated (SIGTERM)"
         } else {
@@ -39,7 +39,7 @@ impl Interrupt {
 /// kill the process without a word. Call first thing in `main`.
 #[cfg(unix)]
 #[allow(unsafe_code)]
-pub fn restore_unix_defaults() {
+pub(crate) fn restore_unix_defaults() {
     // SAFETY: signal() with SIG_DFL / SIG_IGN installs no handler code; called before any
     // thread starts, so nothing races with the change.
     unsafe {
@@ -58,7 +58,7 @@ pub fn restore_unix_defaults() {}
 /// Starts listening for SIGINT and SIGTERM. If that is impossible, the signals keep their
 /// default action (the process ends at once), which is still safe: outputs are written
 /// atomically.
-pub fn listen() -> Interrupt {
+pub(crate) fn listen() -> Interrupt {
     let interrupt = Interrupt {
         cancel: Arc::new(AtomicBool::new(false)),
         exit_code: Arc::new(AtomicU8::new(0)),

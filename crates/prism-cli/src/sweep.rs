@@ -1,17 +1,17 @@
 //! `prism sweep`: renders one scene with each sampling pattern at several sample counts
 //! (adaptive: at several depths and thresholds), measures every image against a reference
 //! and plots error against rays per pixel. The reference is exact for the checkerboard
-//! (prism::reference), else a file or a jittered render with many samples. Writes a CSV
+//! (prism_lab::reference), else a file or a jittered render with many samples. Writes a CSV
 //! table, SVG plots and a summary of the comparisons the sampling goals ask for.
 
 use crate::args::{per_axis, RenderArgs};
 use crate::plot::{LogLogPlot, Series, PALETTE};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use prism::metrics::{compare, flip::DEFAULT_PPD, Comparison};
 use prism::render::{render, Film, FilterKind};
 use prism::sampling::{AdaptiveRule, SamplerKind};
 use prism::RenderOptions;
+use prism_lab::metrics::{compare, flip::DEFAULT_PPD, Comparison};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -19,7 +19,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 #[derive(Args, Debug)]
-pub struct SweepArgs {
+pub(crate) struct SweepArgs {
     /// Scene file (.toml or .nff); without it a built-in scene.
     pub scene: Option<PathBuf>,
 
@@ -119,7 +119,7 @@ pub struct SweepArgs {
 
 /// An adaptive rule with a jitter amount and a stratified pass.
 #[derive(Clone, Copy, Debug)]
-pub struct Variant {
+pub(crate) struct Variant {
     rule: AdaptiveRule,
     jitter: f32,
     texture_spp: u32,
@@ -217,7 +217,7 @@ struct Measured {
     seconds: f64,
 }
 
-pub fn run(args: &SweepArgs) -> Result<ExitCode> {
+pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
     let loader = RenderArgs {
         scene: args.scene.clone(),
         builtin: Some(
@@ -258,14 +258,14 @@ pub fn run(args: &SweepArgs) -> Result<ExitCode> {
 
     // The reference, and the far-field mask where the reference is exact.
     let (reference, far, reference_note) = if let Some(path) = &args.reference {
-        let film = prism::output::read_image(path)?;
+        let film = prism_io::output::read_image(path)?;
         (film, None, format!("the image {}", path.display()))
     } else {
-        match prism::reference::checkerboard(
+        match prism_lab::reference::checkerboard(
             &scene,
             base.width,
             base.height,
-            prism::reference::DEFAULT_TOLERANCE,
+            prism_lab::reference::DEFAULT_TOLERANCE,
         ) {
             Ok(r) if args.filter == FilterKind::Box => {
                 let far = r.far_field();
@@ -326,7 +326,7 @@ pub fn run(args: &SweepArgs) -> Result<ExitCode> {
             None => None,
         };
         if args.keep_images {
-            prism::output::write_image(&args.out.join(run.file_name()), &film)?;
+            prism_io::output::write_image(&args.out.join(run.file_name()), &film)?;
         }
         let m = Measured {
             camera_per_pixel: stats.primary_rays as f64 / pixels,
@@ -380,7 +380,7 @@ pub fn run(args: &SweepArgs) -> Result<ExitCode> {
         )?;
     }
     let summary = summary(&name, &base, &reference_note, &results);
-    prism::output::write_atomic(&args.out.join("summary.txt"), summary.as_bytes())
+    prism_io::output::write_atomic(&args.out.join("summary.txt"), summary.as_bytes())
         .with_context(|| format!("cannot write {}", args.out.join("summary.txt").display()))?;
     print!("{summary}");
     Ok(ExitCode::SUCCESS)
@@ -475,7 +475,7 @@ fn write_csv(path: &Path, scene: &str, results: &[Measured]) -> Result<()> {
             m.seconds
         );
     }
-    prism::output::write_atomic(path, s.as_bytes())?;
+    prism_io::output::write_atomic(path, s.as_bytes())?;
     Ok(())
 }
 
@@ -527,7 +527,7 @@ fn write_plot(
         y_label: y_label.into(),
         series,
     };
-    prism::output::write_atomic(path, plot.svg().as_bytes())?;
+    prism_io::output::write_atomic(path, plot.svg().as_bytes())?;
     Ok(())
 }
 

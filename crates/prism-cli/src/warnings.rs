@@ -3,29 +3,29 @@
 
 use anyhow::{bail, Result};
 
-pub struct Warnings {
+pub(crate) struct Warnings {
     strict: bool,
     list: Vec<String>,
 }
 
 impl Warnings {
-    pub fn new(strict: bool) -> Self {
+    pub(crate) fn new(strict: bool) -> Self {
         Warnings {
             strict,
             list: Vec::new(),
         }
     }
 
-    pub fn add(&mut self, warning: impl Into<String>) {
+    pub(crate) fn add(&mut self, warning: impl Into<String>) {
         self.list.push(warning.into());
     }
 
-    pub fn extend(&mut self, warnings: impl IntoIterator<Item = String>) {
+    pub(crate) fn extend(&mut self, warnings: impl IntoIterator<Item = String>) {
         self.list.extend(warnings);
     }
 
     /// Prints the warnings; with `--strict`, any warning is an error.
-    pub fn report(&self) -> Result<()> {
+    pub(crate) fn report(&self) -> Result<()> {
         for w in &self.list {
             eprintln!("prism: warning: {w}");
         }

@@ -136,7 +136,7 @@ fn the_density_view_is_a_png_with_a_colour_bar() {
         ]),
         0,
     );
-    let counts = prism::output::read_image(&dir.join("c.pfm")).unwrap();
+    let counts = prism_io::output::read_image(&dir.join("c.pfm")).unwrap();
     assert_eq!((counts.width, counts.height), (20, 14));
     let sum: f32 = counts.pixels.iter().map(|c| c.x).sum();
     assert_eq!(sum, (21 * 15 + 20 * 14) as f32);

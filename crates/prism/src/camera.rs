@@ -3,15 +3,20 @@
 
 use crate::math::{Ray, Vec3};
 
+/// Where the picture is taken from and how: the eye, the point it looks at, which way is up, and
+/// the projection.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// The eye point (perspective) or the centre of the window of rays (orthographic).
     pub eye: Vec3,
+    /// The point the view direction aims at.
     pub look_at: Vec3,
     /// Need not be unit or perpendicular to the view direction, only not parallel to it.
     pub up: Vec3,
     /// Full field of view in degrees across the shorter image side (the vertical one for
     /// landscape images; both for square images, as NFF's `angle`). Perspective only.
     pub fov_degrees: f32,
+    /// Perspective or orthographic.
     pub projection: Projection,
 }
 
@@ -24,22 +29,32 @@ pub enum Projection {
     /// Parallel rays along the view direction, leaving a window centred on the eye that is
     /// `size` world units across the shorter image side (glTF's 2·ymag for a landscape
     /// image). Nothing behind the eye's plane is seen.
-    Orthographic { size: f32 },
+    Orthographic {
+        /// Width of the window across the shorter image side, in world units.
+        size: f32,
+    },
 }
 
+/// Why a camera cannot make rays.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum CameraError {
+    /// Eye and look-at point are the same, so there is no view direction.
     #[error("the camera's eye and look-at point coincide")]
     NoViewDirection,
+    /// The up vector gives no sideways direction.
     #[error("the camera's up vector is parallel to its view direction")]
     UpParallel,
+    /// A field of view outside (0, 180) degrees.
     #[error("the field of view must be between 0 and 180 degrees, got {0}")]
     FieldOfView(f32),
+    /// An orthographic window that is not positive and finite.
     #[error("an orthographic view must be wider than 0 and finite, got {0}")]
     OrthographicSize(f32),
 }
 
 impl Camera {
+    /// Checks that the camera defines a view: a direction, a sideways axis and a valid field of
+    /// view or window.
     pub fn validate(&self) -> Result<(), CameraError> {
         let fwd = (self.look_at - self.eye)
             .try_normalize()

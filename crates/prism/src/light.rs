@@ -6,25 +6,36 @@
 
 use crate::math::{Color, Vec3};
 
+/// A light source of the Whitted model (no falloff with distance).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Light {
+    /// Light from one point, equally in every direction.
     Point {
+        /// Where the light is.
         position: Vec3,
+        /// Irradiance on a surface facing it, per channel.
         color: Color,
     },
     /// Light arriving from infinitely far away, travelling along `direction` (unit).
     Directional {
+        /// Unit direction the light travels in.
         direction: Vec3,
+        /// Irradiance on a surface facing it, per channel.
         color: Color,
     },
     /// A point light shining along `direction` (unit) into a cone: full strength within
     /// the inner angle, none beyond the outer one, given as the angles' cosines
     /// (`cos_outer` ≤ `cos_inner`).
     Spot {
+        /// Where the light is.
         position: Vec3,
+        /// The cone's axis, the way the light shines.
         direction: Vec3,
+        /// Irradiance on a surface facing it on the axis, per channel.
         color: Color,
+        /// Cosine of the angle within which the light is at full strength.
         cos_inner: f32,
+        /// Cosine of the angle beyond which the light gives nothing.
         cos_outer: f32,
     },
 }
@@ -47,10 +58,13 @@ pub struct LightSample {
     pub to_light: Vec3,
     /// Distance to the light (infinite for directional lights).
     pub distance: f32,
+    /// Irradiance the light gives a surface facing it here (after a spot's falloff).
     pub color: Color,
 }
 
 impl Light {
+    /// The direction, distance and strength of this light as seen from point `p`; `None`
+    /// when `p` is at the light itself or outside a spot light's cone.
     pub fn sample(&self, p: Vec3) -> Option<LightSample> {
         match *self {
             Light::Point { position, color } => {

@@ -11,7 +11,9 @@ use serde::{Deserialize, Serialize};
 pub const MAX_DEPTH_LIMIT: u32 = 256;
 /// POV-Ray's `adc_bailout`: one 8-bit level.
 pub const DEFAULT_MIN_WEIGHT: f32 = 1.0 / 255.0;
+/// The adaptive sampler's default split threshold: a tenth of the display range.
 pub const DEFAULT_ADAPTIVE_THRESHOLD: f32 = 0.1;
+/// The adaptive sampler's default levels of splitting below the pixel.
 pub const DEFAULT_ADAPTIVE_DEPTH: u32 = 3;
 /// Samples of the stratified pass in a textured pixel (see `adaptive_texture_spp`): with
 /// threshold 0.1 and depth 3, the setting that meets issue 5's goal on the checkerboard and
@@ -25,6 +27,8 @@ pub const MAX_SAMPLES_PER_AXIS: u32 = 64;
 /// Largest accepted filter radius, in pixels.
 pub const MAX_FILTER_RADIUS: f32 = 8.0;
 
+/// Every setting of a render, in one place: filled from defaults, then the scene file, then the
+/// command line.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RenderOptions {

@@ -7,6 +7,8 @@ use crate::geometry::ShapeKind;
 use serde::Serialize;
 use std::ops::AddAssign;
 
+/// What one render (or one thread of it) did: rays by kind, tests, node visits and the shadow
+/// methods' counters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct Stats {
     /// Camera rays.
@@ -17,7 +19,9 @@ pub struct Stats {
     pub shadow_rays: u64,
     /// Extra segments traced by shadow rays that pass through transparent surfaces.
     pub shadow_continuations: u64,
+    /// Mirror-reflected rays traced.
     pub reflected_rays: u64,
+    /// Refracted rays traced.
     pub refracted_rays: u64,
     /// Reflected or refracted rays not traced because their weight in the pixel fell below
     /// `min_weight` (adaptive depth control); each also saves its whole subtree.
@@ -56,6 +60,7 @@ impl Stats {
         self.tests_by_kind[kind as usize] += 1;
     }
 
+    /// Every ray traced: camera, shadow (with continuations), reflected and refracted.
     pub fn total_rays(&self) -> u64 {
         self.primary_rays
             + self.shadow_rays

@@ -21,8 +21,10 @@ pub enum Transfer {
 }
 
 impl Transfer {
+    /// Every transfer, in the order their names are listed.
     pub const ALL: [Transfer; 2] = [Transfer::Srgb, Transfer::Display];
 
+    /// The name the scene file and the command line use.
     pub fn name(self) -> &'static str {
         match self {
             Transfer::Srgb => "srgb",

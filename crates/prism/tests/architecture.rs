@@ -1,6 +1,8 @@
-//! ARCHITECTURE.md is the map of the code, so it must stay true: every source module and
-//! every test file is named in it, and every module imports only the modules that its
-//! documented dependency order puts before it.
+//! ARCHITECTURE.md is the map of the code, so it must stay true: every source module of
+//! every crate is named in that crate's section, every test, example and bench file is
+//! named, every module imports only the modules that its crate's documented dependency
+//! order puts before it, and every crate depends only on the crates its order puts before
+//! it. The checks run from crates/prism, the first crate, but cover the whole workspace.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -37,8 +39,20 @@ fn named(doc: &str, stem: &str) -> bool {
     })
 }
 
-fn unnamed(dir: &str) -> Vec<String> {
-    let doc = architecture();
+/// The crates of the workspace, in their dependency order; each has a section of
+/// ARCHITECTURE.md whose heading names its `crates/NAME/src`.
+const CRATES: [&str; 4] = ["prism", "prism-io", "prism-lab", "prism-cli"];
+
+/// The section of ARCHITECTURE.md whose `## ` heading contains `marker`.
+fn section(doc: &str, marker: &str) -> String {
+    doc.split("\n## ")
+        .find(|s| s.lines().next().is_some_and(|h| h.contains(marker)))
+        .unwrap_or_else(|| panic!("ARCHITECTURE.md has no section headed with {marker}"))
+        .to_string()
+}
+
+/// The files (and folders) below `dir` that `doc` does not name.
+fn unnamed(doc: &str, dir: &str) -> Vec<String> {
     let mut files = Vec::new();
     entries(Path::new(dir), "", &mut files);
     files
@@ -47,32 +61,51 @@ fn unnamed(dir: &str) -> Vec<String> {
         .filter(|(path, _)| !path.starts_with("data"))
         .filter(|(path, _)| {
             let stem = path.rsplit('/').next().unwrap().trim_end_matches(".rs");
-            !named(&doc, stem)
+            !named(doc, stem)
         })
         .map(|(path, is_dir)| if is_dir { format!("{path}/") } else { path })
         .collect()
 }
 
+/// `crates/NAME/…` as a path from crates/prism, where the tests run.
+fn crate_dir(name: &str, sub: &str) -> String {
+    format!("../{name}/{sub}")
+}
+
 #[test]
-fn every_engine_module_is_named() {
-    let missing = unnamed("src");
+fn every_module_is_named_in_its_crates_section() {
+    let doc = architecture();
+    let mut missing = Vec::new();
+    for name in CRATES {
+        let part = section(&doc, &format!("`crates/{name}/src`"));
+        let dir = crate_dir(name, "src");
+        missing.extend(
+            unnamed(&part, &dir)
+                .into_iter()
+                .map(|m| format!("{dir}: {m}")),
+        );
+    }
     assert!(
         missing.is_empty(),
-        "ARCHITECTURE.md does not name these modules of crates/prism/src: {missing:?}"
+        "ARCHITECTURE.md does not name these modules in their crate's section: {missing:?}"
     );
 }
 
 #[test]
 fn every_test_example_and_bench_file_is_named() {
+    let doc = architecture();
     let mut missing = Vec::new();
-    for dir in [
-        "tests",
-        "examples",
-        "benches",
-        "../prism-cli/src",
-        "../prism-cli/tests",
-    ] {
-        missing.extend(unnamed(dir).into_iter().map(|m| format!("{dir}: {m}")));
+    for name in CRATES {
+        for sub in ["tests", "examples", "benches"] {
+            let dir = crate_dir(name, sub);
+            if Path::new(&dir).is_dir() {
+                missing.extend(
+                    unnamed(&doc, &dir)
+                        .into_iter()
+                        .map(|m| format!("{dir}: {m}")),
+                );
+            }
+        }
     }
     assert!(
         missing.is_empty(),
@@ -98,14 +131,20 @@ fn the_concept_table_points_at_files_that_exist() {
         if place.starts_with("not yet") {
             continue;
         }
-        // The first backticked path of the row, relative to crates/prism/src.
+        // The first backticked path of the row, relative to crates/, so naming its crate.
         let first = place
             .split('`')
             .nth(1)
             .unwrap_or_else(|| panic!("{concept}: no file named"));
         assert!(
-            Path::new("src").join(first).exists(),
-            "{concept}: src/{first} does not exist"
+            CRATES
+                .iter()
+                .any(|c| first.starts_with(&format!("{c}/src/"))),
+            "{concept}: {first} should start with the crate, as in prism/src/…"
+        );
+        assert!(
+            Path::new("..").join(first).exists(),
+            "{concept}: crates/{first} does not exist"
         );
         checked += 1;
     }
@@ -120,14 +159,14 @@ fn the_concept_table_points_at_files_that_exist() {
     }
 }
 
-/// The dependency order as ARCHITECTURE.md writes it: levels separated by `←`, modules on
-/// one level by `/`.
-fn documented_order() -> Vec<Vec<String>> {
+/// A dependency order as ARCHITECTURE.md writes it, on the line that starts with
+/// `label:`: levels separated by `←`, names on one level by `/`.
+fn documented_order(label: &str) -> Vec<Vec<String>> {
     let doc = architecture();
     let line = doc
         .lines()
-        .find(|l| l.trim_start().starts_with("`math` ←"))
-        .expect("the dependency order line");
+        .find_map(|l| l.trim_start().strip_prefix(&format!("{label}: ")))
+        .unwrap_or_else(|| panic!("ARCHITECTURE.md has no dependency order line `{label}:`"));
     line.split('←')
         .map(|level| {
             level
@@ -138,10 +177,11 @@ fn documented_order() -> Vec<Vec<String>> {
         .collect()
 }
 
-/// The `crate::X` modules that the files of module `module` mention.
-fn imports_of(module: &str) -> BTreeSet<String> {
+/// The `crate::X` modules that the files of module `module` of the crate whose sources
+/// are in `src` mention.
+fn imports_of(src: &Path, module: &str) -> BTreeSet<String> {
     let mut files = Vec::new();
-    let dir = Path::new("src").join(module);
+    let dir = src.join(module);
     if dir.is_dir() {
         entries(&dir, "", &mut files);
         files.retain(|(_, is_dir)| !is_dir);
@@ -154,7 +194,8 @@ fn imports_of(module: &str) -> BTreeSet<String> {
     }
     let mut out = BTreeSet::new();
     for (path, _) in files {
-        let text = fs::read_to_string(Path::new("src").join(&path)).unwrap();
+        let text = fs::read_to_string(src.join(&path))
+            .unwrap_or_else(|e| panic!("{}: {e}", src.join(&path).display()));
         for part in text.split("crate::").skip(1) {
             let name: String = part
                 .chars()
@@ -168,30 +209,91 @@ fn imports_of(module: &str) -> BTreeSet<String> {
     out
 }
 
+/// The top modules of a crate: the folders and files beside its lib.rs.
+fn top_modules(src: &Path) -> BTreeSet<String> {
+    fs::read_dir(src)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .filter(|n| n != "lib.rs" && n != "main.rs")
+        .map(|n| n.trim_end_matches(".rs").to_string())
+        .collect()
+}
+
 #[test]
 fn modules_import_only_what_the_order_puts_before_them() {
-    let order = documented_order();
-    assert!(order.len() >= 8, "{order:?}");
-    // Outside the order by design (see ARCHITECTURE.md): the settings everyone reads, and
-    // the macros every module may use.
+    // Outside the engine's order by design (see ARCHITECTURE.md): the settings everyone
+    // reads, and the macros every module may use.
     let free = ["options", "preset", "kinds"];
-    let level = |m: &str| order.iter().position(|l| l.iter().any(|x| x == m));
     let mut wrong = Vec::new();
-    for (i, modules) in order.iter().enumerate() {
-        for module in modules {
-            for import in imports_of(module) {
-                if free.contains(&import.as_str()) {
-                    continue;
-                }
-                match level(&import) {
-                    Some(j) if j < i => {}
-                    _ => wrong.push(format!("{module} imports {import}")),
+    for name in ["prism", "prism-io", "prism-lab"] {
+        let order = documented_order(name);
+        let src = Path::new("..").join(name).join("src");
+        let level = |m: &str| order.iter().position(|l| l.iter().any(|x| x == m));
+        for module in top_modules(&src) {
+            if level(&module).is_none() && !free.contains(&module.as_str()) {
+                wrong.push(format!("{name}: {module} is not in the order"));
+            }
+        }
+        for (i, modules) in order.iter().enumerate() {
+            for module in modules {
+                for import in imports_of(&src, module) {
+                    if free.contains(&import.as_str()) {
+                        continue;
+                    }
+                    match level(&import) {
+                        Some(j) if j < i => {}
+                        _ => wrong.push(format!("{name}: {module} imports {import}")),
+                    }
                 }
             }
         }
     }
     assert!(
+        documented_order("prism").len() >= 8,
+        "{:?}",
+        documented_order("prism")
+    );
+    assert!(
         wrong.is_empty(),
         "imports against ARCHITECTURE.md's dependency order: {wrong:?}"
+    );
+}
+
+/// The workspace crates a crate's Cargo.toml lists under `[dependencies]` (not the
+/// dev-dependencies: test fixtures may come from any crate).
+fn crate_dependencies(name: &str) -> Vec<String> {
+    let manifest = fs::read_to_string(Path::new("..").join(name).join("Cargo.toml")).unwrap();
+    let deps = manifest
+        .split("\n[dependencies]")
+        .nth(1)
+        .and_then(|rest| rest.split("\n[").next())
+        .unwrap_or("");
+    deps.lines()
+        .filter_map(|l| l.split_once(" = { path = "))
+        .map(|(dep, _)| dep.trim().to_string())
+        .collect()
+}
+
+#[test]
+fn crates_depend_only_on_crates_before_them() {
+    let order = documented_order("crates");
+    let level = |m: &str| order.iter().position(|l| l.iter().any(|x| x == m));
+    let mut wrong = Vec::new();
+    for name in CRATES {
+        let i = level(name).unwrap_or_else(|| panic!("{name} is not in the crate order"));
+        for dep in crate_dependencies(name) {
+            match level(&dep) {
+                Some(j) if j < i => {}
+                _ => wrong.push(format!("{name} depends on {dep}")),
+            }
+        }
+    }
+    assert!(
+        crate_dependencies("prism-cli").len() == 3,
+        "the CLI should build on all three libraries"
+    );
+    assert!(
+        wrong.is_empty(),
+        "crate dependencies against ARCHITECTURE.md's order: {wrong:?}"
     );
 }

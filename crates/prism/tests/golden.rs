@@ -5,9 +5,9 @@
 //! Regenerate on purpose with `scripts/bless-golden.sh` (PRISM_BLESS=1), then look at the
 //! images before committing them.
 
-use prism::output::to_rgb8;
 use prism::render::render;
 use prism::scene::builtin;
+use prism_io::output::to_rgb8;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 
@@ -32,7 +32,7 @@ fn check(name: &str, width: u32, height: u32, samples: u32) {
 /// A scene file from the repository, rendered with its own settings but the given size.
 fn check_file(relative: &str, golden: &str, width: u32, height: u32, samples: u32) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative);
-    let scene = prism::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = prism_io::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     check_scene(golden, scene, width, height, samples);
 }
 

@@ -313,7 +313,7 @@ fn a_zero_weight_threshold_traces_the_static_ray_tree() {
     assert!(default.stats.pruned_rays > 0);
     let saved = zero.stats.total_rays() - default.stats.total_rays();
     assert!(saved >= default.stats.pruned_rays, "saved {saved}");
-    let c = prism::metrics::compare(&zero.film, &default.film, None, 67.0).unwrap();
+    let c = prism_lab::metrics::compare(&zero.film, &default.film, None, 67.0).unwrap();
     assert!(c.flip < 0.01 && c.rmse < 2e-3, "{c:?}");
     // Higher thresholds trace fewer rays.
     let mut last = zero.stats.total_rays();

@@ -14,11 +14,11 @@ use prism::camera::{Camera, Projection};
 use prism::geometry::generate;
 use prism::light::Light;
 use prism::math::{Color, Vec3};
-use prism::output::to_rgb8;
 use prism::render::render;
 use prism::scene::builtin;
 use prism::shading::{Checker, CheckerSpace, FresnelMode, Material, Texture};
 use prism::Scene;
+use prism_io::output::to_rgb8;
 use std::sync::atomic::AtomicBool;
 
 /// Mean absolute difference per channel, in 8-bit sRGB levels.

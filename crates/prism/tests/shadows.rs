@@ -297,7 +297,7 @@ fn spd_scenes_render_the_same_with_every_shadow_method() {
     for name in [
         "balls", "gears", "mount", "rings", "teapot", "tetra", "tree",
     ] {
-        let mut scene = prism::scene::load(&dir.join(format!("{name}.nff"))).unwrap();
+        let mut scene = prism_io::scene::load(&dir.join(format!("{name}.nff"))).unwrap();
         let mut options = scene.options.clone();
         prism::preset::apply_spd(&mut scene, &mut options);
         options.width = 65;

@@ -161,7 +161,7 @@ fn grey_transmission_is_a_grey_filter() {
              material = \"glass\"\n"
         );
         let scene =
-            prism::scene::parse_toml(&text, std::path::Path::new("grey.toml")).expect("valid");
+            prism_io::scene::parse_toml(&text, std::path::Path::new("grey.toml")).expect("valid");
         centre_pixel(&scene, 5)
     };
     let number = grey("0.5");

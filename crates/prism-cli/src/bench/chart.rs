@@ -13,7 +13,7 @@ const TOP: f64 = 50.0;
 const PLOT_HEIGHT: f64 = 320.0;
 const LABELS: f64 = 110.0;
 
-pub fn svg(scenes: &[SceneResult], methods: &[String], title: &str) -> String {
+pub(super) fn svg(scenes: &[SceneResult], methods: &[String], title: &str) -> String {
     let values: Vec<f64> = scenes
         .iter()
         .flat_map(|s| s.rows.iter().filter_map(|r| r.measured()))

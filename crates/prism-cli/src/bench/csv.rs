@@ -3,7 +3,7 @@
 
 use super::results::SceneResult;
 
-pub const COLUMNS: [&str; 22] = [
+pub(super) const COLUMNS: [&str; 22] = [
     "scene",
     "primitives",
     "width",
@@ -30,7 +30,7 @@ pub const COLUMNS: [&str; 22] = [
 
 /// The last two columns: primary throughput over the scene's fastest, and whether this is
 /// the fastest.
-pub const COMPARISON: [&str; 2] = ["vs_best", "fastest"];
+pub(super) const COMPARISON: [&str; 2] = ["vs_best", "fastest"];
 
 /// Quotes a field holding a comma, quote or line break (RFC 4180).
 fn field(s: &str) -> String {
@@ -41,7 +41,7 @@ fn field(s: &str) -> String {
     }
 }
 
-pub fn csv(scenes: &[SceneResult]) -> String {
+pub(super) fn csv(scenes: &[SceneResult]) -> String {
     let mut out = COLUMNS
         .iter()
         .chain(&COMPARISON)

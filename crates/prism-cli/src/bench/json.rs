@@ -5,7 +5,7 @@ use super::results::{SceneResult, DEFAULT_TOLERANCE};
 use prism::accel::AccelSpec;
 use serde_json::{json, Value};
 
-pub struct RunSettings {
+pub(super) struct RunSettings {
     pub threads: usize,
     /// What the times were read from.
     pub clock: &'static str,
@@ -13,7 +13,7 @@ pub struct RunSettings {
     pub repeat: usize,
 }
 
-pub fn json(scenes: &[SceneResult], settings: &RunSettings) -> Value {
+pub(super) fn json(scenes: &[SceneResult], settings: &RunSettings) -> Value {
     let scenes: Vec<Value> = scenes
         .iter()
         .map(|s| {

@@ -12,7 +12,7 @@ mod table;
 use anyhow::{Context, Result};
 use clap::Args;
 use prism::accel::{AccelKind, AccelSpec};
-use prism::bench::{measure_all, Clock, MeasureOptions, RaySet};
+use prism_lab::bench::{measure_all, Clock, MeasureOptions, RaySet};
 use results::{Outcome, Row, SceneResult};
 use scenes::SceneSource;
 use std::path::PathBuf;
@@ -20,13 +20,13 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 /// The methods measured when none are given. Any spec `--accel` takes may be added.
-pub const DEFAULT_METHODS: &[&str] = &["bvh", "grid", "kdtree", "octree", "brute-force"];
+pub(crate) const DEFAULT_METHODS: &[&str] = &["bvh", "grid", "kdtree", "octree", "brute-force"];
 
 /// Brute force is skipped when primitives × rays exceeds this (about ten seconds a pass).
 const BRUTE_FORCE_BUDGET: u64 = 1_000_000_000;
 
 #[derive(Args, Debug)]
-pub struct BenchArgs {
+pub(crate) struct BenchArgs {
     /// Scenes, comma separated: built-in names (see `prism list`), sphereflake:N, or scene
     /// files [default: every built-in, the bad cases included].
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
@@ -135,7 +135,7 @@ impl BenchArgs {
     }
 }
 
-pub fn run(args: &BenchArgs) -> Result<ExitCode> {
+pub(crate) fn run(args: &BenchArgs) -> Result<ExitCode> {
     let methods = args.methods()?;
     let shadow_specs: Vec<prism::integrator::ShadowSpec> = match &args.shadows {
         None => Vec::new(),
@@ -245,7 +245,7 @@ pub fn run(args: &BenchArgs) -> Result<ExitCode> {
         outputs.push((p, chart::svg(&results, &method_names, &title).into_bytes()));
     }
     for (path, bytes) in outputs {
-        prism::output::write_atomic(path, &bytes)?;
+        prism_io::output::write_atomic(path, &bytes)?;
     }
     let wrong: Vec<String> = results
         .iter()
@@ -304,7 +304,7 @@ fn bench_scene(
         if !quiet {
             eprintln!("bench: {name}: shadow methods");
         }
-        prism::bench::measure_shadow_methods(&reference, &rays, shadow_specs, options)
+        prism_lab::bench::measure_shadow_methods(&reference, &rays, shadow_specs, options)
     };
     let bounded = (0..scene.geometry.primitives.len() as u32)
         .filter(|&i| scene.geometry.bounds(i).is_some())

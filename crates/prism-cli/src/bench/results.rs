@@ -3,15 +3,15 @@
 //! speed relative to it).
 
 use prism::accel::AccelSpec;
-use prism::bench::{Measured, RaySetSize};
+use prism_lab::bench::{Measured, RaySetSize};
 
-pub enum Outcome {
+pub(super) enum Outcome {
     Measured(Box<Measured>),
     /// Not run, and why.
     Skipped(String),
 }
 
-pub struct Row {
+pub(super) struct Row {
     /// The method as the user wrote it.
     pub method: String,
     pub spec: AccelSpec,
@@ -21,14 +21,14 @@ pub struct Row {
 }
 
 impl Row {
-    pub fn measured(&self) -> Option<&Measured> {
+    pub(super) fn measured(&self) -> Option<&Measured> {
         match &self.outcome {
             Outcome::Measured(m) => Some(m),
             Outcome::Skipped(_) => None,
         }
     }
 
-    pub fn status(&self) -> String {
+    pub(super) fn status(&self) -> String {
         match (&self.outcome, self.mismatch) {
             (Outcome::Skipped(why), _) => format!("skipped: {why}"),
             (Outcome::Measured(_), true) => "hits differ from the reference".into(),
@@ -36,12 +36,12 @@ impl Row {
         }
     }
 
-    pub fn is_default(&self) -> bool {
+    pub(super) fn is_default(&self) -> bool {
         self.spec == AccelSpec::default()
     }
 }
 
-pub struct SceneResult {
+pub(super) struct SceneResult {
     pub name: String,
     /// Primitives in the scene, unbounded ones (planes) included.
     pub primitives: usize,
@@ -51,12 +51,12 @@ pub struct SceneResult {
     pub primary_hits: usize,
     pub rows: Vec<Row>,
     /// The shadow methods on the same shadow rays (`--shadows`), if asked for.
-    pub shadow_methods: Vec<prism::bench::ShadowMeasured>,
+    pub shadow_methods: Vec<prism_lab::bench::ShadowMeasured>,
 }
 
 impl SceneResult {
     /// The row with the highest primary-ray throughput.
-    pub fn fastest(&self) -> Option<usize> {
+    pub(super) fn fastest(&self) -> Option<usize> {
         self.rows
             .iter()
             .enumerate()
@@ -66,14 +66,14 @@ impl SceneResult {
     }
 
     /// Row `i`'s primary-ray throughput over the fastest one's (1 for the fastest).
-    pub fn vs_best(&self, i: usize) -> Option<f64> {
+    pub(super) fn vs_best(&self, i: usize) -> Option<f64> {
         let best = self.rows[self.fastest()?].measured()?.primary.mrays_per_s;
         let own = self.rows[i].measured()?.primary.mrays_per_s;
         (best > 0.0).then(|| own / best)
     }
 
     /// The default method's row, if it was measured.
-    pub fn default_row(&self) -> Option<usize> {
+    pub(super) fn default_row(&self) -> Option<usize> {
         self.rows
             .iter()
             .position(|r| r.is_default() && r.measured().is_some())
@@ -81,11 +81,11 @@ impl SceneResult {
 }
 
 /// How close the default must be to the fastest method (issue 4): within 10 %.
-pub const DEFAULT_TOLERANCE: f64 = 0.9;
+pub(super) const DEFAULT_TOLERANCE: f64 = 0.9;
 
 /// The closing lines: per scene the fastest method and where the default stands, then
 /// how many scenes meet the issue's demand.
-pub fn summary(scenes: &[SceneResult]) -> Vec<String> {
+pub(super) fn summary(scenes: &[SceneResult]) -> Vec<String> {
     let mut lines = Vec::new();
     let default = AccelSpec::default().to_string();
     let (mut met, mut judged) = (0, 0);

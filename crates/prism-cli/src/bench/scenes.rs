@@ -6,14 +6,14 @@ use prism::scene::builtin;
 use prism::Scene;
 use std::path::{Path, PathBuf};
 
-pub enum SceneSource {
+pub(super) enum SceneSource {
     Builtin(String),
     File(PathBuf),
 }
 
 impl SceneSource {
     /// A built-in name or an existing file.
-    pub fn resolve(name: &str) -> Result<Self> {
+    pub(super) fn resolve(name: &str) -> Result<Self> {
         let name = name.trim();
         let known = builtin::names().contains(&name)
             || name
@@ -34,7 +34,7 @@ impl SceneSource {
     }
 
     /// A short name for tables: the built-in's name or the file's stem.
-    pub fn name(&self) -> String {
+    pub(super) fn name(&self) -> String {
         match self {
             SceneSource::Builtin(n) => n.clone(),
             SceneSource::File(p) => p
@@ -43,18 +43,18 @@ impl SceneSource {
         }
     }
 
-    pub fn load(&self) -> Result<Scene> {
+    pub(super) fn load(&self) -> Result<Scene> {
         match self {
             SceneSource::Builtin(n) => crate::args::find_builtin(n),
             SceneSource::File(p) => {
-                prism::scene::load(p).with_context(|| format!("cannot load {}", p.display()))
+                prism_io::scene::load(p).with_context(|| format!("cannot load {}", p.display()))
             }
         }
     }
 }
 
 /// The `.nff` files in `dir`, sorted by name.
-pub fn spd_files(dir: &Path) -> Result<Vec<SceneSource>> {
+pub(super) fn spd_files(dir: &Path) -> Result<Vec<SceneSource>> {
     let entries = std::fs::read_dir(dir)
         .with_context(|| format!("cannot read the SPD directory {}", dir.display()))?;
     let mut files: Vec<PathBuf> = entries

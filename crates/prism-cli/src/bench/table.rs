@@ -2,7 +2,7 @@
 //! primary rays (nearest hit), "S" shadow rays (any hit).
 
 use super::results::SceneResult;
-use prism::bench::RayKindResult;
+use prism_lab::bench::RayKindResult;
 use std::fmt::Write;
 
 /// Nodes and tests per ray and Mrays/s, or dashes when a scene has no rays of the kind
@@ -31,7 +31,7 @@ fn rate(v: f64) -> String {
     }
 }
 
-pub fn header() -> String {
+pub(super) fn header() -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -54,7 +54,7 @@ pub fn header() -> String {
 }
 
 /// One scene's lines; the fastest method for primary rays is marked with `*`.
-pub fn scene_block(scene: &SceneResult) -> String {
+pub(super) fn scene_block(scene: &SceneResult) -> String {
     let mut s = String::new();
     let fastest = scene.fastest();
     for (i, row) in scene.rows.iter().enumerate() {
@@ -101,7 +101,7 @@ pub fn scene_block(scene: &SceneResult) -> String {
 /// time, memory, work per shadow ray, the share of rays blocked, answered by the cache, by a
 /// light buffer cell's covering primitive and handed by a buffer to the accelerator, and
 /// throughput against the first method's.
-pub fn shadow_block(s: &SceneResult) -> String {
+pub(super) fn shadow_block(s: &SceneResult) -> String {
     let Some(first) = s.shadow_methods.first() else {
         return String::new();
     };

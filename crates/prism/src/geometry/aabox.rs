@@ -4,13 +4,17 @@ use super::{ShapeHit, SurfacePoint};
 use crate::math::robust::gamma;
 use crate::math::{Aabb, Ray, TraceRay, Vec2, Vec3};
 
+/// A solid axis-aligned box, for NFF-style blocks and walls that should stay exactly square.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AaBox {
+    /// The corner with the smallest coordinates.
     pub min: Vec3,
+    /// The corner with the largest coordinates.
     pub max: Vec3,
 }
 
 impl AaBox {
+    /// The box spanned by two opposite corners, given in any order.
     pub fn new(a: Vec3, b: Vec3) -> Self {
         AaBox {
             min: a.min(b),
@@ -66,6 +70,7 @@ impl AaBox {
         })
     }
 
+    /// The point, normals and uv of a hit that `intersect` found, on the face it recorded.
     pub fn surface(&self, ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
         let face = hit.u as usize;
         let (axis, max_side) = (face % 3, face >= 3);
@@ -96,6 +101,7 @@ impl AaBox {
         }
     }
 
+    /// The box as a bounding volume (its own extent).
     pub fn bounds(&self) -> Aabb {
         Aabb::new(self.min, self.max)
     }

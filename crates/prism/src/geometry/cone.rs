@@ -11,12 +11,18 @@ use crate::math::{Aabb, Frame, Ray, Vec2, Vec3};
 use glam::DVec3;
 use std::f32::consts::PI;
 
+/// A truncated cone, or a cylinder when both radii are equal; `new` checks the parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cone {
+    /// Centre of the base disc.
     pub base: Vec3,
+    /// Radius at the base (zero makes a pointed cone).
     pub base_radius: f32,
+    /// Centre of the apex disc.
     pub apex: Vec3,
+    /// Radius at the apex (zero makes a pointed cone).
     pub apex_radius: f32,
+    /// Whether the two end discs are part of the surface (NFF cones are open).
     pub capped: bool,
     frame: Frame,
     height: f32,
@@ -55,6 +61,7 @@ impl Cone {
         })
     }
 
+    /// A cylinder from `base` to `top`; `None` for the same reasons as `new`.
     pub fn cylinder(base: Vec3, top: Vec3, radius: f32, capped: bool) -> Option<Self> {
         Cone::new(base, radius, top, radius, capped)
     }
@@ -69,6 +76,7 @@ impl Cone {
         (o, d)
     }
 
+    /// Nearest hit with `0 < t < t_max`; `u` tells the side from the caps.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
         let (o, d) = self.local_ray(ray);
@@ -124,6 +132,7 @@ impl Cone {
         })
     }
 
+    /// The point, normals and uv of a hit that `intersect` found, on the side or a cap.
     pub fn surface(&self, ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
         let (o, d) = self.local_ray(ray);
         let local = o + hit.t as f64 * d;
@@ -175,6 +184,7 @@ impl Cone {
         }
     }
 
+    /// A box around both end discs.
     pub fn bounds(&self) -> Aabb {
         // Exact box of the two end discs: a disc of radius r with unit normal a extends
         // r·sqrt(1 − a_i²) along axis i.

@@ -4,6 +4,8 @@ use super::{ShapeHit, SurfacePoint};
 use crate::math::robust::gamma;
 use crate::math::{Vec2, Vec3};
 
+/// Triangles over shared vertices: positions, index triples and optional normals and uvs, checked
+/// once by `new` so that lookups during rendering need no checks.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct TriangleMesh {
     positions: Vec<Vec3>,
@@ -12,22 +14,35 @@ pub struct TriangleMesh {
     uvs: Option<Vec<Vec2>>,
 }
 
+/// Why `TriangleMesh::new` refused its input.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MeshError {
+    /// An index triple names a vertex that does not exist.
     #[error("triangle {triangle} refers to vertex {index}, but the mesh has {count} vertices")]
     IndexOutOfRange {
+        /// The offending triangle.
         triangle: usize,
+        /// The vertex index it names.
         index: u32,
+        /// How many vertices the mesh has.
         count: usize,
     },
+    /// Normals or uvs are given, but not one per position.
     #[error("the mesh has {positions} positions but {count} {what}")]
     AttributeCount {
+        /// Which attribute ("normals" or "uvs").
         what: &'static str,
+        /// How many positions the mesh has.
         positions: usize,
+        /// How many values of the attribute were given.
         count: usize,
     },
+    /// A position is NaN or infinite, which no bounding box can hold.
     #[error("vertex {index} has a non-finite coordinate")]
-    NonFinite { index: usize },
+    NonFinite {
+        /// The vertex.
+        index: usize,
+    },
 }
 
 impl TriangleMesh {
@@ -83,26 +98,33 @@ impl TriangleMesh {
         })
     }
 
+    /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.indices.len()
     }
 
+    /// Number of vertices.
     pub fn vertex_count(&self) -> usize {
         self.positions.len()
     }
 
+    /// Vertex positions, in the order the indices refer to.
     pub fn positions(&self) -> &[Vec3] {
         &self.positions
     }
 
+    /// One `[a, b, c]` triple of vertex indices per triangle, counter-clockwise seen from the
+    /// front.
     pub fn indices(&self) -> &[[u32; 3]] {
         &self.indices
     }
 
+    /// Whether the mesh carries vertex normals (smooth shading).
     pub fn has_normals(&self) -> bool {
         self.normals.is_some()
     }
 
+    /// The three corner positions of triangle `tri`.
     #[inline(always)]
     pub fn vertices(&self, tri: u32) -> [Vec3; 3] {
         let [a, b, c] = self.indices[tri as usize];
@@ -134,6 +156,7 @@ impl TriangleMesh {
         }
     }
 
+    /// The point, normals (interpolated where the mesh has them) and uv of a hit on triangle `tri`.
     pub fn surface(&self, tri: u32, hit: &ShapeHit) -> SurfacePoint {
         let idx = self.indices[tri as usize].map(|i| i as usize);
         let [p0, p1, p2] = idx.map(|i| self.positions[i]);

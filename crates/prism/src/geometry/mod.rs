@@ -25,8 +25,11 @@ use crate::math::{Aabb, Ray, TraceRay, Vec2, Vec3};
 /// (barycentrics for triangles, the hit face for boxes, the part hit for cones).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShapeHit {
+    /// Distance along the ray.
     pub t: f32,
+    /// First shape-specific parameter (a barycentric weight, a face, a part).
     pub u: f32,
+    /// Second shape-specific parameter.
     pub v: f32,
 }
 
@@ -35,12 +38,14 @@ pub struct ShapeHit {
 pub struct SurfacePoint {
     /// The hit point, and a conservative bound on its per-axis floating-point error.
     pub p: Vec3,
+    /// Per-axis bound on the error of `p`, from which the offset of secondary rays follows.
     pub p_error: Vec3,
     /// Geometric normal, unit length, facing the shape's outside (the side a ray enters
     /// from). For meshes the winding decides (counter-clockwise = front).
     pub ng: Vec3,
     /// Shading normal (interpolated vertex normals where present), in ng's hemisphere.
     pub ns: Vec3,
+    /// Surface parameters, for textures.
     pub uv: Vec2,
 }
 
@@ -49,10 +54,20 @@ pub struct SurfacePoint {
 /// large, rare shapes are boxed so that a `Primitive` stays at 32 bytes.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
+    /// A sphere.
     Sphere(Sphere),
-    Triangle { mesh: u32, index: u32 },
+    /// Triangle `index` of mesh `mesh` in `Geometry::meshes`.
+    Triangle {
+        /// Index into `Geometry::meshes`.
+        mesh: u32,
+        /// Triangle index within that mesh.
+        index: u32,
+    },
+    /// An infinite plane (unbounded: kept beside the accelerator).
     Plane(Box<Plane>),
+    /// A cone or cylinder.
     Cone(Box<Cone>),
+    /// A solid axis-aligned box.
     Box(Box<AaBox>),
 }
 
@@ -81,6 +96,7 @@ impl Shape {
         }
     }
 
+    /// The surface description of a hit that `intersect` found on this shape.
     pub fn surface(&self, meshes: &[TriangleMesh], ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
         match self {
             Shape::Sphere(s) => s.surface(ray, hit),
@@ -104,6 +120,7 @@ impl Shape {
         }
     }
 
+    /// The kind of shape, for per-kind statistics.
     pub fn kind(&self) -> ShapeKind {
         match self {
             Shape::Sphere(_) => ShapeKind::Sphere,
@@ -142,10 +159,15 @@ impl From<AaBox> for Shape {
 /// Shape kinds, for statistics by primitive type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShapeKind {
+    /// Spheres.
     Sphere,
+    /// Mesh triangles.
     Triangle,
+    /// Infinite planes.
     Plane,
+    /// Cones and cylinders.
     Cone,
+    /// Axis-aligned boxes.
     Box,
 }
 
@@ -167,14 +189,18 @@ impl ShapeKind {
 /// A shape with its material: the unit every accelerator indexes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Primitive {
+    /// What the primitive is.
     pub shape: Shape,
+    /// Index into `Scene::materials`.
     pub material: u32,
 }
 
 /// All shapes of a scene. Accelerators refer to primitives by their index in `primitives`.
 #[derive(Clone, Debug, Default)]
 pub struct Geometry {
+    /// The meshes that triangle primitives refer to.
     pub meshes: Vec<TriangleMesh>,
+    /// Every primitive; its index here is its id in accelerators, hits and statistics.
     pub primitives: Vec<Primitive>,
 }
 
@@ -194,10 +220,12 @@ impl Geometry {
         self.meshes.push(mesh);
     }
 
+    /// Adds one primitive that is not a mesh triangle.
     pub fn add(&mut self, shape: Shape, material: u32) {
         self.primitives.push(Primitive { shape, material });
     }
 
+    /// Nearest hit of primitive `prim` with `0 < t < t_max`.
     #[inline]
     pub fn intersect(&self, prim: u32, ray: &TraceRay, t_max: f32) -> Option<ShapeHit> {
         self.primitives[prim as usize]
@@ -205,10 +233,12 @@ impl Geometry {
             .intersect(&self.meshes, ray, t_max)
     }
 
+    /// The box around primitive `prim`; `None` when it is unbounded (a plane).
     pub fn bounds(&self, prim: u32) -> Option<Aabb> {
         self.primitives[prim as usize].shape.bounds(&self.meshes)
     }
 
+    /// The surface description of a hit on primitive `prim`.
     pub fn surface(&self, prim: u32, ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
         self.primitives[prim as usize]
             .shape

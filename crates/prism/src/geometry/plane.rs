@@ -5,8 +5,10 @@ use super::{ShapeHit, SurfacePoint};
 use crate::math::robust::gamma;
 use crate::math::{Frame, Ray, Vec2, Vec3};
 
+/// An infinite plane through a point, facing the z axis of its frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plane {
+    /// A point on the plane; the origin of its uv parameters.
     pub point: Vec3,
     frame: Frame,
 }
@@ -21,10 +23,12 @@ impl Plane {
         })
     }
 
+    /// The unit normal (the side the plane faces).
     pub fn normal(&self) -> Vec3 {
         self.frame.z
     }
 
+    /// The hit with `0 < t < t_max`, from either side.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
         let n = self.frame.z;
@@ -36,6 +40,7 @@ impl Plane {
         (t > 0.0 && t < t_max).then_some(ShapeHit { t, u: 0.0, v: 0.0 })
     }
 
+    /// The point, normals and uv (coordinates in the plane's frame) of a hit.
     pub fn surface(&self, ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
         let n = self.frame.z;
         let q = ray.at(hit.t);

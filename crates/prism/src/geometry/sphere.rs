@@ -5,15 +5,19 @@ use crate::math::robust::gamma;
 use crate::math::{Aabb, Ray, Vec2, Vec3};
 use std::f32::consts::PI;
 
+/// A sphere, solid or (inside out) the inner wall of a shell.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
+    /// Centre.
     pub center: Vec3,
+    /// Radius, positive.
     pub radius: f32,
     /// Normals point inwards: the inner wall of a hollow glass shell, or NFF's negative radius.
     pub inside_out: bool,
 }
 
 impl Sphere {
+    /// A sphere whose normals point outwards.
     pub fn new(center: Vec3, radius: f32) -> Self {
         Sphere {
             center,
@@ -22,6 +26,7 @@ impl Sphere {
         }
     }
 
+    /// Nearest hit with `0 < t < t_max`, from outside or inside.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
         let f = ray.origin - self.center;
@@ -44,6 +49,7 @@ impl Sphere {
         (t > 0.0 && t < t_max).then_some(ShapeHit { t, u: 0.0, v: 0.0 })
     }
 
+    /// The point, normals and uv (longitude, latitude) of a hit.
     pub fn surface(&self, ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
         // Re-project onto the sphere: the error is then a few ulps of |p|, not of t.
         let dir = (ray.at(hit.t) - self.center).normalize();
@@ -61,6 +67,7 @@ impl Sphere {
         }
     }
 
+    /// The cube around the sphere.
     pub fn bounds(&self) -> Aabb {
         let r = Vec3::splat(self.radius.abs());
         Aabb::new(self.center - r, self.center + r)

@@ -8,14 +8,19 @@
 use crate::math::robust::gamma;
 use crate::math::{TraceRay, Vec3};
 
+/// A hit of the watertight triangle test.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TriangleHit {
+    /// Distance along the ray.
     pub t: f32,
     /// Barycentric weights of the second and third vertex (the first is 1 − b1 − b2).
     pub b1: f32,
+    /// Barycentric weight of the third vertex.
     pub b2: f32,
 }
 
+/// The watertight test of one triangle given by its corners: the hit with `0 < t < t_max`, from
+/// either side.
 #[inline(always)]
 pub fn intersect_triangle(
     ray: &TraceRay,

@@ -197,11 +197,15 @@ pub struct LightBuffer {
 /// What `prism info` and the statistics say about a buffer.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LightBufferInfo {
+    /// Cells along each side of a direction-cube face.
     pub resolution: u32,
+    /// Cells over all six faces.
     pub cells: usize,
     /// Entries over all cells (a primitive counts once per cell it covers).
     pub entries: usize,
+    /// Mean list length over all cells (`entries / cells`).
     pub mean_list: f64,
+    /// Longest list of one cell.
     pub max_list: usize,
     /// Cells wholly covered by one opaque triangle or sphere.
     pub covered_cells: usize,
@@ -211,7 +215,9 @@ pub struct LightBufferInfo {
     pub cut_cells: usize,
     /// Longest walk before a query asks the accelerator instead.
     pub max_walk: usize,
+    /// Bytes the buffer's offsets and lists take.
     pub memory_bytes: usize,
+    /// How long building it took.
     pub build_time: Duration,
 }
 
@@ -703,6 +709,7 @@ impl LightBuffer {
         search.best()
     }
 
+    /// The buffer's figures, for `prism info` and the statistics.
     pub fn info(&self) -> LightBufferInfo {
         let cells = self.cells.len();
         LightBufferInfo {

@@ -3,7 +3,8 @@
 //! A shadow ray runs from the (offset) surface point towards the light and asks an any-hit
 //! query, which may stop at the first blocker. In a scene with transparent surfaces it asks
 //! for the nearest hit instead and continues through each transparent surface it meets,
-//! filtered by its kt (a colour: red glass casts a red shadow), as POV-Ray does; refraction of the shadow ray itself is ignored (no
+//! filtered by its kt (a colour: red glass casts a red shadow), as POV-Ray does; refraction of the
+//! shadow ray itself is ignored (no
 //! caustics).
 //!
 //! Who answers the query is the shadow method (`ShadowSpec`), and every method gives the
@@ -35,15 +36,19 @@ use std::str::FromStr;
 /// Upper bound on transparent surfaces one shadow ray passes through.
 const MAX_SHADOW_SEGMENTS: u32 = 64;
 /// The light buffers' memory budget when none is given, in MiB (for all lights).
-pub const DEFAULT_LIGHT_BUFFER_BUDGET_MIB: u32 = 256;
+pub(super) const DEFAULT_LIGHT_BUFFER_BUDGET_MIB: u32 = 256;
 
 /// Who answers shadow rays.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ShadowMethod {
+    /// The accelerator's any-hit query, for every shadow ray.
     #[default]
     AnyHit,
+    /// The shadow cache first (the last blocker per light and depth), then the accelerator.
     Cache,
+    /// Per point or spot light, its light buffer; the accelerator for the other lights.
     LightBuffer,
+    /// The cache first, then the light buffer.
     Both,
     Auto,
 }
@@ -75,6 +80,7 @@ impl ShadowMethod {
 /// write it: `METHOD[:res=N,budget=MIB]`, e.g. `light-buffer:res=64`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ShadowSpec {
+    /// Who answers the shadow rays.
     pub method: ShadowMethod,
     /// Cells along a light buffer face's side; 0 chooses from the primitive count.
     pub res: u32,

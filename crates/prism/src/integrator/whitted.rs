@@ -17,6 +17,8 @@ use crate::scene::PreparedScene;
 use crate::shading::optics::{reflect, refract};
 use crate::stats::Stats;
 
+/// Whitted's recursive ray tracer over one prepared scene: local shading with shadow rays, plus the
+/// reflected and refracted rays, to a depth and weight limit.
 pub struct Whitted<'a> {
     scene: &'a PreparedScene<'a>,
     shadows: Shadows<'a>,
@@ -26,6 +28,8 @@ pub struct Whitted<'a> {
 }
 
 impl<'a> Whitted<'a> {
+    /// The integrator for `scene` with the depth, weight and shadow settings of `options`; builds
+    /// light buffers when the shadow method asks for them.
     pub fn new(scene: &'a PreparedScene<'a>, options: &RenderOptions) -> Self {
         Whitted {
             scene,

@@ -3,9 +3,13 @@
 use super::robust::gamma;
 use glam::Vec3;
 
+/// An axis-aligned bounding box; the empty box (`Default`) has `min > max`, so any union with it is
+/// the other box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
+    /// The corner with the smallest coordinates.
     pub min: Vec3,
+    /// The corner with the largest coordinates.
     pub max: Vec3,
 }
 
@@ -22,6 +26,7 @@ impl Aabb {
         max: Vec3::splat(f32::NEG_INFINITY),
     };
 
+    /// The box spanned by two opposite corners, given in any order.
     pub fn new(a: Vec3, b: Vec3) -> Self {
         Aabb {
             min: a.min(b),
@@ -29,20 +34,24 @@ impl Aabb {
         }
     }
 
+    /// The box of a single point (zero extent).
     pub fn from_point(p: Vec3) -> Self {
         Aabb { min: p, max: p }
     }
 
+    /// The smallest box holding every point; empty for no points.
     pub fn from_points(points: impl IntoIterator<Item = Vec3>) -> Self {
         points
             .into_iter()
             .fold(Aabb::EMPTY, |b, p| b.union_point(p))
     }
 
+    /// Whether the box holds no point at all (`min > max` on some axis).
     pub fn is_empty(&self) -> bool {
         self.min.x > self.max.x || self.min.y > self.max.y || self.min.z > self.max.z
     }
 
+    /// The smallest box holding both boxes.
     pub fn union(&self, o: &Aabb) -> Aabb {
         Aabb {
             min: self.min.min(o.min),
@@ -50,6 +59,7 @@ impl Aabb {
         }
     }
 
+    /// The smallest box holding this box and `p`.
     pub fn union_point(&self, p: Vec3) -> Aabb {
         Aabb {
             min: self.min.min(p),
@@ -57,10 +67,12 @@ impl Aabb {
         }
     }
 
+    /// Size along each axis.
     pub fn extent(&self) -> Vec3 {
         self.max - self.min
     }
 
+    /// The centre point.
     pub fn center(&self) -> Vec3 {
         0.5 * (self.min + self.max)
     }
@@ -77,6 +89,7 @@ impl Aabb {
         }
     }
 
+    /// Surface area, the probability weight of the surface area heuristic (0 for an empty box).
     pub fn surface_area(&self) -> f32 {
         if self.is_empty() {
             return 0.0;
@@ -85,6 +98,7 @@ impl Aabb {
         2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
     }
 
+    /// Whether `p` lies inside or on the boundary.
     pub fn contains(&self, p: Vec3) -> bool {
         p.cmpge(self.min).all() && p.cmple(self.max).all()
     }

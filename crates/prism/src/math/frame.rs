@@ -2,10 +2,14 @@
 
 use glam::Vec3;
 
+/// An orthonormal basis: three unit axes at right angles.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frame {
+    /// First axis.
     pub x: Vec3,
+    /// Second axis.
     pub y: Vec3,
+    /// Third axis; the normal for frames built from one.
     pub z: Vec3,
 }
 
@@ -21,10 +25,12 @@ impl Frame {
         Frame { x, y, z: n }
     }
 
+    /// World vector `v` in this frame's coordinates.
     pub fn to_local(&self, v: Vec3) -> Vec3 {
         Vec3::new(v.dot(self.x), v.dot(self.y), v.dot(self.z))
     }
 
+    /// Vector `v`, given in this frame's coordinates, in world coordinates.
     pub fn to_world(&self, v: Vec3) -> Vec3 {
         v.x * self.x + v.y * self.y + v.z * self.z
     }

@@ -28,6 +28,7 @@ pub fn next_up(x: f32) -> f32 {
     f32::from_bits(if x > 0.0 { bits + 1 } else { bits - 1 })
 }
 
+/// The largest float below `x` (the mirror of `next_up`).
 #[inline]
 pub fn next_down(x: f32) -> f32 {
     -next_up(-x)

@@ -5,16 +5,21 @@ use crate::math::Color;
 use crate::transfer::Transfer;
 use std::borrow::Cow;
 
+/// The rendered image: one RGB value per pixel and the transfer that says what the values mean.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
+    /// Pixels per row.
     pub width: u32,
+    /// Rows.
     pub height: u32,
+    /// Pixel values, row-major from the top-left.
     pub pixels: Vec<Color>,
     /// How the values reach a display; the renderer copies the render options'.
     pub transfer: Transfer,
 }
 
 impl Film {
+    /// An empty film of the given size; the renderer fills its pixels.
     pub fn new(width: u32, height: u32) -> Self {
         Film {
             width,
@@ -62,10 +67,12 @@ impl Film {
         }
     }
 
+    /// The value of pixel (x, y), y from the top.
     pub fn get(&self, x: u32, y: u32) -> Color {
         self.pixels[y as usize * self.width as usize + x as usize]
     }
 
+    /// Sets pixel (x, y), y from the top.
     pub fn set(&mut self, x: u32, y: u32, c: Color) {
         let w = self.width as usize;
         self.pixels[y as usize * w + x as usize] = c;

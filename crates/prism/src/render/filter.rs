@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+/// The reconstruction filters a render can use (`--filter`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum FilterKind {
@@ -43,13 +44,17 @@ impl FilterKind {
 const MITCHELL_B: f32 = 1.0 / 3.0;
 const MITCHELL_C: f32 = 1.0 / 3.0;
 
+/// A reconstruction filter with its radius fixed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Filter {
+    /// The filter's shape.
     pub kind: FilterKind,
+    /// Half the support, in pixels: samples further away from a pixel centre do not count there.
     pub radius: f32,
 }
 
 impl Filter {
+    /// The filter `kind` with `radius`, or its usual radius when none is given.
     pub fn new(kind: FilterKind, radius: Option<f32>) -> Filter {
         Filter {
             kind,
@@ -88,6 +93,7 @@ impl Filter {
         self.kind == FilterKind::Box && self.radius == 0.5
     }
 
+    /// How much a sample at offset (dx, dy) pixels from a pixel centre counts in that pixel.
     pub fn weight(&self, dx: f32, dy: f32) -> f32 {
         let fx = self.profile(dx);
         if fx == 0.0 {

@@ -31,13 +31,18 @@ use std::time::{Duration, Instant};
 /// A rectangle of pixels `[x0, x1) × [y0, y1)`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Tile {
+    /// First column.
     pub x0: u32,
+    /// First row.
     pub y0: u32,
+    /// One past the last column.
     pub x1: u32,
+    /// One past the last row.
     pub y1: u32,
 }
 
 impl Tile {
+    /// Number of pixels in the tile.
     pub fn pixel_count(&self) -> u64 {
         (self.x1 - self.x0) as u64 * (self.y1 - self.y0) as u64
     }
@@ -82,7 +87,9 @@ pub fn worker_threads(options: &RenderOptions) -> usize {
 /// passes: the total to expect is `progress_total`.
 #[derive(Clone, Copy, Debug)]
 pub struct TileDone {
+    /// Pixel passes finished.
     pub pixels: u64,
+    /// Rays traced for them.
     pub rays: u64,
 }
 
@@ -99,11 +106,15 @@ pub fn progress_total(options: &RenderOptions) -> u64 {
         }
 }
 
+/// What a render produced: the image, its statistics and the per-pixel ray counts.
 pub struct RenderResult {
+    /// The image.
     pub film: Film,
+    /// Counters summed over every thread.
     pub stats: Stats,
     /// False when the render was cancelled; unrendered pixels are black.
     pub complete: bool,
+    /// Wall-clock time of the render, without the accelerator's build.
     pub render_time: Duration,
     /// Rays per pixel, for the sample-density view.
     pub rays: RayCounts,
@@ -113,16 +124,31 @@ pub struct RenderResult {
     pub light_buffer_notes: Vec<Option<String>>,
 }
 
+/// Why a render could not start or finish.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
+    /// Options that contradict each other or are out of range.
     #[error("invalid options: {0}")]
     Options(String),
+    /// The scene's camera cannot make rays.
     #[error(transparent)]
     Camera(#[from] CameraError),
+    /// The thread pool could not be built.
     #[error("cannot start {threads} worker threads: {message}")]
-    Threads { threads: usize, message: String },
+    Threads {
+        /// Threads asked for.
+        threads: usize,
+        /// What the system said.
+        message: String,
+    },
+    /// A buffer of the render could not be allocated; `what` names it.
     #[error("out of memory: the {what} would take {}", memory::format_bytes(*bytes))]
-    OutOfMemory { what: &'static str, bytes: u64 },
+    OutOfMemory {
+        /// The buffer, in words a user understands.
+        what: &'static str,
+        /// Its size.
+        bytes: u64,
+    },
 }
 
 /// Everything a worker needs: where rays come from, how they are traced, how samples

@@ -4,9 +4,12 @@
 
 use crate::stats::Stats;
 
+/// Per-pixel ray and traversal counts of a render, for the density and cost views.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct RayCounts {
+    /// Pixels per row.
     pub width: u32,
+    /// Rows.
     pub height: u32,
     /// Camera rays per pixel, row-major.
     pub camera: Vec<u32>,
@@ -59,11 +62,17 @@ impl RayCounts {
 /// Camera rays and all rays of one piece of work, and the traversal work they did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PixelRays {
+    /// Camera rays.
     pub camera: u32,
+    /// Every ray (camera, shadow, reflected, refracted).
     pub total: u32,
+    /// Acceleration-structure node visits of all the rays.
     pub node_visits: u64,
+    /// Ray–primitive tests of all the rays.
     pub primitive_tests: u64,
+    /// The part of `node_visits` made by shadow rays.
     pub shadow_node_visits: u64,
+    /// The part of `primitive_tests` made by shadow rays.
     pub shadow_tests: u64,
 }
 

@@ -32,7 +32,7 @@ fn fixed(v: f64) -> i128 {
 }
 
 /// The sums of a rectangle of pixels `[x0, x1) × [y0, y1)`, in image coordinates.
-pub struct SplatBuffer {
+pub(super) struct SplatBuffer {
     x0: u32,
     y0: u32,
     width: u32,
@@ -43,7 +43,14 @@ pub struct SplatBuffer {
 impl SplatBuffer {
     /// Covers the pixels of `[x0, x1) × [y0, y1)` grown by the filter's reach, clipped to
     /// the `image` size.
-    pub fn around(filter: &Filter, image: (u32, u32), x0: u32, y0: u32, x1: u32, y1: u32) -> Self {
+    pub(super) fn around(
+        filter: &Filter,
+        image: (u32, u32),
+        x0: u32,
+        y0: u32,
+        x1: u32,
+        y1: u32,
+    ) -> Self {
         let m = filter.radius.ceil() as u32;
         let (bx0, by0) = (x0.saturating_sub(m), y0.saturating_sub(m));
         let (bx1, by1) = ((x1 + m).min(image.0), (y1 + m).min(image.1));
@@ -59,7 +66,7 @@ impl SplatBuffer {
     /// Adds a sample at `offset` ∈ [0, 1]² within pixel (px, py), counting `weight` (its
     /// share of area; 1 for equal samples). Pixels outside the buffer are skipped: the
     /// buffer must cover the filter's reach of every sample it takes.
-    pub fn add(
+    pub(super) fn add(
         &mut self,
         filter: &Filter,
         px: u32,
@@ -103,7 +110,7 @@ impl SplatBuffer {
 }
 
 /// The whole image's sums, into which finished buffers are merged in any order.
-pub struct FilmSums {
+pub(super) struct FilmSums {
     width: u32,
     height: u32,
     sums: Vec<PixelSum>,
@@ -111,7 +118,7 @@ pub struct FilmSums {
 
 impl FilmSums {
     /// Zero sums, or an out-of-memory error instead of an abort.
-    pub fn try_new(width: u32, height: u32) -> Result<Self, super::RenderError> {
+    pub(super) fn try_new(width: u32, height: u32) -> Result<Self, super::RenderError> {
         let n = width as usize * height as usize;
         Ok(FilmSums {
             width,
@@ -120,7 +127,7 @@ impl FilmSums {
         })
     }
 
-    pub fn merge(&mut self, buffer: &SplatBuffer) {
+    pub(super) fn merge(&mut self, buffer: &SplatBuffer) {
         for y in 0..buffer.height {
             let src = (y * buffer.width) as usize;
             let dst = ((buffer.y0 + y) * self.width + buffer.x0) as usize;
@@ -134,7 +141,7 @@ impl FilmSums {
     }
 
     /// Each pixel's weighted average; black where no sample counted.
-    pub fn into_film(self) -> Result<Film, super::RenderError> {
+    pub(super) fn into_film(self) -> Result<Film, super::RenderError> {
         let mut film = Film::try_new(self.width, self.height)?;
         for (p, s) in film.pixels.iter_mut().zip(&self.sums) {
             let [r, g, b, w] = s.0;

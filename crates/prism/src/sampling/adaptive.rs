@@ -75,12 +75,14 @@ pub struct Refinement {
     pub transfer: Transfer,
     /// Levels of splitting below the pixel; 0 traces the corners only.
     pub depth: u32,
+    /// The rule that decides which squares split.
     pub rule: AdaptiveRule,
     /// 0: points exactly on the lattice; 1: anywhere in their cell (see the module notes).
     pub jitter: f32,
     /// Samples per axis of the stratified pass that textured pixels take (neighbourhood
     /// rule only); 0 refines them with the quadtree instead.
     pub texture_n: u32,
+    /// Seed of the jitter and of the stratified pass.
     pub seed: u64,
 }
 
@@ -329,8 +331,11 @@ pub enum Visit {
 /// A square of the quadtree in lattice coordinates: top-left corner and side.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Square {
+    /// Left edge, in lattice units.
     pub x: u32,
+    /// Top edge, in lattice units.
     pub y: u32,
+    /// Side length, in lattice units.
     pub size: u32,
     /// 0 for the pixel itself.
     pub level: u32,
@@ -365,6 +370,7 @@ impl Square {
         ]
     }
 
+    /// The four quarters of the square, one level deeper.
     pub fn children(&self) -> [Square; 4] {
         let h = self.size / 2;
         let level = self.level + 1;

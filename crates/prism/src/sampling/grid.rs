@@ -4,7 +4,7 @@
 use crate::math::Vec2;
 
 /// Appends the n×n subpixel centres, row by row from the top-left.
-pub fn grid(n: u32, out: &mut Vec<Vec2>) {
+pub(super) fn grid(n: u32, out: &mut Vec<Vec2>) {
     // Computed exactly as the renderer always has, so images stay bit-identical.
     let inv_n = 1.0 / n as f32;
     for j in 0..n {

@@ -9,7 +9,7 @@ use crate::math::Vec2;
 const DIM_X: u32 = 2;
 const DIM_Y: u32 = 3;
 
-pub fn jittered(px: u32, py: u32, n: u32, seed: u64, out: &mut Vec<Vec2>) {
+pub(super) fn jittered(px: u32, py: u32, n: u32, seed: u64, out: &mut Vec<Vec2>) {
     for j in 0..n {
         for i in 0..n {
             let k = j * n + i;

@@ -68,13 +68,31 @@ impl SamplerKind {
 /// A pattern whose samples each belong to one pixel.
 #[derive(Clone, Debug)]
 pub enum PixelPattern {
-    Grid { n: u32 },
-    Random { count: u32, seed: u64 },
-    Jittered { n: u32, seed: u64 },
+    /// An n × n grid of sample points in each pixel.
+    Grid {
+        /// Points per axis.
+        n: u32,
+    },
+    /// `count` uniformly random points per pixel.
+    Random {
+        /// Points per pixel.
+        count: u32,
+        /// Seed of the hash that places them.
+        seed: u64,
+    },
+    /// One random point in each cell of an n × n grid.
+    Jittered {
+        /// Cells per axis.
+        n: u32,
+        /// Seed of the hash that places the points in their cells.
+        seed: u64,
+    },
+    /// Blue-noise points from a tile relaxed by Lloyd's method.
     Relaxed(RelaxedTile),
 }
 
 impl PixelPattern {
+    /// Samples per pixel.
     pub fn count(&self) -> u32 {
         match self {
             PixelPattern::Grid { n } | PixelPattern::Jittered { n, .. } => n * n,
@@ -102,9 +120,11 @@ pub fn floor_sqrt(count: u32) -> u32 {
 /// A sampler ready for one render.
 #[derive(Clone, Debug)]
 pub enum Sampler {
+    /// Samples that belong to one pixel each.
     Pixel(PixelPattern),
     /// Pixel centres plus the (W+1)×(H+1) shared corners.
     Corners,
+    /// The adaptive refinement of the pixel corners' lattice.
     Adaptive(Refinement),
 }
 

@@ -8,7 +8,7 @@ use crate::math::Vec2;
 const DIM_X: u32 = 0;
 const DIM_Y: u32 = 1;
 
-pub fn random(px: u32, py: u32, count: u32, seed: u64, out: &mut Vec<Vec2>) {
+pub(super) fn random(px: u32, py: u32, count: u32, seed: u64, out: &mut Vec<Vec2>) {
     for k in 0..count {
         out.push(Vec2::new(
             uniform(px, py, k, DIM_X, seed),

@@ -30,6 +30,8 @@ const DIM_BLOCK: u32 = 6;
 /// Keeps the tile's jitter apart from the jittered pattern's numbers for the same seed.
 const TILE_SALT: u64 = 0x5EED_0F7E_1A8E_D000;
 
+/// A tile of blue-noise points, relaxed once by Lloyd's method and laid over the image with a shift
+/// and a symmetry per block, so no repetition shows.
 #[derive(Clone, Debug)]
 pub struct RelaxedTile {
     /// Points per pixel (n×n).
@@ -83,6 +85,7 @@ impl RelaxedTile {
         }
     }
 
+    /// Points per pixel.
     pub fn per_pixel(&self) -> u32 {
         self.per_pixel
     }

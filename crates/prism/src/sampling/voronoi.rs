@@ -6,14 +6,14 @@ use glam::DVec2;
 
 /// A convex polygon, counter-clockwise or clockwise, as its vertices.
 #[derive(Clone, Debug, Default)]
-pub struct Cell {
+pub(super) struct Cell {
     pub vertices: Vec<DVec2>,
     scratch: Vec<DVec2>,
 }
 
 impl Cell {
     /// The axis-aligned rectangle [min, max].
-    pub fn rect(&mut self, min: DVec2, max: DVec2) {
+    pub(super) fn rect(&mut self, min: DVec2, max: DVec2) {
         self.vertices.clear();
         self.vertices
             .extend([min, DVec2::new(max.x, min.y), max, DVec2::new(min.x, max.y)]);
@@ -21,7 +21,7 @@ impl Cell {
 
     /// Keeps the part of the cell closer to the origin than to `q`: the half-plane
     /// x·q ≤ |q|²/2 (Sutherland–Hodgman against one edge).
-    pub fn clip_to_bisector(&mut self, q: DVec2) {
+    pub(super) fn clip_to_bisector(&mut self, q: DVec2) {
         let limit = 0.5 * q.length_squared();
         let side = |p: DVec2| p.dot(q) - limit;
         self.scratch.clear();
@@ -42,12 +42,12 @@ impl Cell {
 
     /// Largest distance from the origin to a vertex: no point farther than twice this
     /// can cut the cell.
-    pub fn radius(&self) -> f64 {
+    pub(super) fn radius(&self) -> f64 {
         self.vertices.iter().map(|v| v.length()).fold(0.0, f64::max)
     }
 
     /// The centroid, or None for a degenerate (zero-area) cell.
-    pub fn centroid(&self) -> Option<DVec2> {
+    pub(super) fn centroid(&self) -> Option<DVec2> {
         let n = self.vertices.len();
         let (mut area2, mut c) = (0.0, DVec2::ZERO);
         for i in 0..n {

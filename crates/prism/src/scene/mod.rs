@@ -1,26 +1,9 @@
 //! `Scene` is plain data: camera, lights, materials, shapes and the render options the
-//! scene suggests. Loaders and built-ins produce it; `prepare` builds what rendering needs.
+//! scene suggests. The built-ins (`builtin`) and the file loaders of prism-io produce it;
+//! `prepare` builds what rendering needs.
 
 pub mod builtin;
-mod faces;
-mod framing;
-mod gltf;
-mod load;
-pub mod mesh_file;
-pub mod nff;
-pub mod obj;
-pub mod ply;
 mod scale;
-mod sniff;
-mod toml;
-
-/// Parses the bytes of a .gltf or .glb file; the path names it in errors and anchors the
-/// relative URIs of its buffers and images.
-pub use self::gltf::parse as parse_gltf;
-/// Parses TOML scene text; the path names it in errors and anchors relative file names.
-pub use self::toml::parse as parse_toml;
-pub use load::{load, LoadError};
-pub use mesh_file::{load_mesh_file, mesh_scene, MeshFile, MeshPart};
 
 use crate::accel::{AccelSpec, SceneIntersector};
 use crate::camera::{Camera, Projection};
@@ -31,15 +14,20 @@ use crate::options::RenderOptions;
 use crate::shading::Material;
 use std::time::{Duration, Instant};
 
+/// A scene as plain data: everything a render needs, nothing derived (see `prepare`).
 #[derive(Clone, Debug)]
 pub struct Scene {
+    /// Where the picture is taken from.
     pub camera: Camera,
     /// Radiance of rays that hit nothing.
     pub background: Color,
     /// Ia, the ambient light every surface receives (scaled by its ka).
     pub ambient: Color,
+    /// Every light source.
     pub lights: Vec<Light>,
+    /// Materials, referred to by index from the primitives.
     pub materials: Vec<Material>,
+    /// Every shape.
     pub geometry: Geometry,
     /// Settings the scene asks for (size, depth…); the CLI may override them.
     pub options: RenderOptions,
@@ -49,14 +37,20 @@ pub struct Scene {
     pub warnings: Vec<String>,
 }
 
+/// Why a scene cannot be rendered as it is.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum SceneError {
+    /// The camera defines no view.
     #[error(transparent)]
     Camera(#[from] crate::camera::CameraError),
+    /// A primitive names a material that does not exist.
     #[error("primitive {prim} uses material {material}, but only {count} materials exist")]
     MissingMaterial {
+        /// The primitive's index.
         prim: usize,
+        /// The material index it names.
         material: u32,
+        /// How many materials the scene has.
         count: usize,
     },
 }
@@ -89,6 +83,8 @@ impl Scene {
         self.materials.len() as u32 - 1
     }
 
+    /// Checks what loaders cannot rule out by construction: a usable camera and material indices in
+    /// range.
     pub fn validate(&self) -> Result<(), SceneError> {
         self.camera.validate()?;
         let count = self.materials.len();
@@ -123,8 +119,11 @@ impl Scene {
 
 /// A scene ready to trace: the data plus its acceleration structure.
 pub struct PreparedScene<'a> {
+    /// The scene.
     pub scene: &'a Scene,
+    /// The accelerator over its bounded primitives, with the unbounded ones beside it.
     pub intersector: SceneIntersector,
+    /// How long building the accelerator took.
     pub build_time: Duration,
     /// Whether shadow rays must look through transparent surfaces.
     pub has_transmissive: bool,

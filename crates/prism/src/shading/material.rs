@@ -21,8 +21,12 @@ pub enum Highlight {
     BlinnPhong,
 }
 
+/// A surface's response to light in Whitted's model: local (ambient, diffuse, highlight) plus the
+/// weights of the reflected and refracted rays.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
+    /// The name the scene file gave it (MTL's `newmtl`, a TOML table's key); rendering
+    /// never reads it.
     pub name: String,
     /// Diffuse (and ambient) colour.
     pub color: Texture,
@@ -34,6 +38,7 @@ pub struct Material {
     pub specular: f32,
     /// Highlight exponent.
     pub shininess: f32,
+    /// Which highlight formula `shininess` applies to.
     pub highlight: Highlight,
     /// kr: weight of the mirror-reflected ray (Whitted's ks in I_R).
     pub reflect: f32,
@@ -42,6 +47,7 @@ pub struct Material {
     pub transmit: Color,
     /// Index of refraction of the material's inside; the outside is taken to be vacuum.
     pub ior: f32,
+    /// How the reflected and transmitted weights vary with the angle.
     pub fresnel: FresnelMode,
 }
 
@@ -75,6 +81,7 @@ pub struct SpecularWeights {
 }
 
 impl Material {
+    /// Whether any light passes through it (so shadow rays must look through it).
     pub fn is_transmissive(&self) -> bool {
         self.transmit.max_element() > 0.0
     }
@@ -133,6 +140,7 @@ impl Material {
         }
     }
 
+    /// The diffuse colour at a surface point, from its texture.
     pub fn color_at(&self, uv: Vec2, p: Vec3) -> Color {
         self.color.eval(uv, p)
     }

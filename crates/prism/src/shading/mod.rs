@@ -2,12 +2,10 @@
 //! mirror reflection and Snell refraction, and textures for the diffuse colour.
 
 pub mod fresnel;
-mod image_decode;
 mod material;
 pub mod optics;
 mod texture;
 
 pub use fresnel::FresnelMode;
-pub use image_decode::decode as decode_image;
 pub use material::{Highlight, Material, SpecularWeights};
-pub use texture::{Checker, CheckerSpace, ImageTexture, Texture, TextureError};
+pub use texture::{Checker, CheckerSpace, ImageTexture, Texture};

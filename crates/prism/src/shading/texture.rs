@@ -3,16 +3,20 @@
 
 use crate::math::{Color, Vec2, Vec3};
 use crate::transfer::srgb_decode;
-use std::path::Path;
 use std::sync::Arc;
 
+/// Where a material's diffuse colour comes from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Texture {
+    /// One colour everywhere.
     Solid(Color),
+    /// A procedural checkerboard.
     Checker(Checker),
+    /// An image mapped by the surface's uv.
     Image(ImageTexture),
 }
 
+/// Where a checkerboard's squares are laid out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CheckerSpace {
     /// Squares in the surface's (u, v) parameters.
@@ -21,16 +25,21 @@ pub enum CheckerSpace {
     Solid,
 }
 
+/// A checkerboard of two colours.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Checker {
+    /// Colour of the squares with even parity (including the one at the origin).
     pub a: Color,
+    /// Colour of the squares with odd parity.
     pub b: Color,
     /// Edge length of one square (or cube), in uv or world units.
     pub size: f32,
+    /// Squares in uv or cubes in space.
     pub space: CheckerSpace,
 }
 
 impl Checker {
+    /// The colour at uv `uv` or point `p`, whichever the layout uses.
     pub fn eval(&self, uv: Vec2, p: Vec3) -> Color {
         let parity = match self.space {
             CheckerSpace::Uv => {
@@ -61,34 +70,18 @@ pub struct ImageTexture {
     pub scale: Vec2,
 }
 
-#[derive(Debug, thiserror::Error)]
-pub enum TextureError {
-    #[error("cannot read image texture {path}: {message}")]
-    Read { path: String, message: String },
-}
-
 impl ImageTexture {
-    /// Loads a PNG or JPEG; 8-bit values are taken as sRGB-encoded.
-    pub fn load(path: &Path) -> Result<Self, TextureError> {
-        let read_error = |message: String| TextureError::Read {
-            path: path.display().to_string(),
-            message,
-        };
-        let bytes = std::fs::read(path).map_err(|e| read_error(e.to_string()))?;
-        let img = super::image_decode::decode(&bytes).map_err(read_error)?;
-        Ok(Self::from_srgb(&img))
-    }
-
-    /// Converts a decoded image whose 8-bit values are sRGB-encoded (as PNG and JPEG
-    /// colour images are) to linear texels.
-    pub fn from_srgb(img: &image::DynamicImage) -> Self {
-        let rgb = img.to_rgb8();
+    /// Converts 8-bit RGB values in rows from the top, sRGB-encoded as PNG and JPEG colour
+    /// images hold them, to linear texels. The decoding of image files lives in prism-io;
+    /// this is the part every source of texels shares.
+    pub fn from_srgb8(width: usize, height: usize, rgb: &[u8]) -> Self {
+        assert_eq!(rgb.len(), width * height * 3, "three bytes per texel");
         let lut: Vec<f32> = (0..256).map(|i| srgb_decode(i as f32 / 255.0)).collect();
         let texels = rgb
-            .pixels()
+            .chunks_exact(3)
             .map(|p| Color::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize]))
             .collect();
-        Self::from_texels(rgb.width() as usize, rgb.height() as usize, texels)
+        Self::from_texels(width, height, texels)
     }
 
     /// The same image with every texel multiplied by `factor` (a tint, such as glTF's
@@ -111,6 +104,7 @@ impl ImageTexture {
         }
     }
 
+    /// The bilinearly interpolated colour at `uv`, wrapping around at the edges.
     pub fn eval(&self, uv: Vec2) -> Color {
         if self.width == 0 || self.height == 0 {
             return Color::ZERO;
@@ -132,6 +126,7 @@ impl ImageTexture {
 }
 
 impl Texture {
+    /// The colour at uv `uv` and point `p`.
     pub fn eval(&self, uv: Vec2, p: Vec3) -> Color {
         match self {
             Texture::Solid(c) => *c,

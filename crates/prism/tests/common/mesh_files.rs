@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
 /// A mesh with normals and uvs whose faces are triangles and convex quads.
-pub struct TestMesh {
+pub(crate) struct TestMesh {
     pub positions: Vec<[f32; 3]>,
     pub normals: Vec<[f32; 3]>,
     pub uvs: Vec<[f32; 2]>,
@@ -19,7 +19,7 @@ pub struct TestMesh {
 impl TestMesh {
     /// A latitude-longitude sphere: triangle fans at the poles, quads between, the seam's
     /// vertices doubled so that uvs run from 0 to 1.
-    pub fn sphere(segments: u32, rings: u32) -> TestMesh {
+    pub(crate) fn sphere(segments: u32, rings: u32) -> TestMesh {
         let mut m = TestMesh {
             positions: Vec::new(),
             normals: Vec::new(),
@@ -57,11 +57,11 @@ impl TestMesh {
         m
     }
 
-    pub fn triangle_count(&self) -> usize {
+    pub(crate) fn triangle_count(&self) -> usize {
         self.faces.iter().map(|f| f.len() - 2).sum()
     }
 
-    pub fn obj(&self) -> String {
+    pub(crate) fn obj(&self) -> String {
         let mut s = String::from("# a test sphere\no sphere\n");
         for p in &self.positions {
             let _ = writeln!(s, "v {} {} {}", p[0], p[1], p[2]);
@@ -94,7 +94,7 @@ impl TestMesh {
         )
     }
 
-    pub fn ply_ascii(&self) -> Vec<u8> {
+    pub(crate) fn ply_ascii(&self) -> Vec<u8> {
         let mut s = self.ply_header("ascii");
         for k in 0..self.positions.len() {
             let (p, n, t) = (self.positions[k], self.normals[k], self.uvs[k]);
@@ -114,7 +114,7 @@ impl TestMesh {
         s.into_bytes()
     }
 
-    pub fn ply_binary(&self, big_endian: bool) -> Vec<u8> {
+    pub(crate) fn ply_binary(&self, big_endian: bool) -> Vec<u8> {
         let format = if big_endian {
             "binary_big_endian"
         } else {
@@ -148,7 +148,7 @@ impl TestMesh {
     }
 
     /// The keys of an inline TOML mesh.
-    pub fn toml_inline(&self) -> String {
+    pub(crate) fn toml_inline(&self) -> String {
         let list3 = |v: &[[f32; 3]]| {
             v.iter()
                 .map(|p| format!("[{}, {}, {}]", p[0], p[1], p[2]))
@@ -176,17 +176,17 @@ impl TestMesh {
 }
 
 /// A fresh folder for one test's files, removed when the test ends.
-pub fn temp_dir(name: &str) -> super::scratch::ScratchDir {
+pub(crate) fn temp_dir(name: &str) -> super::scratch::ScratchDir {
     super::scratch::ScratchDir::new("mesh-tests", name)
 }
 
-pub fn write(dir: &Path, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf {
+pub(crate) fn write(dir: &Path, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, bytes).expect("temp file");
     path
 }
 
-pub fn render_at(scene: &Scene, width: u32, height: u32) -> Film {
+pub(crate) fn render_at(scene: &Scene, width: u32, height: u32) -> Film {
     let mut options = scene.options.clone();
     options.width = width;
     options.height = height;
@@ -197,7 +197,7 @@ pub fn render_at(scene: &Scene, width: u32, height: u32) -> Film {
 }
 
 /// The largest difference of any channel of any pixel.
-pub fn max_difference(a: &Film, b: &Film) -> f32 {
+pub(crate) fn max_difference(a: &Film, b: &Film) -> f32 {
     assert_eq!(a.pixels.len(), b.pixels.len());
     a.pixels
         .iter()
@@ -207,7 +207,7 @@ pub fn max_difference(a: &Film, b: &Film) -> f32 {
 }
 
 /// Numbers that break a mesh file's rules: huge counts and indices, zero, negatives, NaN.
-pub const MUTATION_VALUES: &[&str] = &[
+pub(crate) const MUTATION_VALUES: &[&str] = &[
     "0",
     "-1",
     "2",

@@ -4,25 +4,25 @@
 //! Each test file is its own crate and uses a different subset, hence the `dead_code` allow.
 #![allow(dead_code)]
 
-pub mod mesh_files;
-pub mod mutate;
-pub mod oracle;
-pub mod scratch;
-pub mod work;
+pub(crate) mod mesh_files;
+pub(crate) mod mutate;
+pub(crate) mod oracle;
+pub(crate) mod scratch;
+pub(crate) mod work;
 
 use prism::geometry::TriangleMesh;
 use prism::math::{Ray, TraceRay, Vec3};
 use std::collections::HashMap;
 
 /// SplitMix64 (Steele, Lea, Flood 2014): tiny, seedable, and good enough to spray rays.
-pub struct Rng(u64);
+pub(crate) struct Rng(u64);
 
 impl Rng {
-    pub fn new(seed: u64) -> Self {
+    pub(crate) fn new(seed: u64) -> Self {
         Rng(seed)
     }
 
-    pub fn next_u64(&mut self) -> u64 {
+    pub(crate) fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -31,24 +31,24 @@ impl Rng {
     }
 
     /// Uniform in [0, 1), 24 random bits.
-    pub fn f32(&mut self) -> f32 {
+    pub(crate) fn f32(&mut self) -> f32 {
         (self.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
     }
 
-    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+    pub(crate) fn range(&mut self, lo: f32, hi: f32) -> f32 {
         lo + (hi - lo) * self.f32()
     }
 
     /// Uniform in 0..n.
-    pub fn below(&mut self, n: usize) -> usize {
+    pub(crate) fn below(&mut self, n: usize) -> usize {
         (self.next_u64() % n as u64) as usize
     }
 
-    pub fn chance(&mut self, p: f32) -> bool {
+    pub(crate) fn chance(&mut self, p: f32) -> bool {
         self.f32() < p
     }
 
-    pub fn point_in(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
+    pub(crate) fn point_in(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
         Vec3::new(
             self.range(lo.x, hi.x),
             self.range(lo.y, hi.y),
@@ -57,7 +57,7 @@ impl Rng {
     }
 
     /// Uniform on the unit sphere (rejection from the cube).
-    pub fn unit_vector(&mut self) -> Vec3 {
+    pub(crate) fn unit_vector(&mut self) -> Vec3 {
         loop {
             let v = self.point_in(Vec3::splat(-1.0), Vec3::ONE);
             let l2 = v.length_squared();
@@ -68,7 +68,7 @@ impl Rng {
     }
 
     /// One of the six axis directions, with an exact zero (of either sign) elsewhere.
-    pub fn axis_direction(&mut self) -> Vec3 {
+    pub(crate) fn axis_direction(&mut self) -> Vec3 {
         let axis = self.below(3);
         let mut d = Vec3::new(
             if self.chance(0.5) { 0.0 } else { -0.0 },
@@ -80,13 +80,13 @@ impl Rng {
     }
 }
 
-pub fn trace_ray(origin: Vec3, dir: Vec3) -> TraceRay {
+pub(crate) fn trace_ray(origin: Vec3, dir: Vec3) -> TraceRay {
     TraceRay::new(Ray::new(origin, dir))
 }
 
 /// `|actual − expected| ≤ tol · max(|expected|, floor)`.
 #[track_caller]
-pub fn assert_rel(actual: f32, expected: f64, tol: f64, floor: f64, what: &str) {
+pub(crate) fn assert_rel(actual: f32, expected: f64, tol: f64, floor: f64, what: &str) {
     let err = (actual as f64 - expected).abs();
     let bound = tol * expected.abs().max(floor);
     assert!(
@@ -96,7 +96,7 @@ pub fn assert_rel(actual: f32, expected: f64, tol: f64, floor: f64, what: &str) 
 }
 
 #[track_caller]
-pub fn assert_vec_close(actual: Vec3, expected: Vec3, tol: f32, what: &str) {
+pub(crate) fn assert_vec_close(actual: Vec3, expected: Vec3, tol: f32, what: &str) {
     let err = (actual - expected).abs().max_element();
     assert!(
         err <= tol,
@@ -107,7 +107,7 @@ pub fn assert_vec_close(actual: Vec3, expected: Vec3, tol: f32, what: &str) {
 /// An icosphere: the icosahedron subdivided `levels` times, vertices pushed onto the sphere.
 /// Every vertex is stored once, so shared edges use bit-identical endpoints (what a
 /// watertight intersector needs to seal them). Counter-clockwise seen from outside.
-pub fn icosphere(center: Vec3, radius: f32, levels: u32) -> TriangleMesh {
+pub(crate) fn icosphere(center: Vec3, radius: f32, levels: u32) -> TriangleMesh {
     let t = (1.0 + 5f32.sqrt()) / 2.0;
     let mut unit: Vec<Vec3> = [
         (-1.0, t, 0.0),
@@ -172,7 +172,7 @@ pub fn icosphere(center: Vec3, radius: f32, levels: u32) -> TriangleMesh {
 /// The surface of a box split into an `n × n` grid of quads per face, two triangles each,
 /// with every lattice point stored once and mapped through `place` (e.g. a rotation).
 /// Counter-clockwise seen from outside when `place` preserves orientation.
-pub fn lattice_cube(n: u32, place: impl Fn(Vec3) -> Vec3) -> TriangleMesh {
+pub(crate) fn lattice_cube(n: u32, place: impl Fn(Vec3) -> Vec3) -> TriangleMesh {
     let mut index: HashMap<[u32; 3], u32> = HashMap::new();
     let mut positions = Vec::new();
     let mut vertex = |key: [u32; 3]| {
@@ -212,7 +212,7 @@ pub fn lattice_cube(n: u32, place: impl Fn(Vec3) -> Vec3) -> TriangleMesh {
 }
 
 /// A rotation about an arbitrary axis (Rodrigues), so test meshes have no axis-aligned edges.
-pub fn rotate(v: Vec3, axis: Vec3, angle: f32) -> Vec3 {
+pub(crate) fn rotate(v: Vec3, axis: Vec3, angle: f32) -> Vec3 {
     let k = axis.normalize();
     let (s, c) = angle.sin_cos();
     v * c + k.cross(v) * s + k * k.dot(v) * (1.0 - c)
@@ -223,7 +223,7 @@ pub fn rotate(v: Vec3, axis: Vec3, angle: f32) -> Vec3 {
 /// line on the terminal (written past the test harness's capture, so it shows even when
 /// the test passes), except under CI (`CI` set), where data that should be there is
 /// missing and the test fails instead.
-pub fn shared_data(relative: &str) -> Option<std::path::PathBuf> {
+pub(crate) fn shared_data(relative: &str) -> Option<std::path::PathBuf> {
     use std::io::Write;
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../../shared")

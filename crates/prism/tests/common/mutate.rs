@@ -4,7 +4,7 @@
 
 /// Ways to damage a file, for the fuzzing properties.
 #[derive(Clone, Debug)]
-pub enum Mutation {
+pub(crate) enum Mutation {
     Delete {
         at: usize,
         len: usize,
@@ -34,7 +34,7 @@ pub enum Mutation {
 
 /// Applies `m` to `bytes`; positions wrap around the length, so every mutation applies to
 /// every file (an empty file stays empty).
-pub fn apply(bytes: &mut Vec<u8>, m: &Mutation) {
+pub(crate) fn apply(bytes: &mut Vec<u8>, m: &Mutation) {
     if bytes.is_empty() {
         return;
     }

@@ -7,7 +7,7 @@ use prism::accel::Hit;
 use prism::geometry::{AaBox, Geometry, Shape, TriangleMesh};
 use prism::math::{Aabb, Ray, TraceRay, Vec3};
 
-pub struct TestScene {
+pub(crate) struct TestScene {
     pub geometry: Geometry,
     /// Solid boxes, to start rays inside.
     pub boxes: Vec<AaBox>,
@@ -16,7 +16,7 @@ pub struct TestScene {
 }
 
 impl TestScene {
-    pub fn new() -> Self {
+    pub(crate) fn new() -> Self {
         TestScene {
             geometry: Geometry::default(),
             boxes: Vec::new(),
@@ -24,13 +24,13 @@ impl TestScene {
         }
     }
 
-    pub fn add_box(&mut self, b: AaBox) {
+    pub(crate) fn add_box(&mut self, b: AaBox) {
         self.geometry.add(Shape::from(b), 0);
         self.boxes.push(b);
         self.features.extend([b.min, b.max, 0.5 * (b.min + b.max)]);
     }
 
-    pub fn add_triangles(&mut self, tris: &[[Vec3; 3]]) {
+    pub(crate) fn add_triangles(&mut self, tris: &[[Vec3; 3]]) {
         let positions: Vec<Vec3> = tris.iter().flatten().copied().collect();
         for t in tris {
             self.features
@@ -43,14 +43,14 @@ impl TestScene {
         self.geometry.add_mesh(mesh, 0);
     }
 
-    pub fn add_mesh(&mut self, mesh: TriangleMesh) {
+    pub(crate) fn add_mesh(&mut self, mesh: TriangleMesh) {
         self.features.extend(mesh.positions().iter().step_by(3));
         self.geometry.add_mesh(mesh, 0);
     }
 }
 
 /// A ray of one of several kinds, chosen at random.
-pub fn random_ray(rng: &mut Rng, s: &TestScene, bounds: &Aabb) -> Ray {
+pub(crate) fn random_ray(rng: &mut Rng, s: &TestScene, bounds: &Aabb) -> Ray {
     let lo = bounds.min - 0.2 * bounds.extent();
     let hi = bounds.max + 0.2 * bounds.extent();
     let feature = |rng: &mut Rng| s.features[rng.below(s.features.len())];
@@ -121,7 +121,12 @@ pub fn random_ray(rng: &mut Rng, s: &TestScene, bounds: &Aabb) -> Ray {
 
 /// Nearest hits agree if the distances are bit-equal, or if the two primitives tie: each,
 /// tested alone, reports the same distance to within a few ulps.
-pub fn same_nearest(geometry: &Geometry, ray: &TraceRay, a: Option<Hit>, b: Option<Hit>) -> bool {
+pub(crate) fn same_nearest(
+    geometry: &Geometry,
+    ray: &TraceRay,
+    a: Option<Hit>,
+    b: Option<Hit>,
+) -> bool {
     match (a, b) {
         (None, None) => true,
         (Some(a), Some(b)) if a.t.to_bits() == b.t.to_bits() => true,

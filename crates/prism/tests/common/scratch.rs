@@ -4,11 +4,11 @@
 use std::ops::Deref;
 use std::path::{Path, PathBuf};
 
-pub struct ScratchDir(PathBuf);
+pub(crate) struct ScratchDir(PathBuf);
 
 impl ScratchDir {
     /// An empty folder `prism-{suite}-{pid}-{name}` in the system temp folder.
-    pub fn new(suite: &str, name: &str) -> Self {
+    pub(crate) fn new(suite: &str, name: &str) -> Self {
         let dir = std::env::temp_dir().join(format!("prism-{suite}-{}-{name}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("scratch dir");

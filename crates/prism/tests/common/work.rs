@@ -19,7 +19,7 @@ fn count(bytes: usize) {
 
 /// The system allocator, counting every byte requested per thread (a reallocation counts
 /// its new size, the bytes that may be touched).
-pub struct Counting;
+pub(crate) struct Counting;
 
 #[allow(unsafe_code)] // a global allocator cannot be written without it
                       // SAFETY: every method forwards to `System` with the caller's arguments unchanged; the
@@ -51,7 +51,7 @@ unsafe impl GlobalAlloc for Counting {
 
 /// Runs `f` on this thread and returns its result with the bytes it allocated (only
 /// meaningful in a test binary that installed `Counting`).
-pub fn allocated_by<T>(f: impl FnOnce() -> T) -> (T, usize) {
+pub(crate) fn allocated_by<T>(f: impl FnOnce() -> T) -> (T, usize) {
     let before = ALLOCATED.with(Cell::get);
     let result = f();
     (result, ALLOCATED.with(Cell::get) - before)

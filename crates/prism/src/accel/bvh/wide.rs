@@ -35,14 +35,14 @@ impl WideNode {
 
     /// Children in use (boxes a visit tests).
     #[inline(always)]
-    pub fn children(&self) -> u32 {
+    pub(super) fn children(&self) -> u32 {
         // Unused lanes hold min = +∞.
         self.min[0].cmplt(Vec4::INFINITY).bitmask().count_ones()
     }
 
     /// Wide nodes for the tree `nodes` (root at 0). A root that is a leaf has none; the
     /// traversal treats it on its own.
-    pub fn from_tree(nodes: &[Node]) -> Vec<WideNode> {
+    pub(super) fn from_tree(nodes: &[Node]) -> Vec<WideNode> {
         let mut wide = Vec::new();
         if nodes.first().is_none_or(Node::is_leaf) {
             return wide;
@@ -81,7 +81,7 @@ impl WideNode {
     /// `Aabb::hit`: a slab whose distance is NaN (the origin lies in a face plane of a box
     /// the ray runs parallel to) does not constrain t.
     #[inline(always)]
-    pub fn hit(&self, ray: &WideRay, t_max: f32) -> Vec4 {
+    pub(super) fn hit(&self, ray: &WideRay, t_max: f32) -> Vec4 {
         let mut enter = Vec4::ZERO;
         let mut exit = Vec4::splat(t_max);
         for axis in 0..3 {
@@ -137,7 +137,7 @@ pub(super) struct WideRay {
 }
 
 impl WideRay {
-    pub fn new(ray: &TraceRay) -> Self {
+    pub(super) fn new(ray: &TraceRay) -> Self {
         let o = ray.ray.origin;
         let inv = ray.inv_dir;
         WideRay {

@@ -20,7 +20,7 @@ pub(super) struct VolumeNode<V> {
 
 impl<V> VolumeNode<V> {
     #[inline(always)]
-    pub fn is_leaf(&self) -> bool {
+    pub(super) fn is_leaf(&self) -> bool {
         self.count > 0
     }
 }

@@ -10,7 +10,7 @@ use crate::math::{Aabb, Ray, TraceRay, Vec3};
 
 /// Lines hitting the volume and lines hitting the box, over `lines` isotropic random lines
 /// through a ball around `bounds` that contains the volume too.
-pub fn crossings<V: Volume>(volume: &V, bounds: &Aabb, lines: u32, seed: u64) -> (u64, u64) {
+pub(super) fn crossings<V: Volume>(volume: &V, bounds: &Aabb, lines: u32, seed: u64) -> (u64, u64) {
     crossings_with(
         |ray| volume.hit(&V::prepare(ray), ray, f32::INFINITY).is_some(),
         bounds,
@@ -20,7 +20,7 @@ pub fn crossings<V: Volume>(volume: &V, bounds: &Aabb, lines: u32, seed: u64) ->
 }
 
 /// `crossings` for any ray test.
-pub fn crossings_with(
+pub(super) fn crossings_with(
     hits: impl Fn(&TraceRay) -> bool,
     bounds: &Aabb,
     lines: u32,
@@ -58,7 +58,7 @@ pub fn crossings_with(
 }
 
 /// The box of a set of primitives.
-pub fn prims_bounds(geometry: &Geometry, prims: &[u32]) -> Aabb {
+pub(super) fn prims_bounds(geometry: &Geometry, prims: &[u32]) -> Aabb {
     prims
         .iter()
         .filter_map(|&p| geometry.bounds(p))

@@ -4,7 +4,7 @@
 use glam::{DMat3, DVec3};
 
 /// Orthonormal principal axes of `points` (the identity for fewer than two points).
-pub fn principal_axes(points: &[DVec3]) -> [DVec3; 3] {
+pub(super) fn principal_axes(points: &[DVec3]) -> [DVec3; 3] {
     if points.len() < 2 {
         return [DVec3::X, DVec3::Y, DVec3::Z];
     }

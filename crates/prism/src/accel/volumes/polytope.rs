@@ -11,7 +11,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Plane {
+pub(super) struct Plane {
     pub normal: Vec3,
     pub offset: f32,
 }
@@ -19,7 +19,7 @@ pub struct Plane {
 /// Stores `planes` in f32 for contents whose support function is `support` and whose
 /// coordinates are at most `magnitude`: each offset is recomputed for the rounded normal
 /// and padded like every other volume's slabs.
-pub fn store_planes(
+pub(super) fn store_planes(
     planes: &[HalfSpace],
     support: impl Fn(DVec3) -> f64 + Sync,
     magnitude: f64,
@@ -41,7 +41,7 @@ pub fn store_planes(
 
 /// Entry distance if the ray may meet the polytope `planes` within `[0, t_max]`.
 #[inline]
-pub fn hit_polytope(planes: &[Plane], ray: &TraceRay, t_max: f32) -> Option<f32> {
+pub(super) fn hit_polytope(planes: &[Plane], ray: &TraceRay, t_max: f32) -> Option<f32> {
     let (o, d) = (ray.ray.origin, ray.ray.dir);
     // The widest any finished interval can be widened: early exits must allow for it.
     let most = 1.0 / 1024.0 + gamma(4);

@@ -18,13 +18,13 @@ const MAX_RELATIVE: f32 = 1.0 / 1024.0;
 /// tests, whose hit distances err by a few γ of the vertices' distance from the origin
 /// (more for thin triangles, whose barycentrics are ill-conditioned). Generous on purpose:
 /// at γ₆₄ ≈ 4·10⁻⁶ of the coordinates, the padding costs no measurable tightness.
-pub const ROUNDINGS: u32 = 64;
+pub(super) const ROUNDINGS: u32 = 64;
 
 /// One direction prepared for one ray: `n·o`, its error bound, and `1/(n·d)` (0 for an
 /// ignored direction, whose error bound is then infinite so that both ends become NaN,
 /// which the min/max reductions drop).
 #[derive(Clone, Copy, Debug, Default)]
-pub struct SlabAxis {
+pub(super) struct SlabAxis {
     pub origin: f32,
     pub error: f32,
     pub inv: f32,
@@ -34,7 +34,7 @@ impl SlabAxis {
     /// Prepares direction `n` for the ray (origin `o`, direction `d`); the second value is
     /// the relative error of `1/(n·d)`, to be applied to the distances.
     #[inline(always)]
-    pub fn new(n: Vec3, o: Vec3, d: Vec3) -> (SlabAxis, f32) {
+    pub(super) fn new(n: Vec3, o: Vec3, d: Vec3) -> (SlabAxis, f32) {
         let origin = n.dot(o);
         let error = gamma(ROUNDINGS) * n.abs().dot(o.abs());
         let dn = n.dot(d);
@@ -75,7 +75,7 @@ impl SlabAxis {
 
     /// Entry and exit distances of the slab `[lo, hi]` (either may be NaN: no constraint).
     #[inline(always)]
-    pub fn clip(&self, lo: f32, hi: f32) -> (f32, f32) {
+    pub(super) fn clip(&self, lo: f32, hi: f32) -> (f32, f32) {
         let a = (lo - self.origin - self.error) * self.inv;
         let b = (hi - self.origin + self.error) * self.inv;
         if self.inv < 0.0 {
@@ -90,7 +90,7 @@ impl SlabAxis {
 /// widened by `relative` (the largest relative error of the directions) plus the rounding
 /// of the divisions. Returns the entry distance on a hit.
 #[inline(always)]
-pub fn finish(enter: f32, exit: f32, t_max: f32, relative: f32) -> Option<f32> {
+pub(super) fn finish(enter: f32, exit: f32, t_max: f32, relative: f32) -> Option<f32> {
     let widen = relative + gamma(4);
     let t_enter = (enter * (1.0 - widen)).max(0.0);
     let t_exit = exit.min(t_max) * (1.0 + widen);
@@ -102,12 +102,12 @@ pub fn finish(enter: f32, exit: f32, t_max: f32, relative: f32) -> Option<f32> {
 /// Rounds an f64 slab `[lo, hi]` outward to f32 and widens it by γ·`scale`, where `scale`
 /// bounds `|n|·|x|` over the contents: a primitive's own intersection test perturbs it by
 /// a few ulps of its coordinates, and the volume must contain the perturbed shape too.
-pub fn pad_outward(lo: f64, hi: f64, scale: f64) -> (f32, f32) {
+pub(super) fn pad_outward(lo: f64, hi: f64, scale: f64) -> (f32, f32) {
     let pad = gamma(ROUNDINGS) as f64 * scale;
     (round_down(lo - pad), round_up(hi + pad))
 }
 
-pub fn round_up(x: f64) -> f32 {
+pub(super) fn round_up(x: f64) -> f32 {
     let y = x as f32;
     if (y as f64) < x {
         crate::math::robust::next_up(y)
@@ -116,7 +116,7 @@ pub fn round_up(x: f64) -> f32 {
     }
 }
 
-pub fn round_down(x: f64) -> f32 {
+pub(super) fn round_down(x: f64) -> f32 {
     let y = x as f32;
     if (y as f64) > x {
         crate::math::robust::next_down(y)

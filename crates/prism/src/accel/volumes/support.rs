@@ -87,7 +87,7 @@ fn corners(lo: DVec3, hi: DVec3) -> [DVec3; 8] {
 }
 
 /// The largest `n·x` over the primitive.
-pub fn support(geometry: &Geometry, prim: u32, n: DVec3) -> f64 {
+pub(super) fn support(geometry: &Geometry, prim: u32, n: DVec3) -> f64 {
     match features(geometry, prim) {
         Features::Points(p, k) => p[..k].iter().map(|p| n.dot(*p)).fold(f64::MIN, f64::max),
         Features::Ball { center, radius } => n.dot(center) + radius * n.length(),
@@ -96,7 +96,7 @@ pub fn support(geometry: &Geometry, prim: u32, n: DVec3) -> f64 {
 }
 
 /// The largest distance from `p` to a point of the primitive.
-pub fn farthest(geometry: &Geometry, prim: u32, p: DVec3) -> f64 {
+pub(super) fn farthest(geometry: &Geometry, prim: u32, p: DVec3) -> f64 {
     match features(geometry, prim) {
         Features::Points(q, k) => q[..k].iter().map(|q| q.distance(p)).fold(0.0, f64::max),
         Features::Ball { center, radius } => center.distance(p) + radius,
@@ -106,7 +106,7 @@ pub fn farthest(geometry: &Geometry, prim: u32, p: DVec3) -> f64 {
 
 /// Points whose spread describes the primitive's shape: vertices, box corners, the axis
 /// extremes of a sphere, points on the rims of a cone's discs.
-pub fn sample_points(geometry: &Geometry, prim: u32, out: &mut Vec<DVec3>) {
+pub(super) fn sample_points(geometry: &Geometry, prim: u32, out: &mut Vec<DVec3>) {
     match features(geometry, prim) {
         Features::Points(p, k) => out.extend_from_slice(&p[..k]),
         Features::Ball { center, radius } => {

@@ -34,6 +34,6 @@ pub trait Volume: Copy + Send + Sync + std::fmt::Debug + 'static {
 
 /// The largest coordinate magnitude in `bounds`: what the rounding of the primitives' own
 /// intersection tests scales with.
-pub fn magnitude(bounds: &Aabb) -> f64 {
+pub(super) fn magnitude(bounds: &Aabb) -> f64 {
     bounds.min.abs().max(bounds.max.abs()).max_element() as f64
 }

@@ -8,7 +8,7 @@ use crate::math::{Color, Vec3};
 use crate::scene::Scene;
 use crate::shading::{Checker, CheckerSpace, Material, Texture};
 
-pub fn checkerboard() -> Scene {
+pub(super) fn checkerboard() -> Scene {
     let mut scene = Scene {
         camera: Camera {
             eye: Vec3::new(0.0, 1.0, 0.0),

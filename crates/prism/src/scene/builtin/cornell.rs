@@ -8,7 +8,7 @@ use crate::math::{Color, Vec3};
 use crate::scene::Scene;
 use crate::shading::{FresnelMode, Material, Texture};
 
-pub fn cornell() -> Scene {
+pub(super) fn cornell() -> Scene {
     let mut scene = Scene {
         camera: Camera {
             eye: Vec3::new(0.5, 0.5, -1.35),

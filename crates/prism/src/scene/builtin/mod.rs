@@ -19,17 +19,21 @@ pub use torusknot::torusknot;
 
 /// A built-in scene: its name, a one-line description and its constructor.
 pub struct Builtin {
+    /// The name `--builtin` takes.
     pub name: &'static str,
+    /// One line for `prism list`.
     pub description: &'static str,
     build: fn() -> Scene,
 }
 
 impl Builtin {
+    /// Builds the scene (from scratch each time: built-ins are code, not data).
     pub fn build(&self) -> Scene {
         (self.build)()
     }
 }
 
+/// Every built-in scene, in the order `prism list` shows them.
 pub const BUILTINS: &[Builtin] = &[
     Builtin {
         name: "whitted",
@@ -88,6 +92,7 @@ pub fn find(name: &str) -> Option<Scene> {
     BUILTINS.iter().find(|b| b.name == name).map(Builtin::build)
 }
 
+/// The names of every built-in, in list order.
 pub fn names() -> Vec<&'static str> {
     BUILTINS.iter().map(|b| b.name).collect()
 }

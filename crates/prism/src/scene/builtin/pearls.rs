@@ -14,7 +14,7 @@ use crate::shading::{Material, Texture};
 const PEARLS: u32 = 10_000;
 const RADIUS: f32 = 0.05;
 
-pub fn pearls() -> Scene {
+pub(super) fn pearls() -> Scene {
     let length = PEARLS as f32 * 2.0 * RADIUS;
     let start = -0.5 * length + RADIUS;
     let mut scene = Scene {

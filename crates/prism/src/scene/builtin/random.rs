@@ -7,6 +7,6 @@ use crate::math::hash;
 const SCENE_SEED: u64 = 0x5eed_5ce7e;
 
 /// A number in (0, 1) for item `i` and dimension `dim`.
-pub fn unit(i: u32, dim: u32) -> f32 {
+pub(super) fn unit(i: u32, dim: u32) -> f32 {
     hash::uniform(i, 0, 0, dim, SCENE_SEED)
 }

@@ -14,7 +14,7 @@ const SHARDS: u32 = 2_000;
 /// Distance of a shard's corners from its centre, against a scene of half-size 1.
 const REACH: f32 = 0.5;
 
-pub fn shards() -> Scene {
+pub(super) fn shards() -> Scene {
     let mut scene = Scene {
         camera: Camera {
             eye: Vec3::new(2.8, -3.6, 2.2),

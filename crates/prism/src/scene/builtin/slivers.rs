@@ -14,7 +14,7 @@ const NEEDLES: u32 = 10_000;
 const LENGTH: f32 = 1.2;
 const WIDTH: f32 = 0.02;
 
-pub fn slivers() -> Scene {
+pub(super) fn slivers() -> Scene {
     let mut scene = Scene {
         camera: Camera {
             eye: Vec3::new(3.2, -4.0, 2.4),

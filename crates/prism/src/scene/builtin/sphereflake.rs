@@ -8,6 +8,8 @@ use crate::math::{Color, Frame, Vec3};
 use crate::scene::Scene;
 use crate::shading::{Material, Texture};
 
+/// Haines' sphereflake (SPD) of the given recursion level: a mirror sphere with nine smaller ones
+/// around it, recursively; level n has (9^(n+1) − 1)/8 spheres.
 pub fn sphereflake(level: u32) -> Scene {
     let mut scene = Scene {
         camera: Camera {

@@ -15,7 +15,7 @@ const KNOT: u32 = 40_000;
 /// Sections of the stands around the pitch.
 const SECTIONS: u32 = 48;
 
-pub fn stadium() -> Scene {
+pub(super) fn stadium() -> Scene {
     let mut scene = Scene {
         camera: Camera {
             eye: Vec3::new(0.0, -5.0, 2.2),

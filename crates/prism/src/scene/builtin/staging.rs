@@ -8,7 +8,7 @@ use crate::scene::Scene;
 use crate::shading::{Material, Texture};
 
 /// Adds an endless matte floor of `colour` at height `z`.
-pub fn matte_floor(scene: &mut Scene, colour: Color, z: f32) {
+pub(super) fn matte_floor(scene: &mut Scene, colour: Color, z: f32) {
     let floor = scene.add_material(Material {
         name: "floor".into(),
         color: Texture::Solid(colour),
@@ -21,7 +21,7 @@ pub fn matte_floor(scene: &mut Scene, colour: Color, z: f32) {
 }
 
 /// A point light high at the front left and a dimmer directional fill.
-pub fn key_and_fill() -> Vec<Light> {
+pub(super) fn key_and_fill() -> Vec<Light> {
     vec![
         Light::Point {
             position: Vec3::new(-3.0, -4.0, 6.0),

@@ -8,6 +8,7 @@ use crate::math::{Color, Vec3};
 use crate::scene::Scene;
 use crate::shading::{Material, Texture};
 
+/// A bumpy torus knot mesh of about `triangles` triangles, for large-mesh benchmarks.
 pub fn torusknot(triangles: u32) -> Scene {
     let mut scene = Scene {
         camera: Camera {

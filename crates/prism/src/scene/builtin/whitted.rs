@@ -8,7 +8,7 @@ use crate::math::{Color, Vec3};
 use crate::scene::Scene;
 use crate::shading::{Checker, CheckerSpace, FresnelMode, Material, Texture};
 
-pub fn whitted() -> Scene {
+pub(super) fn whitted() -> Scene {
     let mut scene = Scene {
         camera: Camera {
             eye: Vec3::new(0.0, 1.3, -5.0),

@@ -13,7 +13,7 @@ pub(super) struct BinnedSah {
 }
 
 impl BinnedSah {
-    pub fn new(options: &BvhOptions) -> Self {
+    pub(super) fn new(options: &BvhOptions) -> Self {
         BinnedSah {
             bins: options.bins.max(2),
             max_leaf_size: options.max_leaf_size.max(1),

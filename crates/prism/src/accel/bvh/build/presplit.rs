@@ -19,7 +19,7 @@ const MAX_PIECES: usize = 16;
 
 /// References for `prims` (whose boxes are `bounds`): triangles split into up to 16 pieces
 /// where their boxes are emptiest, `budget × prims.len()` extra references in all.
-pub fn presplit(
+pub(super) fn presplit(
     geometry: &Geometry,
     prims: Vec<u32>,
     bounds: Vec<Aabb>,

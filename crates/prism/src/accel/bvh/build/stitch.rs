@@ -19,12 +19,12 @@ pub(in crate::accel::bvh) enum NodeBlock {
 }
 
 impl NodeBlock {
-    pub fn leaf(node: Node) -> NodeBlock {
+    pub(super) fn leaf(node: Node) -> NodeBlock {
         NodeBlock::Serial(vec![node])
     }
 
     /// An interior node over two subtrees (its `first` is set when stitched).
-    pub fn split(root: Node, left: NodeBlock, right: NodeBlock) -> NodeBlock {
+    pub(super) fn split(root: Node, left: NodeBlock, right: NodeBlock) -> NodeBlock {
         NodeBlock::Split {
             root,
             descendants: 2 + left.descendants() + right.descendants(),
@@ -33,7 +33,7 @@ impl NodeBlock {
         }
     }
 
-    pub fn root(&self) -> &Node {
+    pub(super) fn root(&self) -> &Node {
         match self {
             NodeBlock::Serial(nodes) => &nodes[0],
             NodeBlock::Split { root, .. } => root,
@@ -77,7 +77,7 @@ impl NodeBlock {
     }
 
     /// The whole tree as one array, root first.
-    pub fn into_nodes(self) -> Vec<Node> {
+    pub(super) fn into_nodes(self) -> Vec<Node> {
         match self {
             NodeBlock::Serial(nodes) => nodes,
             block => {

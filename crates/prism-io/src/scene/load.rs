@@ -1,0 +1,94 @@
+//! Reading scene files. The extension picks the loader; a mesh file (.obj, .ply) on its
+//! own becomes a scene with a camera and a light that frame it.
+
+use super::Scene;
+use std::path::Path;
+
+/// Why a scene file could not be loaded; every variant names the file, and syntax errors the line
+/// and column.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file (or one it names) could not be read.
+    #[error("cannot read {path}: {message}")]
+    Io {
+        /// The file that could not be read.
+        path: String,
+        /// Why, as the system said it.
+        message: String,
+    },
+    /// The extension names no format prism reads.
+    #[error(
+        "{path}: unknown scene format '{ext}'; prism reads .toml, .nff, .gltf and .glb scenes \
+         and .obj and .ply meshes"
+    )]
+    UnknownFormat {
+        /// The file.
+        path: String,
+        /// Its extension, in lower case.
+        ext: String,
+    },
+    /// A parse or validation error that names the file, line and column.
+    #[error("{path}:{line}:{column}: {message}")]
+    Syntax {
+        /// The file.
+        path: String,
+        /// Line, from 1.
+        line: usize,
+        /// Column, from 1, in characters.
+        column: usize,
+        /// What is wrong there.
+        message: String,
+    },
+    /// A problem with the scene as a whole (no single place in the file).
+    #[error("{path}: {message}")]
+    Invalid {
+        /// The file.
+        path: String,
+        /// What is wrong with it.
+        message: String,
+    },
+}
+
+/// Loads a scene file, choosing the format by extension.
+pub fn load(path: &Path) -> Result<Scene, LoadError> {
+    if path.is_dir() {
+        return Err(LoadError::Io {
+            path: path.display().to_string(),
+            message: "it is a directory, not a scene file".into(),
+        });
+    }
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    if let Some(message) = super::sniff::mismatch(path, &ext) {
+        return Err(LoadError::Invalid {
+            path: path.display().to_string(),
+            message,
+        });
+    }
+    match ext.as_str() {
+        "toml" => super::toml::load(path),
+        "nff" => super::nff::load(path),
+        "gltf" | "glb" => super::gltf::load(path),
+        "obj" | "ply" => super::mesh_file::load_scene(path),
+        _ => Err(LoadError::UnknownFormat {
+            path: path.display().to_string(),
+            ext,
+        }),
+    }
+}
+
+/// Reads a file that a scene file names (a glTF buffer or image, an MTL library). Only
+/// regular files are read: a name such as "/dev/zero" or a pipe would be read until memory
+/// runs out, or forever.
+pub(crate) fn read_regular_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    if !std::fs::metadata(path)?.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file",
+        ));
+    }
+    std::fs::read(path)
+}

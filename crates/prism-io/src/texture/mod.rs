@@ -1,0 +1,40 @@
+//! Image textures from files: PNG and JPEG decoded within fixed limits (`decode`), then
+//! turned into the engine's linear [`ImageTexture`].
+
+mod decode;
+
+pub use decode::{decode, MAX_TEXELS, MAX_TEXTURE_SIDE};
+
+use prism::shading::ImageTexture;
+use std::path::Path;
+
+/// Why an image texture named by a scene file could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum TextureError {
+    /// The file could not be read or decoded; the message says which and why.
+    #[error("cannot read image texture {path}: {message}")]
+    Read {
+        /// The texture file as the scene named it.
+        path: String,
+        /// What went wrong, without the path.
+        message: String,
+    },
+}
+
+/// Loads a PNG or JPEG; 8-bit values are taken as sRGB-encoded.
+pub fn load(path: &Path) -> Result<ImageTexture, TextureError> {
+    let read_error = |message: String| TextureError::Read {
+        path: path.display().to_string(),
+        message,
+    };
+    let bytes = std::fs::read(path).map_err(|e| read_error(e.to_string()))?;
+    let img = decode(&bytes).map_err(read_error)?;
+    Ok(from_srgb(&img))
+}
+
+/// Converts a decoded image whose 8-bit values are sRGB-encoded (as PNG and JPEG colour
+/// images are) to linear texels.
+pub fn from_srgb(img: &image::DynamicImage) -> ImageTexture {
+    let rgb = img.to_rgb8();
+    ImageTexture::from_srgb8(rgb.width() as usize, rgb.height() as usize, rgb.as_raw())
+}

@@ -1,0 +1,318 @@
+//! Measuring one method on one scene's `RaySet`: build time (median of several builds when
+//! a build is cheap), what was built, and for primary rays (nearest hit) and shadow rays
+//! (any hit) the node visits and primitive tests per ray and the throughput (median of the
+//! repetitions, the methods timed in turns).
+
+use super::rays::{RaySet, ShadowRay};
+use super::Clock;
+use prism::accel::{AccelInfo, AccelSpec, SceneIntersector};
+use prism::geometry::Geometry;
+use prism::math::Ray;
+use prism::scene::Scene;
+use prism::stats::Stats;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::time::Duration;
+
+/// Rays per piece of work handed to a thread: large enough that scheduling costs nothing
+/// next to the tracing.
+const CHUNK: usize = 1024;
+
+/// How long and how often a measurement runs, and on which clock.
+#[derive(Clone, Debug)]
+pub struct MeasureOptions {
+    /// Timed repetitions of each ray kind (at least 1); the median counts.
+    pub repeat: usize,
+    /// Builds are repeated while the builds so far took less than this in all.
+    pub build_budget: Duration,
+    /// Builds at most.
+    pub max_builds: usize,
+    /// Repetitions stop early once they have taken this long in all, so a hopeless method
+    /// on a large scene does not hold the whole matrix up.
+    pub trace_budget: Duration,
+    /// A timed repetition runs as many passes as it takes to last about this long, so that
+    /// passes of a few milliseconds are not lost in timer and scheduler noise.
+    pub min_sample: Duration,
+    /// What the times are read from: process CPU time keeps single-threaded figures
+    /// steady on a shared machine; with several threads it sums them, so wall time is
+    /// the honest choice there.
+    pub clock: Clock,
+}
+
+impl Default for MeasureOptions {
+    fn default() -> Self {
+        MeasureOptions {
+            repeat: 5,
+            build_budget: Duration::from_millis(500),
+            max_builds: 5,
+            trace_budget: Duration::from_secs(3),
+            min_sample: Duration::from_millis(30),
+            clock: Clock::ProcessCpu,
+        }
+    }
+}
+
+/// Primary or shadow rays traced with one method.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct RayKindResult {
+    /// Rays in the set.
+    pub rays: usize,
+    /// Rays that hit (primary) or were blocked (shadow).
+    pub hits: usize,
+    /// Mean acceleration-structure node visits per ray.
+    pub node_visits_per_ray: f64,
+    /// Mean ray–primitive tests per ray.
+    pub primitive_tests_per_ray: f64,
+    /// Median time of one pass over all the rays.
+    pub seconds: f64,
+    /// Millions of rays per second, from the median time.
+    pub mrays_per_s: f64,
+    /// Passes timed.
+    pub repetitions: usize,
+}
+
+/// Everything measured for one method on one scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct Measured {
+    /// The structure's figures: nodes, memory, depth.
+    pub accel: AccelInfo,
+    /// Median build time.
+    pub build_ms: f64,
+    /// Builds timed.
+    pub builds: usize,
+    /// The camera rays.
+    pub primary: RayKindResult,
+    /// The shadow rays.
+    pub shadow: RayKindResult,
+    /// What the method answered (an untimed pass), to compare with the reference's.
+    pub primary_digest: super::HitDigest,
+    /// What the method answered for the shadow rays.
+    pub shadow_digest: super::HitDigest,
+}
+
+/// Builds every method in `specs` over `scene`, then times them on `rays` in turns: sample
+/// r of every method before sample r + 1 of any, so that a slow spell on a shared machine
+/// falls on all methods alike and the ratios between them hold. On the current rayon pool.
+/// `progress` hears each method's index as its build starts.
+pub fn measure_all(
+    scene: &Scene,
+    specs: &[AccelSpec],
+    rays: &RaySet,
+    options: &MeasureOptions,
+    progress: impl Fn(usize),
+) -> Vec<Measured> {
+    let built: Vec<(SceneIntersector, Vec<f64>)> = specs
+        .iter()
+        .enumerate()
+        .map(|(i, spec)| {
+            progress(i);
+            build_timed(scene, spec, options)
+        })
+        .collect();
+    let geometry = &scene.geometry;
+    let primary_passes: Vec<_> = built
+        .iter()
+        .map(|(intersector, _)| move || trace_primary(intersector, geometry, &rays.primary))
+        .collect();
+    let primary = interleaved(options, rays.primary.len(), &primary_passes);
+    let shadow_passes: Vec<_> = built
+        .iter()
+        .map(|(intersector, _)| move || trace_shadow(intersector, geometry, &rays.shadow))
+        .collect();
+    let shadow = interleaved(options, rays.shadow.len(), &shadow_passes);
+    built
+        .into_iter()
+        .zip(primary.into_iter().zip(shadow))
+        .map(
+            |((intersector, mut build_times), (primary, shadow))| Measured {
+                primary_digest: super::digest::primary(&intersector, geometry, &rays.primary),
+                shadow_digest: super::digest::shadow(&intersector, geometry, &rays.shadow),
+                accel: intersector.accel.info(),
+                build_ms: median(&mut build_times),
+                builds: build_times.len(),
+                primary,
+                shadow,
+            },
+        )
+        .collect()
+}
+
+/// Builds `spec` once, or several times while builds are cheap; the build times in ms.
+fn build_timed(
+    scene: &Scene,
+    spec: &AccelSpec,
+    options: &MeasureOptions,
+) -> (SceneIntersector, Vec<f64>) {
+    let mut build_times = Vec::new();
+    let mut spent = Duration::ZERO;
+    loop {
+        let start = options.clock.start();
+        let built = SceneIntersector::build(&scene.geometry, spec);
+        let took = start.elapsed();
+        build_times.push(took.as_secs_f64() * 1e3);
+        spent += took;
+        if spent >= options.build_budget || build_times.len() >= options.max_builds.max(1) {
+            return (built, build_times);
+        }
+    }
+}
+
+/// For each method's `pass`: counts the work of one pass, then times up to `repeat`
+/// samples (within the budget), each of enough passes to last `min_sample`, taking the
+/// methods in turns; reports the median time of a pass.
+fn interleaved<F: Fn() -> (usize, Stats)>(
+    options: &MeasureOptions,
+    rays: usize,
+    passes: &[F],
+) -> Vec<RayKindResult> {
+    struct Run {
+        hits: usize,
+        stats: Stats,
+        passes: usize,
+        times: Vec<f64>,
+        spent: Duration,
+    }
+    let mut runs: Vec<Run> = passes
+        .iter()
+        .map(|pass| {
+            let start = options.clock.start();
+            let (hits, stats) = std::hint::black_box(pass());
+            let first = start.elapsed();
+            let passes = if first.is_zero() {
+                1000
+            } else {
+                (options.min_sample.as_secs_f64() / first.as_secs_f64()).ceil() as usize
+            }
+            .clamp(1, 1000);
+            let mut times = Vec::new();
+            if passes == 1 && first >= options.trace_budget {
+                // One pass took the whole budget: it is the only sample there will be.
+                times.push(first.as_secs_f64());
+            }
+            Run {
+                hits,
+                stats,
+                passes,
+                times,
+                spent: first,
+            }
+        })
+        .collect();
+    for _ in 0..options.repeat.max(1) {
+        for (run, pass) in runs.iter_mut().zip(passes) {
+            let wanted = run.times.len() < options.repeat.max(1)
+                && (run.times.is_empty() || run.spent < options.trace_budget);
+            if !wanted {
+                continue;
+            }
+            let start = options.clock.start();
+            for _ in 0..run.passes {
+                std::hint::black_box(pass());
+            }
+            let took = start.elapsed();
+            run.times.push(took.as_secs_f64() / run.passes as f64);
+            run.spent += took;
+        }
+    }
+    let per_ray = |n: u64| {
+        if rays == 0 {
+            0.0
+        } else {
+            n as f64 / rays as f64
+        }
+    };
+    runs.into_iter()
+        .map(|mut run| {
+            let seconds = median(&mut run.times);
+            RayKindResult {
+                rays,
+                hits: run.hits,
+                node_visits_per_ray: per_ray(run.stats.node_visits),
+                primitive_tests_per_ray: per_ray(run.stats.primitive_tests),
+                seconds,
+                mrays_per_s: if seconds > 0.0 {
+                    rays as f64 / seconds / 1e6
+                } else {
+                    0.0
+                },
+                repetitions: run.times.len(),
+            }
+        })
+        .collect()
+}
+
+fn trace_primary(
+    intersector: &SceneIntersector,
+    geometry: &Geometry,
+    rays: &[Ray],
+) -> (usize, Stats) {
+    sum_chunks(rays, |chunk, stats| {
+        chunk
+            .iter()
+            .filter(|ray| {
+                intersector
+                    .intersect(geometry, ray, f32::INFINITY, stats)
+                    .is_some()
+            })
+            .count()
+    })
+}
+
+fn trace_shadow(
+    intersector: &SceneIntersector,
+    geometry: &Geometry,
+    rays: &[ShadowRay],
+) -> (usize, Stats) {
+    sum_chunks(rays, |chunk, stats| {
+        chunk
+            .iter()
+            .filter(|s| intersector.occluded(geometry, &s.ray, s.t_max, stats))
+            .count()
+    })
+}
+
+/// Runs `f` over chunks of `items` in parallel and adds up its counts and statistics.
+fn sum_chunks<T: Sync>(
+    items: &[T],
+    f: impl Fn(&[T], &mut Stats) -> usize + Sync,
+) -> (usize, Stats) {
+    items
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut stats = Stats::default();
+            let n = f(chunk, &mut stats);
+            (n, stats)
+        })
+        .reduce(
+            || (0, Stats::default()),
+            |(a, mut s), (b, t)| {
+                s += t;
+                (a + b, s)
+            },
+        )
+}
+
+fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_median_is_the_middle_value() {
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&mut [4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert_eq!(median(&mut []), 0.0);
+    }
+}
