@@ -32,7 +32,9 @@ impl Bvh {
         } else {
             (prims, bounds)
         };
-        Bvh::build_over_bounds(prims, bounds, options)
+        let mut bvh = Bvh::build_over_bounds(prims, bounds, options);
+        bvh.packs = super::leaves::pack_triangles(&mut bvh.wide, &bvh.prims, geometry);
+        bvh
     }
 
     /// Builds over items known only by their boxes (`bounds[i]` bounds `prims[i]`), for
