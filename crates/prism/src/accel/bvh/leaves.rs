@@ -7,6 +7,7 @@
 use super::wide::WideNode;
 use crate::geometry::{Geometry, Shape, TrianglePack};
 use crate::math::Vec3;
+use rayon::prelude::*;
 
 /// Marks a wide node's leaf child whose `child` is its first pack (into `Bvh::packs`) and
 /// whose `count`, without this bit, is its number of packs.
@@ -15,13 +16,36 @@ pub(super) const PACKED: u32 = 1 << 31;
 /// Rewrites the leaf children of `wide` that hold only triangles into packs, in the order
 /// the nodes lie in memory (so neighbouring leaves' packs are neighbours too), and returns
 /// the packs. `prims` are the leaves' primitive ids, as `child`/`count` index them.
+/// Chunks of nodes are packed in parallel and joined in order, so the result does not
+/// depend on the thread count.
 pub(super) fn pack_triangles(
     wide: &mut [WideNode],
     prims: &[u32],
     geometry: &Geometry,
 ) -> Vec<TrianglePack> {
+    let chunks: Vec<Vec<TrianglePack>> = wide
+        .par_chunks_mut(1024)
+        .map(|nodes| pack_chunk(nodes, prims, geometry))
+        .collect();
+    // Each chunk numbered its packs from 0; shift them to where the chunk's packs land.
+    let mut first = 0u32;
+    for (nodes, packs) in wide.chunks_mut(1024).zip(&chunks) {
+        for node in nodes {
+            for k in 0..4 {
+                if node.count[k] & PACKED != 0 {
+                    node.child[k] += first;
+                }
+            }
+        }
+        first += packs.len() as u32;
+    }
+    chunks.concat()
+}
+
+/// Packs the triangle leaves of `nodes`, numbering their packs from 0.
+fn pack_chunk(nodes: &mut [WideNode], prims: &[u32], geometry: &Geometry) -> Vec<TrianglePack> {
     let mut packs = Vec::new();
-    for node in wide {
+    for node in nodes {
         for k in 0..4 {
             let count = node.count[k];
             if count == 0 {

@@ -11,7 +11,6 @@ use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
 use crate::geometry::{Geometry, PackRay, TrianglePack};
 use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
-use glam::Vec4;
 
 #[inline(always)]
 fn node_hit(node: &Node, ray: &TraceRay, t_max: f32) -> Option<f32> {
@@ -66,17 +65,26 @@ impl Accel for Bvh {
                 let node = &self.wide[child as usize];
                 stats.node_visits += u64::from(node.children());
                 let t = node.hit(&wide_ray, search.t_max());
-                let hit = t.cmplt(Vec4::INFINITY).bitmask();
-                if hit != 0 {
-                    // The children hit, nearest first, sorted without branches.
-                    let keys = order_keys(t);
-                    let n = hit.count_ones() as usize;
-                    // Farthest first onto the stack, so the nearer ones come off first.
-                    for &key in keys[1..n].iter().rev() {
-                        let k = (key & 3) as usize;
-                        stack.push((node.child[k], node.count[k], entry_bound(key)));
+                // The children hit, nearest first (ties keep lane order).
+                let mut hits = [(0.0f32, 0usize); 4];
+                let mut n = 0;
+                for k in 0..4 {
+                    if t[k] < f32::INFINITY {
+                        let mut j = n;
+                        while j > 0 && hits[j - 1].0 > t[k] {
+                            hits[j] = hits[j - 1];
+                            j -= 1;
+                        }
+                        hits[j] = (t[k], k);
+                        n += 1;
                     }
-                    let k = (keys[0] & 3) as usize;
+                }
+                if n > 0 {
+                    // Farthest first onto the stack, so the nearer ones come off first.
+                    for &(t_enter, k) in hits[1..n].iter().rev() {
+                        stack.push((node.child[k], node.count[k], t_enter));
+                    }
+                    let k = hits[0].1;
                     (child, count) = (node.child[k], node.count[k]);
                     continue;
                 }
@@ -98,31 +106,6 @@ impl Accel for Bvh {
     fn info(&self) -> AccelInfo {
         self.info()
     }
-}
-
-/// Sort keys for four children's entry distances, ascending: each distance's bits with the
-/// lane in the two lowest. Entry distances are never negative (the box test starts from
-/// +0), so their bits order as the numbers do; overwriting two bits merges distances
-/// within four ulps, which then go in lane order. Lanes the ray misses (+∞) sort last.
-#[inline(always)]
-fn order_keys(t: Vec4) -> [u32; 4] {
-    let key = |k: usize| (t[k].to_bits() & !3) | k as u32;
-    let [mut a, mut b, mut c, mut d] = [key(0), key(1), key(2), key(3)];
-    // A sorting network of five compare-exchanges (min/max, no branches).
-    let exchange = |x: &mut u32, y: &mut u32| (*x, *y) = ((*x).min(*y), (*x).max(*y));
-    exchange(&mut a, &mut b);
-    exchange(&mut c, &mut d);
-    exchange(&mut a, &mut c);
-    exchange(&mut b, &mut d);
-    exchange(&mut b, &mut c);
-    [a, b, c, d]
-}
-
-/// A lower bound on the entry distance a sort key was made from (the lane bits cleared),
-/// which is what the culling of deferred children may compare safely.
-#[inline(always)]
-fn entry_bound(key: u32) -> f32 {
-    f32::from_bits(key & !3)
 }
 
 /// Tests a leaf's primitives.
