@@ -61,6 +61,13 @@ impl Stats {
     }
 
     /// Every ray traced: camera, shadow (with continuations), reflected and refracted.
+    /// Records `n` intersection tests against shapes of `kind` (tested together).
+    #[inline(always)]
+    pub fn count_tests(&mut self, kind: ShapeKind, n: u64) {
+        self.primitive_tests += n;
+        self.tests_by_kind[kind as usize] += n;
+    }
+
     pub fn total_rays(&self) -> u64 {
         self.primary_rays
             + self.shadow_rays

@@ -6,7 +6,7 @@
 //! way a hit is built exist once, here, and every method gives the same answer as the
 //! brute-force list whatever order it walks in.
 
-use crate::geometry::{Geometry, ShapeHit};
+use crate::geometry::{Geometry, PackRay, ShapeHit, ShapeKind, TrianglePack};
 use crate::math::robust::next_up;
 use crate::math::TraceRay;
 use crate::stats::Stats;
@@ -113,6 +113,43 @@ impl HitSearch {
             Some(h) => self.keep(Hit::new(prim, h)),
             None => false,
         }
+    }
+
+    /// Tests the triangles of `pack`, whose ids are primitive ids, in lane order; true when
+    /// the query is answered. Every lane counts as a test. A 4-wide first pass rejects the
+    /// lanes the scalar test would reject at the loosest bound any of them gets (the bound
+    /// only shrinks as hits are kept), and the scalar test decides each lane kept, with the
+    /// tie rule's bound for its id, so the answer is the one `test` gives lane by lane.
+    #[inline(always)]
+    pub(crate) fn test_pack(
+        &mut self,
+        pack: &TrianglePack,
+        pack_ray: &PackRay,
+        ray: &TraceRay,
+        stats: &mut Stats,
+    ) -> bool {
+        stats.count_tests(ShapeKind::Triangle, pack.len() as u64);
+        let mut kept = pack.candidates(pack_ray, self.nested_limit());
+        while kept != 0 {
+            let lane = kept.trailing_zeros() as usize;
+            kept &= kept - 1;
+            let prim = pack.ids[lane];
+            let limit = match self.best {
+                Some(b) if prim < b.prim => next_up(self.t_max),
+                _ => self.t_max,
+            };
+            if let Some(h) = pack.intersect(lane, ray, limit) {
+                let hit = ShapeHit {
+                    t: h.t,
+                    u: h.b1,
+                    v: h.b2,
+                };
+                if self.keep(Hit::new(prim, hit)) {
+                    return true;
+                }
+            }
+        }
+        false
     }
 
     /// Tests an unbounded primitive (a plane) after the accelerator has answered: its hit

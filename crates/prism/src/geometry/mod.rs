@@ -11,6 +11,7 @@ mod plane;
 pub mod polygon;
 mod sphere;
 mod triangle;
+mod triangle_pack;
 
 pub use aabox::AaBox;
 pub use cone::Cone;
@@ -18,6 +19,7 @@ pub use mesh::{MeshError, TriangleMesh};
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::{intersect_triangle, TriangleHit};
+pub use triangle_pack::{PackRay, TrianglePack};
 
 use crate::math::{Aabb, Ray, TraceRay, Vec2, Vec3};
 

@@ -3,6 +3,7 @@
 //! traversal that visits the nearer child first (`traverse.rs`).
 
 mod build;
+mod leaves;
 mod options;
 mod reinsert;
 mod traverse;
@@ -76,6 +77,9 @@ pub struct Bvh {
     nodes: Vec<Node>,
     /// The same tree as traversed: 4-wide nodes (`wide.rs`).
     wide: Vec<WideNode>,
+    /// Leaves of triangles only, their vertices in leaf order (`leaves.rs`); empty until
+    /// `Bvh::build` packs them (a tree over boxes alone has none).
+    packs: Vec<crate::geometry::TrianglePack>,
     /// Primitive indices (into `Geometry::primitives`) in leaf order.
     prims: Vec<u32>,
     builder: BvhBuilder,
@@ -96,6 +100,7 @@ impl Bvh {
         Bvh {
             nodes,
             wide,
+            packs: Vec::new(),
             prims,
             builder: options.builder,
             reinserted: options.reinsert,
@@ -188,10 +193,11 @@ impl Bvh {
         &self.prims
     }
 
-    /// Both layouts of the tree and the primitive list.
+    /// Both layouts of the tree, the triangle packs and the primitive list.
     pub fn memory_bytes(&self) -> usize {
         self.nodes.len() * std::mem::size_of::<Node>()
             + self.wide.len() * std::mem::size_of::<WideNode>()
+            + self.packs.len() * std::mem::size_of::<crate::geometry::TrianglePack>()
             + self.prims.len() * 4
     }
 }

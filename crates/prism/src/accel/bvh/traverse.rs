@@ -2,12 +2,13 @@
 //! the nearest hit, push the others farthest first.
 //! Nearest-hit queries shrink `t_max` as hits are found, so far subtrees get culled.
 
+use super::leaves::PACKED;
 use super::wide::WideRay;
 use super::{Bvh, Node, MAX_DEPTH};
 use crate::accel::query::HitSearch;
 use crate::accel::stack::TraversalStack;
 use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
-use crate::geometry::Geometry;
+use crate::geometry::{Geometry, PackRay, TrianglePack};
 use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
 
@@ -37,8 +38,10 @@ impl Accel for Bvh {
         let mut search = HitSearch::new(t_max, mode);
         let leaf = LeafQuery {
             prims: &self.prims,
+            packs: &self.packs,
             geometry,
             ray,
+            pack_ray: PackRay::new(ray),
         };
         if root.is_leaf() {
             leaf.test(root.first, root.count, &mut search, stats);
@@ -108,14 +111,23 @@ impl Accel for Bvh {
 /// Tests a leaf's primitives.
 struct LeafQuery<'a> {
     prims: &'a [u32],
+    packs: &'a [TrianglePack],
     geometry: &'a Geometry,
     ray: &'a TraceRay,
+    pack_ray: PackRay,
 }
 
 impl LeafQuery<'_> {
-    /// Tests `prims[first .. first + count]`; true when the query is answered.
+    /// Tests a leaf: `packs[first .. first + n]` when `count` is `PACKED | n`, otherwise
+    /// `prims[first .. first + count]`; true when the query is answered.
     #[inline(always)]
     fn test(&self, first: u32, count: u32, search: &mut HitSearch, stats: &mut Stats) -> bool {
+        if count & PACKED != 0 {
+            let packs = &self.packs[first as usize..(first + (count & !PACKED)) as usize];
+            return packs
+                .iter()
+                .any(|pack| search.test_pack(pack, &self.pack_ray, self.ray, stats));
+        }
         self.prims[first as usize..(first + count) as usize]
             .iter()
             .any(|&prim| search.test(self.geometry, self.ray, prim, stats))

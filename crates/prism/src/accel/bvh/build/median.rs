@@ -1,7 +1,7 @@
 //! Object median splits: halve the primitives by centroid along the longest axis of their
 //! centroid bounds. Cheap and balanced, but blind to surface area.
 
-use super::topdown::SplitRule;
+use super::topdown::{Split, SplitRule};
 use super::BuildPrims;
 use crate::math::Aabb;
 
@@ -21,7 +21,7 @@ impl SplitRule for ObjectMedian {
         order: &mut [u32],
         _bounds: &Aabb,
         centroid_bounds: &Aabb,
-    ) -> Option<usize> {
+    ) -> Option<Split> {
         if order.len() <= self.max_leaf_size {
             return None;
         }
@@ -35,6 +35,6 @@ impl SplitRule for ObjectMedian {
             );
             ca.total_cmp(&cb).then(a.cmp(&b))
         });
-        Some(mid)
+        Some(Split::at(mid))
     }
 }

@@ -18,6 +18,19 @@ use rayon::prelude::*;
 pub(super) struct BuildPrims {
     pub bounds: Vec<Aabb>,
     pub centroids: Vec<Vec3>,
+    /// How many primitives a leaf tests in one step: 4 when every primitive is a triangle
+    /// (the leaves become `TrianglePack`s, `leaves.rs`), else 1.
+    pub test_block: usize,
+}
+
+impl BuildPrims {
+    /// The SAH cost of testing `n` primitives in a leaf, in units of one test step: packs
+    /// of triangles cost a step per four, so leaves of up to four triangles are as cheap
+    /// as leaves of one (what makes the binned builder fill the packs).
+    #[inline(always)]
+    pub fn leaf_cost(&self, n: usize) -> f32 {
+        n.div_ceil(self.test_block) as f32
+    }
 }
 
 impl Bvh {
@@ -32,7 +45,16 @@ impl Bvh {
         } else {
             (prims, bounds)
         };
-        Bvh::build_over_bounds(prims, bounds, options)
+        let all_triangles = prims.iter().all(|&p| {
+            matches!(
+                geometry.primitives[p as usize].shape,
+                crate::geometry::Shape::Triangle { .. }
+            )
+        });
+        let test_block = if all_triangles { 4 } else { 1 };
+        let mut bvh = Bvh::build_blocks(prims, bounds, options, test_block);
+        bvh.packs = super::leaves::pack_triangles(&mut bvh.wide, &bvh.prims, geometry);
+        bvh
     }
 
     /// Builds over items known only by their boxes (`bounds[i]` bounds `prims[i]`), for
@@ -42,8 +64,23 @@ impl Bvh {
         bounds: Vec<Aabb>,
         options: &BvhOptions,
     ) -> Bvh {
+        Bvh::build_blocks(prims, bounds, options, 1)
+    }
+
+    /// `build_over_bounds` for leaves that test `test_block` primitives in one step (the
+    /// binned builder's SAH counts steps; the other builders ignore it).
+    fn build_blocks(
+        prims: Vec<u32>,
+        bounds: Vec<Aabb>,
+        options: &BvhOptions,
+        test_block: usize,
+    ) -> Bvh {
         let centroids = bounds.par_iter().map(Aabb::center).collect();
-        let input = BuildPrims { bounds, centroids };
+        let input = BuildPrims {
+            bounds,
+            centroids,
+            test_block,
+        };
         // Work on positions 0..n; map back to primitive ids at the end.
         let mut order: Vec<u32> = (0..prims.len() as u32).collect();
         let threshold = options.parallel_threshold.max(1);

@@ -2,7 +2,7 @@
 //! sorted by centroid and every split between neighbours is costed exactly, with the
 //! right-hand boxes accumulated in one backward pass. O(n log n) per node.
 
-use super::topdown::SplitRule;
+use super::topdown::{Split, SplitRule};
 use super::BuildPrims;
 use crate::math::Aabb;
 use rayon::slice::ParallelSliceMut;
@@ -37,7 +37,7 @@ impl SplitRule for FullSweepSah {
         order: &mut [u32],
         bounds: &Aabb,
         centroid_bounds: &Aabb,
-    ) -> Option<usize> {
+    ) -> Option<Split> {
         let n = order.len();
         let parent_area = bounds.surface_area().max(f32::MIN_POSITIVE);
         // (split index, cost); the order sorted on the winning axis stays in `best`.
@@ -92,11 +92,11 @@ impl SplitRule for FullSweepSah {
                 for (slot, &(_, i)) in order.iter_mut().zip(&buffers.best) {
                     *slot = i;
                 }
-                Some(k)
+                Some(Split::at(k))
             }
             // All centroids coincide: halve the list if it is too big for a leaf.
             None if n <= self.max_leaf_size => None,
-            None => Some(n / 2),
+            None => Some(Split::at(n / 2)),
         }
     }
 }

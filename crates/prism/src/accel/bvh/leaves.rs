@@ -1,0 +1,76 @@
+//! Leaves as traversal reads them. A leaf holding only mesh triangles is stored as
+//! `TrianglePack`s, its triangles' vertices copied in leaf order, four to a pack: a visit
+//! reads the leaf's vertices from one place and rejects four triangles per SIMD step,
+//! instead of following primitive → mesh → index triple → three vertices per triangle.
+//! Other leaves keep primitive ids into `Bvh::prims`.
+
+use super::wide::WideNode;
+use crate::geometry::{Geometry, Shape, TrianglePack};
+use crate::math::Vec3;
+use rayon::prelude::*;
+
+/// Marks a wide node's leaf child whose `child` is its first pack (into `Bvh::packs`) and
+/// whose `count`, without this bit, is its number of packs.
+pub(super) const PACKED: u32 = 1 << 31;
+
+/// Rewrites the leaf children of `wide` that hold only triangles into packs, in the order
+/// the nodes lie in memory (so neighbouring leaves' packs are neighbours too), and returns
+/// the packs. `prims` are the leaves' primitive ids, as `child`/`count` index them.
+/// Chunks of nodes are packed in parallel and joined in order, so the result does not
+/// depend on the thread count.
+pub(super) fn pack_triangles(
+    wide: &mut [WideNode],
+    prims: &[u32],
+    geometry: &Geometry,
+) -> Vec<TrianglePack> {
+    let chunks: Vec<Vec<TrianglePack>> = wide
+        .par_chunks_mut(1024)
+        .map(|nodes| pack_chunk(nodes, prims, geometry))
+        .collect();
+    // Each chunk numbered its packs from 0; shift them to where the chunk's packs land.
+    let mut first = 0u32;
+    for (nodes, packs) in wide.chunks_mut(1024).zip(&chunks) {
+        for node in nodes {
+            for k in 0..4 {
+                if node.count[k] & PACKED != 0 {
+                    node.child[k] += first;
+                }
+            }
+        }
+        first += packs.len() as u32;
+    }
+    chunks.concat()
+}
+
+/// Packs the triangle leaves of `nodes`, numbering their packs from 0.
+fn pack_chunk(nodes: &mut [WideNode], prims: &[u32], geometry: &Geometry) -> Vec<TrianglePack> {
+    let mut packs = Vec::new();
+    for node in nodes {
+        for k in 0..4 {
+            let count = node.count[k];
+            if count == 0 {
+                continue;
+            }
+            let ids = &prims[node.child[k] as usize..][..count as usize];
+            let triangle = |p: u32| match geometry.primitives[p as usize].shape {
+                Shape::Triangle { mesh, index } => Some((mesh, index)),
+                _ => None,
+            };
+            if !ids.iter().all(|&p| triangle(p).is_some()) {
+                continue;
+            }
+            let first = packs.len();
+            for group in ids.chunks(4) {
+                let mut lanes = [([Vec3::ZERO; 3], 0u32); 4];
+                for (lane, &p) in lanes.iter_mut().zip(group) {
+                    let (mesh, index) = triangle(p).expect("checked above");
+                    *lane = (geometry.meshes[mesh as usize].vertices(index), p);
+                }
+                packs.push(TrianglePack::new(&lanes[..group.len()]));
+            }
+            node.child[k] = first as u32;
+            node.count[k] = PACKED | (packs.len() - first) as u32;
+        }
+    }
+    packs
+}
