@@ -60,7 +60,6 @@ impl Stats {
         self.tests_by_kind[kind as usize] += 1;
     }
 
-    /// Every ray traced: camera, shadow (with continuations), reflected and refracted.
     /// Records `n` intersection tests against shapes of `kind` (tested together).
     #[inline(always)]
     pub fn count_tests(&mut self, kind: ShapeKind, n: u64) {
@@ -68,6 +67,7 @@ impl Stats {
         self.tests_by_kind[kind as usize] += n;
     }
 
+    /// Every ray traced: camera, shadow (with continuations), reflected and refracted.
     pub fn total_rays(&self) -> u64 {
         self.primary_rays
             + self.shadow_rays

@@ -65,10 +65,10 @@ struct Entry {
 
 /// Every primitive's bounding box (empty for planes), by primitive id: one copy shared by
 /// the buffers of all lights, small next to their lists.
-pub type PrimBounds = std::sync::Arc<[Aabb]>;
+pub(crate) type PrimBounds = std::sync::Arc<[Aabb]>;
 
 /// The bounds `LightBuffer` tests entries with.
-pub fn prim_bounds(geometry: &Geometry) -> PrimBounds {
+pub(crate) fn prim_bounds(geometry: &Geometry) -> PrimBounds {
     (0..geometry.primitives.len() as u32)
         .map(|p| geometry.bounds(p).unwrap_or(Aabb::EMPTY))
         .collect()

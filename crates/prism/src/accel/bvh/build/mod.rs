@@ -28,7 +28,7 @@ impl BuildPrims {
     /// of triangles cost a step per four, so leaves of up to four triangles are as cheap
     /// as leaves of one (what makes the binned builder fill the packs).
     #[inline(always)]
-    pub fn leaf_cost(&self, n: usize) -> f32 {
+    pub(super) fn leaf_cost(&self, n: usize) -> f32 {
         n.div_ceil(self.test_block) as f32
     }
 }

@@ -44,7 +44,7 @@ pub(super) struct Split {
 
 impl Split {
     /// A split whose sides' bounds the recursion computes.
-    pub fn at(mid: usize) -> Split {
+    pub(super) fn at(mid: usize) -> Split {
         Split { mid, sides: None }
     }
 }
