@@ -23,7 +23,7 @@ use super::rays::{PixelRays, RayMark};
 use super::splat::{FilmSums, SplatBuffer};
 use super::{Film, Job, RenderError, TileDone, Traced};
 use crate::math::{Color, Vec2};
-use crate::sampling::adaptive::{Encoded, Point, PointSource, Refined, Refinement, Square};
+use crate::sampling::adaptive::{Encoded, Point, PointSource, Refined, Refinement, Square, Verdict};
 use crate::stats::Stats;
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -201,6 +201,8 @@ struct Scratch {
     /// Rays traced for the row below (points on the bottom edges, which it owns).
     below: Vec<PixelRays>,
     colours: Vec<Color>,
+    verdicts: Vec<Verdict>,
+    extremes: Vec<[Encoded; 2]>,
 }
 
 impl Scratch {
@@ -212,6 +214,8 @@ impl Scratch {
             rays: Vec::new(),
             below: Vec::new(),
             colours: Vec::new(),
+            verdicts: Vec::new(),
+            extremes: Vec::new(),
         }
     }
 }
@@ -357,7 +361,6 @@ impl Refine<'_> {
     ) -> Result<Option<EdgePoints>, RenderError> {
         let job = self.job;
         let (w, h, steps) = (job.width, job.height, self.steps);
-        let shift = steps.trailing_zeros();
         let traced = self.refine && !job.cancelled();
         let mut buffer = self
             .wide
@@ -391,17 +394,12 @@ impl Refine<'_> {
         let (above, under) = shared.unwrap_or((&[], &[]));
         let (mut above_at, mut under_at) = (0, 0);
         let mut carry_mask = 0u64;
+        self.verdicts(y, &mut scratch.extremes, &mut scratch.verdicts);
         for x in 0..w {
             let mut leaves = Leaves::new(&mut buffer);
             let corners = self.corner_points(x, y);
-            let encoded = |i: u32, j: u32| {
-                let (i, j) = (i >> shift, j >> shift);
-                (i <= w && j <= h).then(|| self.encoded[self.corners.index(i, j)])
-            };
             let pixel = Square::pixel(x, y, steps);
-            let block = crate::sampling::adaptive::neighbourhood_block(&pixel, &encoded);
-            // Every corner is traced before this pass, so there always is a verdict.
-            let verdict = self.rule.verdict_of_block(&block).unwrap_or_default();
+            let verdict = scratch.verdicts[x as usize];
             if self.rule.stratified(&verdict) {
                 // The stratified pass: the pixel's own samples, each worth an equal share.
                 stats.adaptive_stratified += 1;
@@ -514,6 +512,18 @@ impl Refine<'_> {
         }
         m.finish_row(y, &scratch.colours, buffer.as_ref());
         Ok(record.then_some(edges))
+    }
+
+    /// The verdicts of row y's pixels (its corners traced), into `out`.
+    fn verdicts(&self, y: u32, extremes: &mut Vec<[Encoded; 2]>, out: &mut Vec<Verdict>) {
+        let (n, h) = (self.job.width as usize + 1, self.job.height);
+        let lines = [-1i64, 0, 1, 2].map(|d| {
+            let j = y as i64 + d;
+            (0..=h as i64)
+                .contains(&j)
+                .then(|| &self.encoded[j as usize * n..][..n])
+        });
+        self.rule.row_verdicts(lines, extremes, out);
     }
 
     /// A point's `Point::encoded`, computed only where the rule will compare it.

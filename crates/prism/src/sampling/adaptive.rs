@@ -102,7 +102,8 @@ impl Refinement {
             return (x as f32, y as f32);
         }
         let steps = self.steps();
-        let corner = x % steps == 0 && y % steps == 0;
+        // `steps` is a power of two: a mask, not a division.
+        let corner = (x | y) & (steps - 1) == 0;
         let span = self.jitter * if corner { 0.5 * steps as f32 } else { 1.0 };
         let jx = (uniform(x, y, 0, DIM_JITTER_X, self.seed) - 0.5) * span;
         let jy = (uniform(x, y, 0, DIM_JITTER_Y, self.seed) - 0.5) * span;
@@ -217,21 +218,15 @@ impl Refinement {
     /// comparisons below would otherwise encode each corner up to four times (the encoding,
     /// a power, dominates the rule's cost).
     fn neighbourhood(&self, block: &[Option<Encoded>; 16]) -> (bool, bool) {
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        for c in block.iter().flatten() {
-            for k in 0..3 {
-                lo[k] = lo[k].min(c[k]);
-                hi[k] = hi[k].max(c[k]);
-            }
-        }
-        let spread = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max);
-        let busy = spread > self.threshold;
-        if !busy {
-            // No pair of the block can differ by more than the whole block spreads: no
-            // changes, so no texture either (most pixels of most images end here).
-            return (false, false);
-        }
+        let busy = spread_encoded(block.iter().flatten()) > self.threshold;
+        // No pair of the block can differ by more than the whole block spreads: no changes,
+        // so no texture either (most pixels of most images end here).
+        (busy, busy && self.textured(block))
+    }
+
+    /// The texture half of the neighbourhood rule: whether the block's corners change
+    /// colour more often than one straight edge can make them.
+    fn textured(&self, block: &[Option<Encoded>; 16]) -> bool {
         // The spread of two colours is their largest channel difference (bit for bit:
         // max − min is |a − b|); 24 pairs per pixel, so without the general loop.
         let differ = |i: usize, j: usize| match (block[i], block[j]) {
@@ -256,7 +251,52 @@ impl Refinement {
         let straight_edge_changes = (0..4)
             .map(|i| (line(i * 4, 1) >= 2) as usize + (line(i, 4) >= 2) as usize)
             .sum::<usize>();
-        (busy, changes > straight_edge_changes)
+        changes > straight_edge_changes
+    }
+
+    /// The verdicts of a row of pixels at once, from the corner lines above, at, below and
+    /// two below its top edge (`lines[1]` and `lines[2]` are the row's own corners, W + 1
+    /// of them; the others are None outside the image): what `verdict` says of each pixel.
+    /// The neighbourhood rule's 4×4 blocks overlap by 12 corners from one pixel to the
+    /// next, so the row's per-column extremes over the four lines are taken once
+    /// (`extremes`: working memory) and each block's spread from four columns; only busy
+    /// pixels then look at their block's changes.
+    pub fn row_verdicts(
+        &self,
+        lines: [Option<&[Encoded]>; 4],
+        extremes: &mut Vec<[Encoded; 2]>,
+        out: &mut Vec<Verdict>,
+    ) {
+        out.clear();
+        let (Some(top), Some(bottom)) = (lines[1], lines[2]) else {
+            return;
+        };
+        let n = top.len();
+        let width = n.saturating_sub(1);
+        if self.rule == AdaptiveRule::Corners {
+            out.extend((0..width).map(|x| Verdict {
+                busy: spread_encoded(&[top[x], top[x + 1], bottom[x], bottom[x + 1]])
+                    > self.threshold,
+                textured: false,
+            }));
+            return;
+        }
+        extremes.clear();
+        extremes.extend((0..n).map(|i| extremes_of(lines.iter().flatten().map(|l| &l[i]))));
+        for x in 0..width {
+            let columns = &extremes[x.saturating_sub(1)..(x + 3).min(n)];
+            let lo = extremes_of(columns.iter().map(|e| &e[0]))[0];
+            let hi = extremes_of(columns.iter().map(|e| &e[1]))[1];
+            let busy = spread_of(lo, hi) > self.threshold;
+            let textured = busy && {
+                let block: [Option<Encoded>; 16] = std::array::from_fn(|k| {
+                    let i = (x + k % 4).checked_sub(1).filter(|&i| i < n)?;
+                    lines[k / 4].map(|l| l[i])
+                });
+                self.textured(&block)
+            };
+            out.push(Verdict { busy, textured });
+        }
     }
 }
 
@@ -462,16 +502,32 @@ impl Refinement {
     }
 }
 
-/// The largest per-channel spread of colours already display-encoded.
-fn spread_encoded(colours: &[[f32; 3]]) -> f32 {
+/// The largest per-channel spread of colours already display-encoded. Encoded values are
+/// never NaN (`Transfer::encode` maps NaN to 0), so plain comparisons find the same
+/// extremes as `f32::min` and `f32::max`, without their NaN handling.
+#[inline]
+fn spread_encoded<'c>(colours: impl IntoIterator<Item = &'c Encoded>) -> f32 {
+    let [lo, hi] = extremes_of(colours);
+    spread_of(lo, hi)
+}
+
+/// Per channel, the smallest and the largest of the encoded colours (∞ and −∞ for none).
+#[inline]
+fn extremes_of<'c>(colours: impl IntoIterator<Item = &'c Encoded>) -> [Encoded; 2] {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
     for c in colours {
-        for (k, &e) in c.iter().enumerate() {
-            lo[k] = lo[k].min(e);
-            hi[k] = hi[k].max(e);
+        for k in 0..3 {
+            lo[k] = if c[k] < lo[k] { c[k] } else { lo[k] };
+            hi[k] = if c[k] > hi[k] { c[k] } else { hi[k] };
         }
     }
+    [lo, hi]
+}
+
+/// The largest channel spread between per-channel extremes (0 for no colours).
+#[inline]
+fn spread_of(lo: Encoded, hi: Encoded) -> f32 {
     (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max)
 }
 
@@ -685,6 +741,59 @@ mod tests {
                 assert!(splits > 6, "{rule}: {splits} splits");
                 assert_eq!(textured > 0, rule == AdaptiveRule::Neighbourhood, "{rule}");
             }
+        }
+    }
+
+    #[test]
+    fn row_verdicts_are_the_verdicts_of_each_pixel() {
+        // Corners of a 7×5-pixel image: an edge, a checker patch (texture) and noise.
+        let (w, h) = (7usize, 5usize);
+        let colour = |i: usize, j: usize| -> Encoded {
+            let v = if j >= 3 && i < 4 {
+                ((i + j) % 2) as f32
+            } else if i + 2 * j < 7 {
+                0.9
+            } else {
+                0.1 + 0.07 * ((i * 7 + j * 3) % 5) as f32
+            };
+            [v, 0.5 * v, 0.2]
+        };
+        let lines: Vec<Vec<Encoded>> = (0..=h)
+            .map(|j| (0..=w).map(|i| colour(i, j)).collect())
+            .collect();
+        for rule in AdaptiveRule::ALL {
+            let r = Refinement {
+                threshold: 0.1,
+                transfer: Transfer::Display,
+                depth: 2,
+                rule,
+                jitter: 0.0,
+                texture_n: 3,
+                seed: 0,
+            };
+            let steps = r.steps();
+            let encoded = |x: u32, y: u32| {
+                let (i, j) = ((x / steps) as usize, (y / steps) as usize);
+                (i <= w && j <= h).then(|| lines[j][i])
+            };
+            let (mut extremes, mut row) = (Vec::new(), Vec::new());
+            let (mut busy, mut textured) = (0, 0);
+            for y in 0..h {
+                let line = |d: i64| {
+                    let j = y as i64 + d;
+                    (0..=h as i64).contains(&j).then(|| &lines[j as usize][..])
+                };
+                r.row_verdicts([line(-1), line(0), line(1), line(2)], &mut extremes, &mut row);
+                assert_eq!(row.len(), w);
+                for (x, v) in row.iter().enumerate() {
+                    let pixel = Square::pixel(x as u32, y as u32, steps);
+                    assert_eq!(Some(*v), r.verdict(&pixel, &encoded), "{rule} ({x}, {y})");
+                    busy += v.busy as usize;
+                    textured += v.textured as usize;
+                }
+            }
+            assert!(busy > 5, "{rule}: {busy} busy");
+            assert_eq!(textured > 0, rule == AdaptiveRule::Neighbourhood, "{rule}");
         }
     }
 
