@@ -340,13 +340,12 @@ impl<'b> Leaves<'b> {
 impl Refine<'_> {
     /// The corner points of pixel (x, y) (its corners' rows traced).
     fn corner_points(&self, x: u32, y: u32) -> [Point; 4] {
-        [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)].map(|(i, j)| {
-            let k = self.corners.index(i, j);
-            Point {
-                colour: self.corners.colours[k],
-                encoded: self.encoded[k],
-            }
-        })
+        let (top, bottom) = (self.corners.index(x, y), self.corners.index(x, y + 1));
+        let point = |k: usize| Point {
+            colour: self.corners.colours[k],
+            encoded: self.encoded[k],
+        };
+        [point(top), point(top + 1), point(bottom), point(bottom + 1)]
     }
 
     /// Refines row y and merges it: `shared` is None for an even row, which returns the
@@ -397,9 +396,17 @@ impl Refine<'_> {
         self.verdicts(y, &mut scratch.extremes, &mut scratch.verdicts);
         for x in 0..w {
             let mut leaves = Leaves::new(&mut buffer);
-            let corners = self.corner_points(x, y);
             let pixel = Square::pixel(x, y, steps);
             let verdict = scratch.verdicts[x as usize];
+            let corners = self.corner_points(x, y);
+            if self.rule.quiet(&verdict) {
+                // Most pixels: one leaf, traced nothing (what `refine` would find).
+                let [a, b, c, d] = corners.map(|p| p.colour);
+                leaves.square(job, steps, x, y, pixel, (a + b + c + d) * 0.25);
+                scratch.colours.push(leaves.mean());
+                carry_mask = 0;
+                continue;
+            }
             if self.rule.stratified(&verdict) {
                 // The stratified pass: the pixel's own samples, each worth an equal share.
                 stats.adaptive_stratified += 1;
@@ -440,6 +447,7 @@ impl Refine<'_> {
                     grid.set(lx - ox, j, Point { colour, encoded });
                 }
             }
+            let run = RayMark::of(&stats);
             let mut tracer = Tracer {
                 grid,
                 job,
@@ -450,6 +458,7 @@ impl Refine<'_> {
                 last_column: x + 1 == w,
                 last_row: y + 1 == h,
                 own: PixelRays::default(),
+                run,
                 right: PixelRays::default(),
                 below: PixelRays::default(),
                 masks: [0; 3],
@@ -459,6 +468,7 @@ impl Refine<'_> {
                 .refine(pixel, verdict, corners, &mut tracer, &mut |sq, mean| {
                     leaves.square(job, steps, x, y, sq, mean)
                 });
+            tracer.end_run();
             let Tracer {
                 own,
                 right,
@@ -507,7 +517,9 @@ impl Refine<'_> {
         m.out.add_row(y, stats, &scratch.rays);
         if y + 1 < h {
             for (x, &r) in scratch.below.iter().enumerate() {
-                m.out.rays.add(x as u32, y + 1, r);
+                if r != PixelRays::default() {
+                    m.out.rays.add(x as u32, y + 1, r);
+                }
             }
         }
         m.finish_row(y, &scratch.colours, buffer.as_ref());
@@ -574,11 +586,21 @@ struct Tracer<'a, 'j> {
     steps: u32,
     last_column: bool,
     last_row: bool,
+    /// Rays of the pixel's own points, up to the start of the current run (`run`).
     own: PixelRays,
+    run: RayMark,
     right: PixelRays,
     below: PixelRays,
     /// Points traced on the right, top and bottom edges, by local coordinate along it.
     masks: [u64; 3],
+}
+
+impl Tracer<'_, '_> {
+    /// Counts the current run of the pixel's own rays (at the end of the pixel).
+    fn end_run(&mut self) {
+        self.own += PixelRays::since(self.run, self.stats);
+        self.run = RayMark::of(self.stats);
+    }
 }
 
 impl PointSource for Tracer<'_, '_> {
@@ -589,9 +611,6 @@ impl PointSource for Tracer<'_, '_> {
         }
         let s = self.steps as f32;
         let (fx, fy) = self.rule.position(x, y);
-        let mark = RayMark::of(self.stats);
-        let colour = self.job.trace(fx / s, fy / s, self.stats);
-        let rays = PixelRays::since(mark, self.stats);
         let steps = self.steps;
         if i == steps {
             self.masks[0] |= 1 << j;
@@ -600,13 +619,26 @@ impl PointSource for Tracer<'_, '_> {
         } else if j == steps {
             self.masks[2] |= 1 << i;
         }
-        if i == steps && !self.last_column {
-            self.right += rays;
+        let neighbour = if i == steps && !self.last_column {
+            Some(&mut self.right)
         } else if j == steps && !self.last_row {
-            self.below += rays;
+            Some(&mut self.below)
         } else {
-            self.own += rays;
-        }
+            None
+        };
+        let colour = match neighbour {
+            // The pixel's own points are counted together (`Tracer::own`); a neighbour's
+            // ends the pixel's current run of rays.
+            Some(rays) => {
+                self.own += PixelRays::since(self.run, self.stats);
+                let mark = RayMark::of(self.stats);
+                let colour = self.job.trace(fx / s, fy / s, self.stats);
+                *rays += PixelRays::since(mark, self.stats);
+                self.run = RayMark::of(self.stats);
+                colour
+            }
+            None => self.job.trace(fx / s, fy / s, self.stats),
+        };
         let encoded = if Point::compared(x, y) {
             self.rule.encode(colour)
         } else {
@@ -629,17 +661,20 @@ fn trace_corners(
 ) -> bool {
     let (w, h) = (job.width, job.height);
     let s = steps as f32;
-    let rows: Vec<Option<(Stats, Vec<PixelRays>)>> = (corners.colours)
+    // Rows are merged as they finish, so that their buffers are reused, not all held.
+    let merge = Mutex::new((&mut corners.traced, out));
+    (corners.colours)
         .par_chunks_mut(w as usize + 1)
         .enumerate()
-        .map(|(j, values)| {
-            let j = j as u32;
+        .for_each_init(Vec::new, |rays, (j, values)| {
             if job.cancelled() {
-                return None;
+                return;
             }
             crate::integrator::begin_piece();
+            let j = j as u32;
             let mut stats = Stats::default();
-            let mut rays = vec![PixelRays::default(); w as usize];
+            rays.clear();
+            rays.resize(w as usize, PixelRays::default());
             for (i, value) in (0..=w).zip(values) {
                 let mark = RayMark::of(&stats);
                 let (fx, fy) = position(i * steps, j * steps);
@@ -650,16 +685,11 @@ fn trace_corners(
                 pixels: if j < h { w as u64 } else { 0 },
                 rays: stats.total_rays(),
             });
-            Some((stats, rays))
-        })
-        .collect();
-    for (j, row) in rows.into_iter().enumerate() {
-        let Some((stats, rays)) = row else {
-            continue;
-        };
-        corners.traced[j] = true;
-        out.add_row(j.min(h as usize - 1) as u32, stats, &rays);
-    }
+            let mut m = merge.lock().unwrap_or_else(|e| e.into_inner());
+            m.0[j as usize] = true;
+            m.1.add_row(j.min(h - 1), stats, rays);
+        });
+    let out = merge.into_inner().unwrap_or_else(|e| e.into_inner()).1;
     let complete = corners.complete();
     out.complete &= complete;
     complete

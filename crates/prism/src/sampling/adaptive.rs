@@ -97,6 +97,7 @@ impl Refinement {
     }
 
     /// Where lattice point (x, y) is traced, in lattice units.
+    #[inline]
     pub fn position(&self, x: u32, y: u32) -> (f32, f32) {
         if self.jitter == 0.0 {
             return (x as f32, y as f32);
@@ -468,6 +469,20 @@ impl Refinement {
         verdict.textured && self.texture_n > 0 && self.depth > 0
     }
 
+    /// Whether a pixel so judged is one leaf, its corners' mean: neither split nor given
+    /// the stratified pass (what `refine` finds without asking for a point).
+    pub fn quiet(&self, verdict: &Verdict) -> bool {
+        !self.stratified(verdict) && !self.splits(0, verdict.textured, || verdict.busy)
+    }
+
+    /// Whether a square at `level` of a pixel (`textured` or not) splits; `busy`: whether
+    /// its corners differ (the pixel's verdict at level 0), asked only if it matters.
+    /// Texture is refined to depth − 1 regardless, and one level further where it differs.
+    #[inline]
+    fn splits(&self, level: u32, textured: bool, busy: impl FnOnce() -> bool) -> bool {
+        level < self.depth && ((textured && level + 1 < self.depth) || busy())
+    }
+
     /// `busy`: the pixel's verdict (level 0 only); below, the square's own contrast.
     #[allow(clippy::too_many_arguments)]
     fn refine_square(
@@ -480,12 +495,9 @@ impl Refinement {
         leaf: &mut impl FnMut(Square, Color),
         splits: &mut u64,
     ) {
-        // Texture is refined to depth − 1 regardless, and one level further where it differs.
-        let split = square.level < self.depth
-            && ((textured && square.level + 1 < self.depth)
-                || busy.unwrap_or_else(|| {
-                    spread_encoded(&c.map(|p| p.encoded)) > self.threshold
-                }));
+        let split = self.splits(square.level, textured, || {
+            busy.unwrap_or_else(|| spread_encoded(&c.map(|p| p.encoded)) > self.threshold)
+        });
         if !split {
             let mean = (c[0].colour + c[1].colour + c[2].colour + c[3].colour) * 0.25;
             leaf(square, mean);
