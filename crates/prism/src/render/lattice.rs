@@ -514,11 +514,13 @@ impl Refine<'_> {
             rays: stats.total_rays(),
         });
         let mut m = merge.lock().unwrap_or_else(|e| e.into_inner());
-        m.out.add_row(y, stats, &scratch.rays);
-        if y + 1 < h {
-            for (x, &r) in scratch.below.iter().enumerate() {
+        m.out.stats += stats;
+        // Most pixels trace nothing in this pass (and most trace nothing for the row below).
+        let rows = [(y, &scratch.rays), (y + 1, &scratch.below)];
+        for (j, rays) in rows.into_iter().filter(|&(j, _)| j < h) {
+            for (x, &r) in rays.iter().enumerate() {
                 if r != PixelRays::default() {
-                    m.out.rays.add(x as u32, y + 1, r);
+                    m.out.rays.add(x as u32, j, r);
                 }
             }
         }

@@ -228,12 +228,21 @@ impl Refinement {
     /// The texture half of the neighbourhood rule: whether the block's corners change
     /// colour more often than one straight edge can make them.
     fn textured(&self, block: &[Option<Encoded>; 16]) -> bool {
+        self.textured_by(|k| block[k])
+    }
+
+    /// `textured` of the block whose entry k is `corner(k)`: a renderer's block wholly
+    /// inside the image has no absent corners to check for.
+    #[inline]
+    fn textured_by(&self, corner: impl Fn(usize) -> Option<Encoded>) -> bool {
         // The spread of two colours is their largest channel difference (bit for bit:
-        // max − min is |a − b|); 24 pairs per pixel, so without the general loop.
-        let differ = |i: usize, j: usize| match (block[i], block[j]) {
+        // max − min is |a − b|; encoded values are never NaN, so "some channel differs by
+        // more" is "the largest difference is more"); 24 pairs per pixel.
+        let t = self.threshold;
+        let differ = |i: usize, j: usize| match (corner(i), corner(j)) {
             (Some(a), Some(b)) => {
                 let d = |k: usize| (a[k] - b[k]).abs();
-                d(0).max(d(1)).max(d(2)) > self.threshold
+                d(0) > t || d(1) > t || d(2) > t
             }
             _ => false,
         };
@@ -248,7 +257,7 @@ impl Refinement {
         // changes colour at most once per row and column (8 inside the image, fewer along
         // its borders, where the block is cut).
         let line =
-            |a: usize, step: usize| (0..4).filter(|&k| block[a + k * step].is_some()).count();
+            |a: usize, step: usize| (0..4).filter(|&k| corner(a + k * step).is_some()).count();
         let straight_edge_changes = (0..4)
             .map(|i| (line(i * 4, 1) >= 2) as usize + (line(i, 4) >= 2) as usize)
             .sum::<usize>();
@@ -289,13 +298,17 @@ impl Refinement {
             let lo = extremes_of(columns.iter().map(|e| &e[0]))[0];
             let hi = extremes_of(columns.iter().map(|e| &e[1]))[1];
             let busy = spread_of(lo, hi) > self.threshold;
-            let textured = busy && {
-                let block: [Option<Encoded>; 16] = std::array::from_fn(|k| {
-                    let i = (x + k % 4).checked_sub(1).filter(|&i| i < n)?;
-                    lines[k / 4].map(|l| l[i])
-                });
-                self.textured(&block)
-            };
+            let textured = busy
+                && match lines {
+                    [Some(a), Some(b), Some(c), Some(d)] if x >= 1 && x + 3 <= n => {
+                        let rows = [a, b, c, d].map(|l| &l[x - 1..x + 3]);
+                        self.textured_by(|k| Some(rows[k / 4][k % 4]))
+                    }
+                    _ => self.textured_by(|k| {
+                        let i = (x + k % 4).checked_sub(1).filter(|&i| i < n)?;
+                        lines[k / 4].map(|l| l[i])
+                    }),
+                };
             out.push(Verdict { busy, textured });
         }
     }
