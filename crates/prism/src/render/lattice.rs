@@ -23,7 +23,9 @@ use super::rays::{PixelRays, RayMark};
 use super::splat::{FilmSums, SplatBuffer};
 use super::{Film, Job, RenderError, TileDone, Traced};
 use crate::math::{Color, Vec2};
-use crate::sampling::adaptive::{Encoded, Point, PointSource, Refined, Refinement, Square, Verdict};
+use crate::sampling::adaptive::{
+    Encoded, Point, PointSource, Refined, Refinement, Square, Verdict,
+};
 use crate::stats::Stats;
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -113,7 +115,13 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Result<Traced, Re
     let steps = rule.steps();
     let mut out = Traced::try_new(w, h, Film::unallocated(w, h))?;
     let mut corners = Corners::try_new(w, h)?;
-    let refine = trace_corners(job, &mut corners, steps, |x, y| rule.position(x, y), &mut out);
+    let refine = trace_corners(
+        job,
+        &mut corners,
+        steps,
+        |x, y| rule.position(x, y),
+        &mut out,
+    );
     // Each corner encoded once: a pixel's verdict compares 16 of them, its walk 4.
     let mut encoded = try_filled(corners.colours.len(), [0.0; 3], "sample lattice")?;
     let row = w as usize + 1;
@@ -153,7 +161,9 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Result<Traced, Re
     // The even rows, which record the points they trace on their top and bottom edges…
     let even: Vec<Option<EdgePoints>> = (0..h.div_ceil(2))
         .into_par_iter()
-        .map_init(new_scratch, |scratch, k| pass.row(2 * k, None, scratch, &merge))
+        .map_init(new_scratch, |scratch, k| {
+            pass.row(2 * k, None, scratch, &merge)
+        })
         .collect::<Result<_, _>>()?;
     // …and the odd rows, which read them.
     let none = EdgePoints::default();
@@ -186,9 +196,12 @@ struct Merge<'a> {
 /// colour), in order of x.
 #[derive(Default)]
 struct EdgePoints {
-    top: Vec<(u32, Color)>,
-    bottom: Vec<(u32, Color)>,
+    top: Vec<EdgePoint>,
+    bottom: Vec<EdgePoint>,
 }
+
+/// A point on a horizontal pixel edge: (lattice x, colour).
+type EdgePoint = (u32, Color);
 
 /// A row's working memory, kept from row to row by each worker: the grid of one pixel's
 /// lattice points and the row's per-pixel buffers.
@@ -354,7 +367,7 @@ impl Refine<'_> {
     fn row(
         &self,
         y: u32,
-        shared: Option<(&[(u32, Color)], &[(u32, Color)])>,
+        shared: Option<(&[EdgePoint], &[EdgePoint])>,
         scratch: &mut Scratch,
         merge: &Mutex<Merge>,
     ) -> Result<Option<EdgePoints>, RenderError> {
@@ -463,11 +476,11 @@ impl Refine<'_> {
                 below: PixelRays::default(),
                 masks: [0; 3],
             };
-            let outcome = self
-                .rule
-                .refine(pixel, verdict, corners, &mut tracer, &mut |sq, mean| {
-                    leaves.square(job, steps, x, y, sq, mean)
-                });
+            let outcome =
+                self.rule
+                    .refine(pixel, verdict, corners, &mut tracer, &mut |sq, mean| {
+                        leaves.square(job, steps, x, y, sq, mean)
+                    });
             tracer.end_run();
             let Tracer {
                 own,
@@ -498,11 +511,12 @@ impl Refine<'_> {
                     if !wanted || mask == 0 {
                         continue;
                     }
-                    list.try_reserve(mask.count_ones() as usize)
-                        .map_err(|_| RenderError::OutOfMemory {
+                    list.try_reserve(mask.count_ones() as usize).map_err(|_| {
+                        RenderError::OutOfMemory {
                             what: "sample lattice",
                             bytes: (list.len() as u64 + 64) * 16,
-                        })?;
+                        }
+                    })?;
                     for i in bits(mask) {
                         list.push((ox + i, grid.get(i, j).unwrap_or_default().colour));
                     }

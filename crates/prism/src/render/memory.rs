@@ -70,7 +70,10 @@ pub fn estimate(options: &RenderOptions) -> MemoryEstimate {
     let box_pixel = super::Filter::new(options.filter, options.filter_radius).is_pixel_box();
     match options.sampler {
         SamplerKind::Corners => {
-            e.add("sample lattice", corners * CORNER_BYTES + pixels * CENTRE_BYTES);
+            e.add(
+                "sample lattice",
+                corners * CORNER_BYTES + pixels * CENTRE_BYTES,
+            );
             e.add("filter sums", pixels * SPLAT_SUM_BYTES);
         }
         SamplerKind::Adaptive => {

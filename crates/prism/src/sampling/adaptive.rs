@@ -138,8 +138,7 @@ impl Refinement {
     /// A renderer judging every pixel reads the block from a dense array of corners, each
     /// encoded once, instead of through a lookup per corner.
     pub fn verdict_of_block(&self, block: &[Option<Encoded>; 16]) -> Option<Verdict> {
-        let [Some(a), Some(b), Some(c), Some(d)] = [block[5], block[6], block[9], block[10]]
-        else {
+        let [Some(a), Some(b), Some(c), Some(d)] = [block[5], block[6], block[9], block[10]] else {
             return None;
         };
         let (busy, textured) = match self.rule {
@@ -473,7 +472,15 @@ impl Refinement {
         }
         let mut splits = 0;
         let busy = Some(verdict.busy);
-        self.refine_square(pixel, corners, busy, verdict.textured, points, leaf, &mut splits);
+        self.refine_square(
+            pixel,
+            corners,
+            busy,
+            verdict.textured,
+            points,
+            leaf,
+            &mut splits,
+        );
         Refined::Quadtree { splits }
     }
 
@@ -808,7 +815,11 @@ mod tests {
                     let j = y as i64 + d;
                     (0..=h as i64).contains(&j).then(|| &lines[j as usize][..])
                 };
-                r.row_verdicts([line(-1), line(0), line(1), line(2)], &mut extremes, &mut row);
+                r.row_verdicts(
+                    [line(-1), line(0), line(1), line(2)],
+                    &mut extremes,
+                    &mut row,
+                );
                 assert_eq!(row.len(), w);
                 for (x, v) in row.iter().enumerate() {
                     let pixel = Square::pixel(x as u32, y as u32, steps);
