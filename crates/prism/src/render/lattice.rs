@@ -411,15 +411,24 @@ impl Refine<'_> {
             let mut leaves = Leaves::new(&mut buffer);
             let pixel = Square::pixel(x, y, steps);
             let verdict = scratch.verdicts[x as usize];
-            let corners = self.corner_points(x, y);
             if self.rule.quiet(&verdict) {
-                // Most pixels: one leaf, traced nothing (what `refine` would find).
-                let [a, b, c, d] = corners.map(|p| p.colour);
-                leaves.square(job, steps, x, y, pixel, (a + b + c + d) * 0.25);
-                scratch.colours.push(leaves.mean());
+                // Most pixels: one leaf, traced nothing (what `refine` would find). Under the
+                // pixel box its value is its mean as it is: the one-sample weighted mean
+                // 1·v / 1 in f64 returns v exactly.
+                let (top, bottom) = (self.corners.index(x, y), self.corners.index(x, y + 1));
+                let c = &self.corners.colours;
+                let mean = (c[top] + c[top + 1] + c[bottom] + c[bottom + 1]) * 0.25;
+                scratch.colours.push(match leaves {
+                    Leaves::Mean { .. } => mean,
+                    Leaves::Splat(_) => {
+                        leaves.square(job, steps, x, y, pixel, mean);
+                        Color::ZERO
+                    }
+                });
                 carry_mask = 0;
                 continue;
             }
+            let corners = self.corner_points(x, y);
             if self.rule.stratified(&verdict) {
                 // The stratified pass: the pixel's own samples, each worth an equal share.
                 stats.adaptive_stratified += 1;
