@@ -423,6 +423,7 @@ pub fn neighbourhood_block(
 /// compares; the finest points never need the encoding.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Point {
+    /// The radiance traced at the point.
     pub colour: Color,
     /// Meaningful where both coordinates are even (`Point::compared`).
     pub encoded: Encoded,
@@ -438,6 +439,7 @@ impl Point {
 /// Where `Refinement::refine` gets the points a split adds: a renderer traces each the
 /// first time any square asks for it and hands every later asker the same point.
 pub trait PointSource {
+    /// Lattice point (x, y), traced if this is the first time anyone asks for it.
     fn point(&mut self, x: u32, y: u32) -> Point;
 }
 
@@ -447,7 +449,10 @@ pub enum Refined {
     /// The pixel is textured and takes the stratified pass instead (nothing was visited).
     Stratified,
     /// The quadtree was walked to its leaves; this many squares split.
-    Quadtree { splits: u64 },
+    Quadtree {
+        /// Squares split (the statistics' `adaptive_splits`).
+        splits: u64,
+    },
 }
 
 impl Refinement {
