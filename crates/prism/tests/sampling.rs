@@ -380,3 +380,40 @@ fn adaptive_pixels_without_splatting_match_the_splatted_ones() {
         }
     }
 }
+
+#[test]
+fn a_cancelled_lattice_render_stops_without_panicking() {
+    // Cancelled after the 1st, 10th, 25th or 30th row of work: in the corners pass, in the
+    // adaptive sampler's even or odd rows (the corners pattern's centres), or never (100).
+    // The render says whether it is complete, and its pixels are finite (black, or their
+    // corners' mean where known).
+    let scene = builtin::find("whitted").unwrap();
+    let prepared = scene.prepare(&scene.options.accel);
+    for sampler in [SamplerKind::Adaptive, SamplerKind::Corners] {
+        for filter in [FilterKind::Box, FilterKind::Mitchell] {
+            for after in [1, 10, 25, 30, 100] {
+                let options = RenderOptions {
+                    sampler,
+                    filter,
+                    threads: 2,
+                    ..small(&scene, 24, 18)
+                };
+                let cancel = AtomicBool::new(false);
+                let done = std::sync::atomic::AtomicU32::new(0);
+                let on_tile = |_| {
+                    if done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1 >= after {
+                        cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+                    }
+                };
+                let r = render(&prepared, &options, &on_tile, &cancel).unwrap();
+                let name = format!("{sampler} / {filter}, cancelled after {after} rows");
+                // 19 corner rows, then 9 even and 9 odd rows (or 18 rows of centres).
+                assert_eq!(r.complete, after == 100, "{name}");
+                assert!(
+                    r.film.pixels.iter().all(|c| c.is_finite()),
+                    "{name}: pixels"
+                );
+            }
+        }
+    }
+}

@@ -1,26 +1,31 @@
 //! Rendering with lattice patterns, whose samples neighbouring pixels share: `corners`
 //! (every pixel corner plus every centre) and `adaptive` (corners refined where they
-//! differ). Points sit on a lattice of 2^depth steps per pixel; each is owned, traced and
-//! stored by the one pixel whose half-open square holds it, so every point is traced
-//! exactly once and the ray counts do not depend on how the work is cut up.
+//! differ). Points sit on a lattice of 2^depth steps per pixel; each is owned by the one
+//! pixel whose half-open square holds it, traced exactly once and its rays counted in
+//! that pixel, so the ray counts do not depend on how the work is cut up.
 //!
 //! The work runs in passes over pixel rows, each pass reading only what earlier passes
-//! stored: the corners; then, per level, the points of the squares that split at that
-//! level (a pixel also traces the midpoints on its left and top edges when the neighbour
-//! across the edge splits there; a textured pixel traces its stratified samples, which
-//! are its own, in the first of these passes); then the reconstruction, which splats each
-//! pixel's samples through the filter.
-//!
-//! No decision is made twice: each pixel's verdict is judged once, after the corners pass,
-//! and each refinement pass walks each pixel once, from the squares that split in the pass
-//! before, storing what it finds for the pixel's right and bottom neighbours too.
+//! stored. The corners pattern: the corners, the centres, the reconstruction. The adaptive
+//! pattern: the (W+1)×(H+1) corners, then one refinement pass in two halves, the even rows
+//! and then the odd ones. A pixel's quadtree is decided by the points of its own closed
+//! square alone (and its verdict, by the corners around it), so the refinement pass walks
+//! each pixel once, to its leaves, tracing each point the first time the pixel needs it,
+//! and takes the pixel's value from the leaves at once. Only points on a pixel's edges are
+//! shared, with one neighbour each: along a row, a pixel hands the points it traced on its
+//! right edge to the next pixel; between rows, an even row records the points it traced on
+//! its top and bottom edges, and the odd rows, which run after all even rows, read them.
+//! Two rows that share an edge never run at the same time, so every point is still traced
+//! once, for any thread count. A point traced for the neighbour that owns it counts in
+//! the owner's rays, so the density view is the same as if every pixel traced its own.
 
 use super::memory::try_filled;
-use super::rays::PixelRays;
+use super::rays::{PixelRays, RayMark};
 use super::splat::{FilmSums, SplatBuffer};
 use super::{Film, Job, RenderError, TileDone, Traced};
 use crate::math::{Color, Vec2};
-use crate::sampling::adaptive::{Refinement, Square, Verdict, Visit};
+use crate::sampling::adaptive::{
+    Encoded, Point, PointSource, Refined, Refinement, Square, Verdict,
+};
 use crate::stats::Stats;
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -29,93 +34,41 @@ use std::sync::Mutex;
 pub(super) fn passes(depth: Option<u32>) -> u64 {
     match depth {
         None => 3,
-        Some(d) => d as u64 + 2,
+        Some(_) => 2,
     }
 }
 
-/// Traced lattice points: the pixel corners densely, finer points per owning pixel.
-struct Lattice {
+/// The (W+1)×(H+1) pixel corners, dense, and which rows of them were traced (a cancelled
+/// render leaves some out).
+struct Corners {
     width: u32,
-    height: u32,
-    steps: u32,
-    /// log2 of `steps` (a power of two): lookups, which every walk makes for every square,
-    /// shift and mask instead of dividing.
-    shift: u32,
-    /// (W+1)×(H+1) corners; None where the render was cancelled first.
-    corners: Vec<Option<Color>>,
-    /// Per pixel, its finer points sorted by local key.
-    points: Vec<PixelPoints>,
-    /// Per pixel, the colours of its stratified samples in sample order (textured pixels).
-    stratified: Vec<Vec<Color>>,
+    colours: Vec<Color>,
+    traced: Vec<bool>,
 }
 
-impl Lattice {
-    fn try_new(width: u32, height: u32, steps: u32) -> Result<Self, RenderError> {
-        debug_assert!(steps.is_power_of_two());
-        let pixels = width as usize * height as usize;
-        let corners = (width as usize + 1) * (height as usize + 1);
-        Ok(Lattice {
+impl Corners {
+    fn try_new(width: u32, height: u32) -> Result<Self, RenderError> {
+        let n = (width as usize + 1) * (height as usize + 1);
+        Ok(Corners {
             width,
-            height,
-            steps,
-            shift: steps.trailing_zeros(),
-            corners: try_filled(corners, None, "sample lattice")?,
-            points: try_filled(pixels, Vec::new(), "sample lattice")?,
-            stratified: try_filled(pixels, Vec::new(), "sample lattice")?,
+            colours: try_filled(n, Color::ZERO, "sample lattice")?,
+            traced: try_filled(height as usize + 1, false, "sample lattice")?,
         })
     }
 
-    /// The pixel that traces and stores lattice point (x, y): the one whose half-open
-    /// square holds it; the last column and row also own the image's right and bottom edges.
-    fn owner(&self, x: u32, y: u32) -> (u32, u32) {
-        (
-            (x >> self.shift).min(self.width - 1),
-            (y >> self.shift).min(self.height - 1),
-        )
+    fn index(&self, i: u32, j: u32) -> usize {
+        j as usize * (self.width as usize + 1) + i as usize
     }
 
-    fn local_key(&self, x: u32, y: u32, owner: (u32, u32)) -> u32 {
-        (y - owner.1 * self.steps) << 16 | (x - owner.0 * self.steps)
+    /// Corner (i, j), in pixels, if its row was traced.
+    fn get(&self, i: u32, j: u32) -> Option<Color> {
+        self.traced[j as usize].then(|| self.colours[self.index(i, j)])
     }
 
-    fn lookup(&self, x: u32, y: u32) -> Option<Color> {
-        let (s, shift) = (self.steps, self.shift);
-        if x > self.width * s || y > self.height * s {
-            return None;
-        }
-        if (x | y) & (s - 1) == 0 {
-            return self.corners[((y >> shift) * (self.width + 1) + (x >> shift)) as usize];
-        }
-        let owner = self.owner(x, y);
-        let key = self.local_key(x, y, owner);
-        let list = &self.points[(owner.1 * self.width + owner.0) as usize];
-        list.binary_search_by_key(&key, |&(k, _)| k)
-            .ok()
-            .map(|i| list[i].1)
+    /// Whether every corner was traced.
+    fn complete(&self) -> bool {
+        self.traced.iter().all(|&t| t)
     }
-
-    /// Offset of lattice point (x, y) within pixel (px, py), in pixels.
-    fn offset(&self, x: f32, y: f32, px: u32, py: u32) -> Vec2 {
-        let s = self.steps as f32;
-        Vec2::new(
-            (x - (px * self.steps) as f32) / s,
-            (y - (py * self.steps) as f32) / s,
-        )
-    }
-}
-
-/// The points one pixel traced in a pass: (local key, colour).
-type PixelPoints = Vec<(u32, Color)>;
-
-/// What one row traced in a refinement pass, flat (one allocation per row, not two per
-/// pixel): pixel x's lattice points are `points[point_start[x]..point_start[x + 1]]`, its
-/// stratified samples `samples[sample_start[x]..sample_start[x + 1]]`.
-#[derive(Default)]
-struct RowRefinement {
-    points: PixelPoints,
-    point_start: Vec<u32>,
-    samples: Vec<Color>,
-    sample_start: Vec<u32>,
 }
 
 /// One row's output of a tracing pass.
@@ -128,9 +81,9 @@ struct RowTrace<T> {
 pub(super) fn render_corners(job: &Job) -> Result<Traced, RenderError> {
     let (w, h) = (job.width, job.height);
     let mut out = Traced::try_new(w, h, Film::unallocated(w, h))?;
-    let mut lattice = Lattice::try_new(w, h, 1)?;
+    let mut corners = Corners::try_new(w, h)?;
     let mut centres = try_filled(w as usize * h as usize, None, "sample lattice")?;
-    if trace_corners(job, &mut lattice, |x, y| (x as f32, y as f32), &mut out) {
+    if trace_corners(job, &mut corners, 1, |x, y| (x as f32, y as f32), &mut out) {
         trace_centres(job, &mut centres, &mut out);
     }
     let film = reconstruct(job, |buffer, x, y| {
@@ -146,7 +99,7 @@ pub(super) fn render_corners(job: &Job) -> Result<Traced, RenderError> {
             y..=y
         } {
             for i in xs.clone() {
-                if let Some(c) = lattice.lookup(i, j) {
+                if let Some(c) = corners.get(i, j) {
                     let o = Vec2::new((i - x) as f32, (j - y) as f32);
                     buffer.add(&job.filter, x, y, o, 1.0, c);
                 }
@@ -159,248 +112,610 @@ pub(super) fn render_corners(job: &Job) -> Result<Traced, RenderError> {
 
 pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Result<Traced, RenderError> {
     let (w, h) = (job.width, job.height);
-    let mut out = Traced::try_new(w, h, Film::unallocated(w, h))?;
-    let mut lattice = Lattice::try_new(w, h, rule.steps())?;
-    let complete = trace_corners(job, &mut lattice, |x, y| rule.position(x, y), &mut out);
-    // The corners never change after their pass, so neither do the pixels' verdicts.
-    let judged = Judged::new(job, rule, &lattice);
-    if complete {
-        let mut frontiers = Vec::new();
-        for level in 0..rule.depth {
-            frontiers = find_frontiers(&judged, &lattice, level, &frontiers);
-            if !refine(job, &judged, &mut lattice, level, &frontiers, &mut out) {
-                break;
-            }
-        }
-    }
     let steps = rule.steps();
-    // Pixel (x, y)'s samples: (offset in the pixel, weight, colour) in walk order.
-    let samples = |x: u32, y: u32, add: &mut dyn FnMut(Vec2, f32, Color)| {
-        let lookup = |lx: u32, ly: u32| lattice.lookup(lx, ly);
-        let stratified = &lattice.stratified[(y * job.width + x) as usize];
-        let mut offsets = Vec::new();
-        judged.walk(x, y, rule.depth, &lookup, &mut |sq, visit| {
-            let c = match visit {
-                Visit::Stratified(_) if !stratified.is_empty() => {
-                    // Each sample stands for its stratum: an equal share of the pixel.
-                    offsets.clear();
-                    rule.texture_offsets(x, y, &mut offsets);
-                    let weight = 1.0 / stratified.len() as f32;
-                    for (&o, &c) in offsets.iter().zip(stratified) {
-                        add(o, weight, c);
-                    }
-                    return;
-                }
-                Visit::Leaf(c) | Visit::Frontier(c) | Visit::Stratified(c) => c,
-                Visit::Split | Visit::Missing => return,
-            };
-            // A square that does not split (or whose split or stratified pass was never
-            // traced) is worth the mean of its corners over its area.
-            let mean = (c[0] + c[1] + c[2] + c[3]) * 0.25;
-            let half = sq.size as f32 * 0.5;
-            let o = lattice.offset(sq.x as f32 + half, sq.y as f32 + half, x, y);
-            let side = sq.size as f32 / steps as f32;
-            add(o, side * side, mean);
+    let mut out = Traced::try_new(w, h, Film::unallocated(w, h))?;
+    let mut corners = Corners::try_new(w, h)?;
+    let refine = trace_corners(
+        job,
+        &mut corners,
+        steps,
+        |x, y| rule.position(x, y),
+        &mut out,
+    );
+    // Each corner encoded once: a pixel's verdict compares 16 of them, its walk 4.
+    let mut encoded = try_filled(corners.colours.len(), [0.0; 3], "sample lattice")?;
+    let row = w as usize + 1;
+    (encoded.par_chunks_mut(row))
+        .zip(corners.colours.par_chunks(row))
+        .for_each(|(e, c)| {
+            for (e, &c) in e.iter_mut().zip(c) {
+                *e = rule.encode(c);
+            }
         });
+    let wide = !job.filter.covers_one_pixel();
+    let pass = Refine {
+        job,
+        rule,
+        corners: &corners,
+        encoded: &encoded,
+        steps,
+        wide,
+        refine,
     };
-    let film = if job.filter.covers_one_pixel() {
-        own_pixels(job, samples)
+    let mut film = if wide {
+        Film::unallocated(w, h)
     } else {
-        reconstruct(job, |buffer, x, y| {
-            samples(x, y, &mut |o, weight, c| {
-                buffer.add(&job.filter, x, y, o, weight, c)
-            })
-        })?
+        Film::try_new(w, h)?
     };
-    out.film = film;
+    let sums = if wide {
+        Some(FilmSums::try_new(w, h)?)
+    } else {
+        None
+    };
+    let merge = Mutex::new(Merge {
+        out: &mut out,
+        pixels: &mut film.pixels,
+        sums,
+    });
+    let new_scratch = || Scratch::new(steps);
+    // The even rows, which record the points they trace on their top and bottom edges…
+    let even: Vec<Option<EdgePoints>> = (0..h.div_ceil(2))
+        .into_par_iter()
+        .map_init(new_scratch, |scratch, k| {
+            pass.row(2 * k, None, scratch, &merge)
+        })
+        .collect::<Result<_, _>>()?;
+    // …and the odd rows, which read them.
+    let none = EdgePoints::default();
+    let recorded = |k: usize| even.get(k).and_then(Option::as_ref).unwrap_or(&none);
+    (0..h / 2)
+        .into_par_iter()
+        .map_init(new_scratch, |scratch, k| {
+            let (above, below) = (recorded(k as usize), recorded(k as usize + 1));
+            let shared = (&above.bottom[..], &below.top[..]);
+            pass.row(2 * k + 1, Some(shared), scratch, &merge)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let sums = merge.into_inner().unwrap_or_else(|e| e.into_inner()).sums;
+    out.film = match sums {
+        Some(sums) => sums.into_film()?,
+        None => film,
+    };
     Ok(out)
 }
 
-/// The refinement rule with every pixel's verdict judged once, after the corners pass: the
-/// neighbourhood rule reads 16 corners per pixel, and the passes walk each pixel again.
-struct Judged<'a> {
-    rule: &'a Refinement,
-    width: u32,
-    /// Per pixel; None where one of its corners was not traced.
-    verdicts: Vec<Option<Verdict>>,
+/// Where finished rows go: the statistics and ray counts, and the pixels (pixel box) or the
+/// filter sums (wider filters), which any order of rows leaves the same.
+struct Merge<'a> {
+    out: &'a mut Traced,
+    pixels: &'a mut [Color],
+    sums: Option<FilmSums>,
 }
 
-impl<'a> Judged<'a> {
-    fn new(job: &Job, rule: &'a Refinement, lattice: &Lattice) -> Self {
-        let (w, steps) = (job.width, lattice.steps);
-        // Each corner encoded once: a pixel's verdict compares 16 of them.
-        let encoded: Vec<_> = (lattice.corners.par_iter())
-            .map(|c| c.map(|c| rule.encode(c)))
-            .collect();
-        let shift = lattice.shift;
-        let lookup = |x: u32, y: u32| {
-            // Only pixel corners are asked for: multiples of `steps`, a power of two.
-            let (i, j) = (x >> shift, y >> shift);
-            if i > w || j > job.height {
-                return None;
-            }
-            encoded[(j * (w + 1) + i) as usize]
-        };
-        let rows: Vec<Vec<Option<Verdict>>> = (0..job.height)
-            .into_par_iter()
-            .map(|y| {
-                (0..w)
-                    .map(|x| rule.verdict(&Square::pixel(x, y, steps), &lookup))
-                    .collect()
-            })
-            .collect();
-        Judged {
-            rule,
-            width: w,
-            verdicts: rows.concat(),
-        }
-    }
-
-    /// Whether pixel (x, y) is textured (false where not judged).
-    fn textured(&self, x: u32, y: u32) -> bool {
-        self.verdicts[(y * self.width + x) as usize].is_some_and(|v| v.textured)
-    }
-
-    /// `Refinement::walk` of pixel (x, y).
-    fn walk(
-        &self,
-        x: u32,
-        y: u32,
-        max_level: u32,
-        lookup: &impl Fn(u32, u32) -> Option<Color>,
-        visit: &mut impl FnMut(Square, Visit),
-    ) {
-        let pixel = Square::pixel(x, y, self.rule.steps());
-        match self.verdicts[(y * self.width + x) as usize] {
-            Some(verdict) => self
-                .rule
-                .walk_judged(pixel, verdict, max_level, lookup, visit),
-            None => self.rule.walk(pixel, max_level, lookup, visit),
-        }
-    }
-}
-
-/// What one row's walks find at a refinement pass's level: per pixel, the squares that
-/// split there (the pass traces their new points) and whether the pixel takes the
-/// stratified pass. One list per row, not per pixel: a pass over a large image would
-/// otherwise allocate (and the kernel zero) a vector per pixel.
+/// Points an even row traced on its edges, for the odd rows next to it: (lattice x,
+/// colour), in order of x.
 #[derive(Default)]
-struct RowFrontier {
-    splits: Vec<Square>,
-    /// Pixel x's splits are `splits[start[x]..start[x + 1]]`.
-    start: Vec<u32>,
-    stratified: Vec<bool>,
+struct EdgePoints {
+    top: Vec<EdgePoint>,
+    bottom: Vec<EdgePoint>,
 }
 
-impl RowFrontier {
-    fn splits(&self, x: u32) -> &[Square] {
-        &self.splits[self.start[x as usize] as usize..self.start[x as usize + 1] as usize]
-    }
+/// A point on a horizontal pixel edge: (lattice x, colour).
+type EdgePoint = (u32, Color);
 
-    fn stratified(&self, x: u32) -> bool {
-        self.stratified[x as usize]
+/// A row's working memory, kept from row to row by each worker: the grid of one pixel's
+/// lattice points and the row's per-pixel buffers.
+struct Scratch {
+    grid: Grid,
+    /// Points the previous pixel traced on its right edge, by local y (`carry_mask`).
+    carry: Vec<Point>,
+    offsets: Vec<Vec2>,
+    rays: Vec<PixelRays>,
+    /// Rays traced for the row below (points on the bottom edges, which it owns).
+    below: Vec<PixelRays>,
+    colours: Vec<Color>,
+    verdicts: Vec<Verdict>,
+    extremes: Vec<[Encoded; 2]>,
+}
+
+impl Scratch {
+    fn new(steps: u32) -> Self {
+        Scratch {
+            grid: Grid::new(steps),
+            carry: vec![Point::default(); steps as usize + 1],
+            offsets: Vec::new(),
+            rays: Vec::new(),
+            below: Vec::new(),
+            colours: Vec::new(),
+            verdicts: Vec::new(),
+            extremes: Vec::new(),
+        }
     }
 }
 
-/// Per row and pixel, the squares that split at `level`, found once per pass (a pixel's
-/// pass also needs its left and top neighbours'). Below the pixel only the quarters of
-/// the squares that split one level up (`above`, from the pass before, whose points are
-/// all traced) are new: the levels above would be walked to the same decisions.
-fn find_frontiers(
-    judged: &Judged,
-    lattice: &Lattice,
-    level: u32,
-    above: &[RowFrontier],
-) -> Vec<RowFrontier> {
-    let lookup = |x: u32, y: u32| lattice.lookup(x, y);
-    (0..lattice.height)
-        .into_par_iter()
-        .map(|y| {
-            let w = lattice.width as usize;
-            let mut row = RowFrontier {
-                splits: Vec::new(),
-                start: Vec::with_capacity(w + 1),
-                stratified: Vec::with_capacity(w),
-            };
-            for x in 0..lattice.width {
-                row.start.push(row.splits.len() as u32);
-                let mut stratified = false;
-                let mut visit = |sq: Square, v| {
-                    if matches!(v, Visit::Frontier(_)) && sq.level == level {
-                        row.splits.push(sq);
+/// The lattice points of the pixel being refined, dense over its closed square
+/// ((steps + 1)² of them) and reused from pixel to pixel: an entry holds a point of the
+/// current pixel only if stamped with its number, so moving on clears nothing.
+struct Grid {
+    side: u32,
+    points: Vec<Point>,
+    stamp: Vec<u32>,
+    current: u32,
+}
+
+impl Grid {
+    fn new(steps: u32) -> Self {
+        let n = (steps as usize + 1) * (steps as usize + 1);
+        Grid {
+            side: steps + 1,
+            points: vec![Point::default(); n],
+            stamp: vec![0; n],
+            current: 0,
+        }
+    }
+
+    /// Forgets every point: the grid is for the next pixel.
+    fn next_pixel(&mut self) {
+        if self.current == u32::MAX {
+            self.stamp.fill(0);
+            self.current = 0;
+        }
+        self.current += 1;
+    }
+
+    fn index(&self, i: u32, j: u32) -> usize {
+        (j * self.side + i) as usize
+    }
+
+    fn set(&mut self, i: u32, j: u32, p: Point) {
+        let k = self.index(i, j);
+        self.points[k] = p;
+        self.stamp[k] = self.current;
+    }
+
+    fn get(&self, i: u32, j: u32) -> Option<Point> {
+        let k = self.index(i, j);
+        (self.stamp[k] == self.current).then(|| self.points[k])
+    }
+}
+
+/// The refinement pass's shared inputs.
+struct Refine<'a> {
+    job: &'a Job<'a>,
+    rule: &'a Refinement,
+    corners: &'a Corners,
+    encoded: &'a [Encoded],
+    steps: u32,
+    /// The filter reaches beyond the pixel: samples are splatted, not averaged.
+    wide: bool,
+    /// False when the corners pass was cancelled: pixels are their corners' mean.
+    refine: bool,
+}
+
+/// Where a pixel's samples go: its own weighted mean (pixel box), or a splat buffer.
+enum Leaves<'b> {
+    Mean { sum: [f64; 3], total: f64 },
+    Splat(&'b mut SplatBuffer),
+}
+
+impl<'b> Leaves<'b> {
+    fn new(buffer: &'b mut Option<SplatBuffer>) -> Self {
+        match buffer {
+            Some(b) => Leaves::Splat(b),
+            None => Leaves::Mean {
+                sum: [0.0; 3],
+                total: 0.0,
+            },
+        }
+    }
+
+    fn add(&mut self, job: &Job, x: u32, y: u32, offset: Vec2, weight: f32, c: Color) {
+        match self {
+            Leaves::Mean { sum, total } => {
+                let weight = weight as f64;
+                for (s, v) in sum.iter_mut().zip(c.to_array()) {
+                    *s += weight * v as f64;
+                }
+                *total += weight;
+            }
+            Leaves::Splat(buffer) => buffer.add(&job.filter, x, y, offset, weight, c),
+        }
+    }
+
+    /// A square that does not split: worth the mean of its corners over its area, at its
+    /// centre.
+    fn square(&mut self, job: &Job, steps: u32, x: u32, y: u32, sq: Square, mean: Color) {
+        let side = sq.size as f32 / steps as f32;
+        let offset = match self {
+            Leaves::Mean { .. } => Vec2::ZERO,
+            Leaves::Splat(_) => {
+                let (s, half) = (steps as f32, sq.size as f32 * 0.5);
+                Vec2::new(
+                    (sq.x as f32 + half - (x * steps) as f32) / s,
+                    (sq.y as f32 + half - (y * steps) as f32) / s,
+                )
+            }
+        };
+        self.add(job, x, y, offset, side * side, mean);
+    }
+
+    /// The pixel's value under the pixel box: the weighted mean, black without samples.
+    fn mean(&self) -> Color {
+        match self {
+            Leaves::Mean { sum, total } if *total != 0.0 => {
+                Color::from_array(sum.map(|s| (s / total) as f32))
+            }
+            _ => Color::ZERO,
+        }
+    }
+}
+
+impl Refine<'_> {
+    /// The corner points of pixel (x, y) (its corners' rows traced).
+    fn corner_points(&self, x: u32, y: u32) -> [Point; 4] {
+        let (top, bottom) = (self.corners.index(x, y), self.corners.index(x, y + 1));
+        let point = |k: usize| Point {
+            colour: self.corners.colours[k],
+            encoded: self.encoded[k],
+        };
+        [point(top), point(top + 1), point(bottom), point(bottom + 1)]
+    }
+
+    /// Refines row y and merges it: `shared` is None for an even row, which returns the
+    /// points it traced on its top and bottom edges; for an odd row, the points the even
+    /// rows above and below traced on its top and bottom edges.
+    fn row(
+        &self,
+        y: u32,
+        shared: Option<(&[EdgePoint], &[EdgePoint])>,
+        scratch: &mut Scratch,
+        merge: &Mutex<Merge>,
+    ) -> Result<Option<EdgePoints>, RenderError> {
+        let job = self.job;
+        let (w, h, steps) = (job.width, job.height, self.steps);
+        let traced = self.refine && !job.cancelled();
+        let mut buffer = self
+            .wide
+            .then(|| SplatBuffer::around(&job.filter, (w, h), 0, y, w, y + 1));
+        scratch.colours.clear();
+        if !traced {
+            // Cancelled: each pixel is worth its corners' mean, where they were traced.
+            for x in 0..w {
+                let mut leaves = Leaves::new(&mut buffer);
+                let c = [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)]
+                    .map(|(i, j)| self.corners.get(i, j));
+                if let [Some(a), Some(b), Some(c), Some(d)] = c {
+                    let pixel = Square::pixel(x, y, steps);
+                    leaves.square(job, steps, x, y, pixel, (a + b + c + d) * 0.25);
+                }
+                scratch.colours.push(leaves.mean());
+            }
+            let mut m = merge.lock().unwrap_or_else(|e| e.into_inner());
+            m.out.complete = false;
+            m.finish_row(y, &scratch.colours, buffer.as_ref());
+            return Ok(None);
+        }
+        crate::integrator::begin_piece();
+        let mut stats = Stats::default();
+        scratch.rays.clear();
+        scratch.rays.resize(w as usize, PixelRays::default());
+        scratch.below.clear();
+        scratch.below.resize(w as usize, PixelRays::default());
+        let record = shared.is_none();
+        let mut edges = EdgePoints::default();
+        let (above, under) = shared.unwrap_or((&[], &[]));
+        let (mut above_at, mut under_at) = (0, 0);
+        let mut carry_mask = 0u64;
+        self.verdicts(y, &mut scratch.extremes, &mut scratch.verdicts);
+        for x in 0..w {
+            let mut leaves = Leaves::new(&mut buffer);
+            let pixel = Square::pixel(x, y, steps);
+            let verdict = scratch.verdicts[x as usize];
+            if self.rule.quiet(&verdict) {
+                // Most pixels: one leaf, traced nothing (what `refine` would find). Under the
+                // pixel box its value is its mean as it is: the one-sample weighted mean
+                // 1·v / 1 in f64 returns v exactly.
+                let (top, bottom) = (self.corners.index(x, y), self.corners.index(x, y + 1));
+                let c = &self.corners.colours;
+                let mean = (c[top] + c[top + 1] + c[bottom] + c[bottom + 1]) * 0.25;
+                scratch.colours.push(match leaves {
+                    Leaves::Mean { .. } => mean,
+                    Leaves::Splat(_) => {
+                        leaves.square(job, steps, x, y, pixel, mean);
+                        Color::ZERO
                     }
-                    stratified |= matches!(v, Visit::Stratified(_));
-                };
-                if level == 0 {
-                    judged.walk(x, y, level, &lookup, &mut visit);
-                } else {
-                    let textured = judged.textured(x, y);
-                    for parent in above[y as usize].splits(x) {
-                        for child in parent.children() {
-                            judged
-                                .rule
-                                .walk_below(child, textured, level, &lookup, &mut visit);
+                });
+                carry_mask = 0;
+                continue;
+            }
+            let corners = self.corner_points(x, y);
+            if self.rule.stratified(&verdict) {
+                // The stratified pass: the pixel's own samples, each worth an equal share.
+                stats.adaptive_stratified += 1;
+                scratch.offsets.clear();
+                self.rule.texture_offsets(x, y, &mut scratch.offsets);
+                let weight = 1.0 / scratch.offsets.len() as f32;
+                let mark = RayMark::of(&stats);
+                for &o in &scratch.offsets {
+                    let c = job.trace(x as f32 + o.x, y as f32 + o.y, &mut stats);
+                    leaves.add(job, x, y, o, weight, c);
+                }
+                scratch.rays[x as usize] += PixelRays::since(mark, &stats);
+                scratch.colours.push(leaves.mean());
+                carry_mask = 0;
+                continue;
+            }
+            let (ox, oy) = (x * steps, y * steps);
+            let grid = &mut scratch.grid;
+            grid.next_pixel();
+            for (&(i, j), &p) in [(0, 0), (steps, 0), (0, steps), (steps, steps)]
+                .iter()
+                .zip(&corners)
+            {
+                grid.set(i, j, p);
+            }
+            for j in bits(carry_mask) {
+                grid.set(0, j, scratch.carry[j as usize]);
+            }
+            // Points the even rows traced on this odd row's top and bottom edges.
+            for (list, at, j) in [(above, &mut above_at, 0), (under, &mut under_at, steps)] {
+                while let Some(&(lx, colour)) = list.get(*at).filter(|e| e.0 < ox + steps) {
+                    *at += 1;
+                    if lx < ox {
+                        // A point of a pixel that took the stratified pass.
+                        continue;
+                    }
+                    let encoded = self.encode_if_compared(lx, oy + j, colour);
+                    grid.set(lx - ox, j, Point { colour, encoded });
+                }
+            }
+            let run = RayMark::of(&stats);
+            let mut tracer = Tracer {
+                grid,
+                job,
+                rule: self.rule,
+                stats: &mut stats,
+                origin: (ox, oy),
+                steps,
+                last_column: x + 1 == w,
+                last_row: y + 1 == h,
+                own: PixelRays::default(),
+                run,
+                right: PixelRays::default(),
+                below: PixelRays::default(),
+                masks: [0; 3],
+            };
+            let outcome =
+                self.rule
+                    .refine(pixel, verdict, corners, &mut tracer, &mut |sq, mean| {
+                        leaves.square(job, steps, x, y, sq, mean)
+                    });
+            tracer.end_run();
+            let Tracer {
+                own,
+                right,
+                below,
+                masks: [right_mask, top_mask, bottom_mask],
+                ..
+            } = tracer;
+            if let Refined::Quadtree { splits } = outcome {
+                stats.adaptive_splits += splits;
+            }
+            scratch.rays[x as usize] += own;
+            if x + 1 < w {
+                scratch.rays[x as usize + 1] += right;
+            }
+            scratch.below[x as usize] += below;
+            scratch.colours.push(leaves.mean());
+            let grid = &scratch.grid;
+            for j in bits(right_mask) {
+                scratch.carry[j as usize] = grid.get(steps, j).unwrap_or_default();
+            }
+            carry_mask = right_mask;
+            if record {
+                for (list, mask, j, wanted) in [
+                    (&mut edges.top, top_mask, 0, y > 0),
+                    (&mut edges.bottom, bottom_mask, steps, y + 1 < h),
+                ] {
+                    if !wanted || mask == 0 {
+                        continue;
+                    }
+                    list.try_reserve(mask.count_ones() as usize).map_err(|_| {
+                        RenderError::OutOfMemory {
+                            what: "sample lattice",
+                            bytes: (list.len() as u64 + 64) * 16,
                         }
+                    })?;
+                    for i in bits(mask) {
+                        list.push((ox + i, grid.get(i, j).unwrap_or_default().colour));
                     }
                 }
-                row.stratified.push(stratified);
             }
-            row.start.push(row.splits.len() as u32);
-            row
-        })
-        .collect()
+        }
+        (job.on_tile)(TileDone {
+            pixels: w as u64,
+            rays: stats.total_rays(),
+        });
+        let mut m = merge.lock().unwrap_or_else(|e| e.into_inner());
+        m.out.stats += stats;
+        // Most pixels trace nothing in this pass (and most trace nothing for the row below).
+        let rows = [(y, &scratch.rays), (y + 1, &scratch.below)];
+        for (j, rays) in rows.into_iter().filter(|&(j, _)| j < h) {
+            for (x, &r) in rays.iter().enumerate() {
+                if r != PixelRays::default() {
+                    m.out.rays.add(x as u32, j, r);
+                }
+            }
+        }
+        m.finish_row(y, &scratch.colours, buffer.as_ref());
+        Ok(record.then_some(edges))
+    }
+
+    /// The verdicts of row y's pixels (its corners traced), into `out`.
+    fn verdicts(&self, y: u32, extremes: &mut Vec<[Encoded; 2]>, out: &mut Vec<Verdict>) {
+        let (n, h) = (self.job.width as usize + 1, self.job.height);
+        let lines = [-1i64, 0, 1, 2].map(|d| {
+            let j = y as i64 + d;
+            (0..=h as i64)
+                .contains(&j)
+                .then(|| &self.encoded[j as usize * n..][..n])
+        });
+        self.rule.row_verdicts(lines, extremes, out);
+    }
+
+    /// A point's `Point::encoded`, computed only where the rule will compare it.
+    fn encode_if_compared(&self, x: u32, y: u32, colour: Color) -> Encoded {
+        if Point::compared(x, y) {
+            self.rule.encode(colour)
+        } else {
+            Encoded::default()
+        }
+    }
 }
 
-/// Traces the (W+1)×(H+1) pixel corners, each at `position` (lattice units) of its
-/// lattice coordinates; false if cancelled.
+impl Merge<'_> {
+    /// Row y's pixels (pixel box) or its splat buffer (wider filters).
+    fn finish_row(&mut self, y: u32, colours: &[Color], buffer: Option<&SplatBuffer>) {
+        match (&mut self.sums, buffer) {
+            (Some(sums), Some(buffer)) => sums.merge(buffer),
+            _ => {
+                let start = y as usize * colours.len();
+                self.pixels[start..start + colours.len()].copy_from_slice(colours);
+            }
+        }
+    }
+}
+
+/// The set bits of `mask`, lowest first.
+fn bits(mut mask: u64) -> impl Iterator<Item = u32> {
+    std::iter::from_fn(move || {
+        (mask != 0).then(|| {
+            let i = mask.trailing_zeros();
+            mask &= mask - 1;
+            i
+        })
+    })
+}
+
+/// One pixel's walk traces through this: a point already in the grid is looked up, any
+/// other is traced, stored and its rays counted in the pixel that owns it (the right
+/// neighbour for the right edge, the pixel below for the bottom edge, the pixel itself for
+/// the rest; the last column and row own their outer edges).
+struct Tracer<'a, 'j> {
+    grid: &'a mut Grid,
+    job: &'a Job<'j>,
+    rule: &'a Refinement,
+    stats: &'a mut Stats,
+    /// The pixel's top-left lattice point.
+    origin: (u32, u32),
+    steps: u32,
+    last_column: bool,
+    last_row: bool,
+    /// Rays of the pixel's own points, up to the start of the current run (`run`).
+    own: PixelRays,
+    run: RayMark,
+    right: PixelRays,
+    below: PixelRays,
+    /// Points traced on the right, top and bottom edges, by local coordinate along it.
+    masks: [u64; 3],
+}
+
+impl Tracer<'_, '_> {
+    /// Counts the current run of the pixel's own rays (at the end of the pixel).
+    fn end_run(&mut self) {
+        self.own += PixelRays::since(self.run, self.stats);
+        self.run = RayMark::of(self.stats);
+    }
+}
+
+impl PointSource for Tracer<'_, '_> {
+    fn point(&mut self, x: u32, y: u32) -> Point {
+        let (i, j) = (x - self.origin.0, y - self.origin.1);
+        if let Some(p) = self.grid.get(i, j) {
+            return p;
+        }
+        let s = self.steps as f32;
+        let (fx, fy) = self.rule.position(x, y);
+        let steps = self.steps;
+        if i == steps {
+            self.masks[0] |= 1 << j;
+        } else if j == 0 {
+            self.masks[1] |= 1 << i;
+        } else if j == steps {
+            self.masks[2] |= 1 << i;
+        }
+        let neighbour = if i == steps && !self.last_column {
+            Some(&mut self.right)
+        } else if j == steps && !self.last_row {
+            Some(&mut self.below)
+        } else {
+            None
+        };
+        let colour = match neighbour {
+            // The pixel's own points are counted together (`Tracer::own`); a neighbour's
+            // ends the pixel's current run of rays.
+            Some(rays) => {
+                self.own += PixelRays::since(self.run, self.stats);
+                let mark = RayMark::of(self.stats);
+                let colour = self.job.trace(fx / s, fy / s, self.stats);
+                *rays += PixelRays::since(mark, self.stats);
+                self.run = RayMark::of(self.stats);
+                colour
+            }
+            None => self.job.trace(fx / s, fy / s, self.stats),
+        };
+        let encoded = if Point::compared(x, y) {
+            self.rule.encode(colour)
+        } else {
+            Encoded::default()
+        };
+        let p = Point { colour, encoded };
+        self.grid.set(i, j, p);
+        p
+    }
+}
+
+/// Traces the (W+1)×(H+1) pixel corners, each at `position` (lattice units, `steps` per
+/// pixel) of its lattice coordinates; false if cancelled.
 fn trace_corners(
     job: &Job,
-    lattice: &mut Lattice,
+    corners: &mut Corners,
+    steps: u32,
     position: impl Fn(u32, u32) -> (f32, f32) + Sync,
     out: &mut Traced,
 ) -> bool {
     let (w, h) = (job.width, job.height);
-    let steps = lattice.steps;
     let s = steps as f32;
-    let rows: Vec<Option<RowTrace<Vec<Color>>>> = (0..=h)
-        .into_par_iter()
-        .map(|j| {
+    // Rows are merged as they finish, so that their buffers are reused, not all held.
+    let merge = Mutex::new((&mut corners.traced, out));
+    (corners.colours)
+        .par_chunks_mut(w as usize + 1)
+        .enumerate()
+        .for_each_init(Vec::new, |rays, (j, values)| {
             if job.cancelled() {
-                return None;
+                return;
             }
             crate::integrator::begin_piece();
+            let j = j as u32;
             let mut stats = Stats::default();
-            let mut values = Vec::with_capacity(w as usize + 1);
-            let mut rays = vec![PixelRays::default(); w as usize];
-            for i in 0..=w {
-                let before = stats;
+            rays.clear();
+            rays.resize(w as usize, PixelRays::default());
+            for (i, value) in (0..=w).zip(values) {
+                let mark = RayMark::of(&stats);
                 let (fx, fy) = position(i * steps, j * steps);
-                values.push(job.trace(fx / s, fy / s, &mut stats));
-                rays[i.min(w - 1) as usize] += PixelRays::between(&before, &stats);
+                *value = job.trace(fx / s, fy / s, &mut stats);
+                rays[i.min(w - 1) as usize] += PixelRays::since(mark, &stats);
             }
             (job.on_tile)(TileDone {
                 pixels: if j < h { w as u64 } else { 0 },
                 rays: stats.total_rays(),
             });
-            Some(RowTrace {
-                values,
-                stats,
-                rays,
-            })
-        })
-        .collect();
-    let mut complete = true;
-    for (j, row) in rows.into_iter().enumerate() {
-        let Some(row) = row else {
-            complete = false;
-            continue;
-        };
-        let start = j * (w as usize + 1);
-        for (slot, c) in lattice.corners[start..].iter_mut().zip(row.values) {
-            *slot = Some(c);
-        }
-        out.add_row(j.min(h as usize - 1) as u32, row.stats, &row.rays);
-    }
+            let mut m = merge.lock().unwrap_or_else(|e| e.into_inner());
+            m.0[j as usize] = true;
+            m.1.add_row(j.min(h - 1), stats, rays);
+        });
+    let out = merge.into_inner().unwrap_or_else(|e| e.into_inner()).1;
+    let complete = corners.complete();
     out.complete &= complete;
     complete
 }
@@ -448,162 +763,6 @@ fn trace_centres(job: &Job, centres: &mut [Option<Color>], out: &mut Traced) {
         }
         out.add_row(y as u32, row.stats, &row.rays);
     }
-}
-
-/// One refinement pass: traces the new points of every square that splits at `level`
-/// (`frontiers`) and, in the first pass, the samples of every textured pixel; false if
-/// cancelled.
-fn refine(
-    job: &Job,
-    judged: &Judged,
-    lattice: &mut Lattice,
-    level: u32,
-    frontiers: &[RowFrontier],
-    out: &mut Traced,
-) -> bool {
-    let rule = judged.rule;
-    let (w, steps) = (job.width, lattice.steps);
-    let shared = &*lattice;
-    let rows: Vec<Option<RowTrace<RowRefinement>>> = (0..job.height)
-        .into_par_iter()
-        .map(|y| {
-            if job.cancelled() {
-                return None;
-            }
-            crate::integrator::begin_piece();
-            let mut stats = Stats::default();
-            let mut values = RowRefinement::default();
-            let mut rays = Vec::with_capacity(w as usize);
-            let mut wanted: Vec<(u32, u32)> = Vec::new();
-            let mut offsets: Vec<Vec2> = Vec::new();
-            for x in 0..w {
-                wanted.clear();
-                let own = frontiers[y as usize].splits(x);
-                for sq in own {
-                    wanted.extend(sq.new_points());
-                }
-                stats.adaptive_splits += own.len() as u64;
-                // Midpoints on this pixel's left and top edges are its own; the neighbour
-                // across the edge may be the one that needs them.
-                if x > 0 {
-                    for sq in frontiers[y as usize].splits(x - 1) {
-                        if sq.x + sq.size == x * steps {
-                            wanted.push(sq.new_points()[3]);
-                        }
-                    }
-                }
-                if y > 0 {
-                    for sq in frontiers[y as usize - 1].splits(x) {
-                        if sq.y + sq.size == y * steps {
-                            wanted.push(sq.new_points()[4]);
-                        }
-                    }
-                }
-                wanted.retain(|&(px, py)| shared.owner(px, py) == (x, y));
-                wanted.sort_unstable();
-                wanted.dedup();
-                let before = stats;
-                let s = steps as f32;
-                values.point_start.push(values.points.len() as u32);
-                for &(px, py) in &wanted {
-                    let (fx, fy) = rule.position(px, py);
-                    let c = job.trace(fx / s, fy / s, &mut stats);
-                    values.points.push((shared.local_key(px, py, (x, y)), c));
-                }
-                offsets.clear();
-                if frontiers[y as usize].stratified(x) && level == 0 {
-                    stats.adaptive_stratified += 1;
-                    rule.texture_offsets(x, y, &mut offsets);
-                }
-                values.sample_start.push(values.samples.len() as u32);
-                for o in &offsets {
-                    let c = job.trace(x as f32 + o.x, y as f32 + o.y, &mut stats);
-                    values.samples.push(c);
-                }
-                rays.push(PixelRays::between(&before, &stats));
-            }
-            (job.on_tile)(TileDone {
-                pixels: w as u64,
-                rays: stats.total_rays(),
-            });
-            Some(RowTrace {
-                values,
-                stats,
-                rays,
-            })
-        })
-        .collect();
-    let mut complete = true;
-    for (y, row) in rows.into_iter().enumerate() {
-        let Some(row) = row else {
-            complete = false;
-            continue;
-        };
-        let RowRefinement {
-            points,
-            mut point_start,
-            samples,
-            mut sample_start,
-        } = row.values;
-        point_start.push(points.len() as u32);
-        sample_start.push(samples.len() as u32);
-        for x in 0..w as usize {
-            let i = y * w as usize + x;
-            let new = &points[point_start[x] as usize..point_start[x + 1] as usize];
-            if !new.is_empty() {
-                let list = &mut lattice.points[i];
-                list.extend_from_slice(new);
-                list.sort_unstable_by_key(|&(k, _)| k);
-            }
-            let own = &samples[sample_start[x] as usize..sample_start[x + 1] as usize];
-            if !own.is_empty() {
-                lattice.stratified[i] = own.to_vec();
-            }
-        }
-        out.add_row(y as u32, row.stats, &row.rays);
-    }
-    out.complete &= complete;
-    complete
-}
-
-/// The reconstruction pass when every sample counts in its own pixel only (the box of
-/// radius ½, the default): each pixel is the weighted mean of its samples, summed in the
-/// order `samples` gives them, which is fixed, so the image does not depend on the
-/// threads either; no fixed-point sums and no image-sized buffers are needed.
-fn own_pixels(
-    job: &Job,
-    samples: impl Fn(u32, u32, &mut dyn FnMut(Vec2, f32, Color)) + Sync,
-) -> super::Film {
-    let w = job.width;
-    let rows: Vec<Vec<Color>> = (0..job.height)
-        .into_par_iter()
-        .map(|y| {
-            let row = (0..w)
-                .map(|x| {
-                    let (mut sum, mut total) = ([0.0f64; 3], 0.0f64);
-                    samples(x, y, &mut |_, weight, c| {
-                        let weight = weight as f64;
-                        for (s, v) in sum.iter_mut().zip(c.to_array()) {
-                            *s += weight * v as f64;
-                        }
-                        total += weight;
-                    });
-                    if total == 0.0 {
-                        return Color::ZERO;
-                    }
-                    Color::from_array(sum.map(|s| (s / total) as f32))
-                })
-                .collect();
-            (job.on_tile)(TileDone {
-                pixels: w as u64,
-                rays: 0,
-            });
-            row
-        })
-        .collect();
-    let mut film = super::Film::new(w, job.height);
-    film.pixels = rows.concat();
-    film
 }
 
 /// The reconstruction pass: `splat` adds pixel (x, y)'s samples to a buffer covering its

@@ -12,11 +12,18 @@ const FILM_BYTES: u64 = 12;
 const RAY_COUNT_BYTES: u64 = 40;
 /// Exact fixed-point sums of a pixel under a filter wider than the pixel: four i128.
 const SPLAT_SUM_BYTES: u64 = 64;
-/// The corner and adaptive samplers' lattice per pixel: a corner (Option<Color>), the
-/// pixel's finer points and stratified samples (two Vec headers), its centre and verdict.
-const LATTICE_BYTES: u64 = 16 + 24 + 24 + 16 + 16;
-/// What a traced point of an adaptive pixel costs once it is stored: (key, colour).
-const LATTICE_POINT_BYTES: u64 = 16;
+/// A pixel corner of the lattice samplers (one per pixel, and a row and a column more):
+/// its colour.
+const CORNER_BYTES: u64 = 12;
+/// The corners sampler's centre sample per pixel (Option<Color>).
+const CENTRE_BYTES: u64 = 16;
+/// The adaptive sampler's display-encoded colour of each corner, next to the colour.
+const ENCODED_CORNER_BYTES: u64 = 12;
+/// A point the adaptive sampler traced on a horizontal pixel edge, kept by an even row for
+/// the odd row across the edge: (lattice x, colour). At most 2·(2^depth − 1) per pixel of
+/// an even row; one per pixel is the usual order of magnitude. Nothing else of the
+/// refinement outlives the row that traces it.
+const EDGE_POINT_BYTES: u64 = 16;
 /// Bytes per primitive of a prepared scene with its default BVH: the primitive, its box,
 /// the binary and the 4-wide nodes. A rough figure: other structures may need more.
 pub const ACCEL_BYTES_PER_PRIMITIVE: u64 = 160;
@@ -55,6 +62,7 @@ impl MemoryEstimate {
 /// built before the render starts).
 pub fn estimate(options: &RenderOptions) -> MemoryEstimate {
     let pixels = options.width as u64 * options.height as u64;
+    let corners = (options.width as u64 + 1) * (options.height as u64 + 1);
     let mut e = MemoryEstimate::default();
     // The film is assembled once more from the tiles' or the sums' results.
     e.add("film", pixels * FILM_BYTES * 2);
@@ -62,17 +70,22 @@ pub fn estimate(options: &RenderOptions) -> MemoryEstimate {
     let box_pixel = super::Filter::new(options.filter, options.filter_radius).is_pixel_box();
     match options.sampler {
         SamplerKind::Corners => {
-            e.add("sample lattice", pixels * LATTICE_BYTES);
+            e.add(
+                "sample lattice",
+                corners * CORNER_BYTES + pixels * CENTRE_BYTES,
+            );
             e.add("filter sums", pixels * SPLAT_SUM_BYTES);
         }
         SamplerKind::Adaptive => {
-            // Refinement stores traced points only where pixels split; count one level's
-            // worth for every pixel, the usual order of magnitude.
+            let per_corner = CORNER_BYTES + ENCODED_CORNER_BYTES;
             e.add(
                 "sample lattice",
-                pixels * (LATTICE_BYTES + 3 * LATTICE_POINT_BYTES),
+                corners * per_corner + pixels * EDGE_POINT_BYTES,
             );
-            e.add("filter sums", pixels * SPLAT_SUM_BYTES);
+            // Under the pixel box each pixel is its own samples' mean: no sums.
+            if !box_pixel {
+                e.add("filter sums", pixels * SPLAT_SUM_BYTES);
+            }
         }
         _ if !box_pixel => e.add("filter sums", pixels * SPLAT_SUM_BYTES),
         _ => {}

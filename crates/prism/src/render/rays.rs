@@ -91,6 +91,43 @@ impl PixelRays {
     }
 }
 
+/// The statistics `PixelRays` reads, taken before a piece of work so that its rays can be
+/// counted afterwards (`PixelRays::since`): six counters instead of a copy of all of
+/// `Stats`, which samplers that attribute every ray to its pixel take once a ray.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RayMark([u64; 6]);
+
+impl RayMark {
+    #[inline]
+    pub(crate) fn of(s: &Stats) -> Self {
+        RayMark([
+            s.primary_rays,
+            s.total_rays(),
+            s.node_visits,
+            s.primitive_tests,
+            s.shadow_node_visits,
+            s.shadow_tests,
+        ])
+    }
+}
+
+impl PixelRays {
+    /// The rays counted since `mark` was taken of `stats`: `between` (the same counts).
+    #[inline]
+    pub(crate) fn since(mark: RayMark, stats: &Stats) -> Self {
+        let clamp = |n: u64| n.min(u32::MAX as u64) as u32;
+        let [camera, total, nodes, tests, shadow_nodes, shadow_tests] = mark.0;
+        PixelRays {
+            camera: clamp(stats.primary_rays - camera),
+            total: clamp(stats.total_rays() - total),
+            node_visits: stats.node_visits - nodes,
+            primitive_tests: stats.primitive_tests - tests,
+            shadow_node_visits: stats.shadow_node_visits - shadow_nodes,
+            shadow_tests: stats.shadow_tests - shadow_tests,
+        }
+    }
+}
+
 impl std::ops::AddAssign for PixelRays {
     fn add_assign(&mut self, o: PixelRays) {
         self.camera = self.camera.saturating_add(o.camera);

@@ -99,12 +99,14 @@ impl Refinement {
     }
 
     /// Where lattice point (x, y) is traced, in lattice units.
+    #[inline]
     pub fn position(&self, x: u32, y: u32) -> (f32, f32) {
         if self.jitter == 0.0 {
             return (x as f32, y as f32);
         }
         let steps = self.steps();
-        let corner = x % steps == 0 && y % steps == 0;
+        // `steps` is a power of two: a mask, not a division.
+        let corner = (x | y) & (steps - 1) == 0;
         let span = self.jitter * if corner { 0.5 * steps as f32 } else { 1.0 };
         let jx = (uniform(x, y, 0, DIM_JITTER_X, self.seed) - 0.5) * span;
         let jy = (uniform(x, y, 0, DIM_JITTER_Y, self.seed) - 0.5) * span;
@@ -120,81 +122,53 @@ impl Refinement {
         lookup: &impl Fn(u32, u32) -> Option<Color>,
         visit: &mut impl FnMut(Square, Visit),
     ) {
-        self.walk_square(root, false, None, max_level, lookup, visit);
-    }
-
-    /// `walk` of a pixel whose verdict was judged beforehand (by `verdict`, from the same
-    /// corners): the walk then skips the rule's costliest step, which every pass repeats.
-    pub fn walk_judged(
-        &self,
-        pixel: Square,
-        verdict: Verdict,
-        max_level: u32,
-        lookup: &impl Fn(u32, u32) -> Option<Color>,
-        visit: &mut impl FnMut(Square, Visit),
-    ) {
-        self.walk_square(pixel, false, Some(verdict), max_level, lookup, visit);
-    }
-
-    /// `walk` of a square below a pixel (level ≥ 1) whose pixel is `textured` (see
-    /// `Verdict`): a pass that knows where the last level split walks on from there.
-    pub fn walk_below(
-        &self,
-        square: Square,
-        textured: bool,
-        max_level: u32,
-        lookup: &impl Fn(u32, u32) -> Option<Color>,
-        visit: &mut impl FnMut(Square, Visit),
-    ) {
-        debug_assert!(square.level > 0);
-        self.walk_square(square, textured, None, max_level, lookup, visit);
+        self.walk_square(root, max_level, lookup, visit);
     }
 
     /// What the rule says of a pixel from the corners around it, read display-encoded
-    /// (`encode`) through `encoded`, so that a caller judging every pixel encodes each
-    /// corner once instead of 16 times; None if one of the pixel's own corners is not
-    /// traced (the walk then finds it `Missing` and never asks).
+    /// (`encode`) through `encoded`; None if one of the pixel's own corners is not traced.
     pub fn verdict(
         &self,
         pixel: &Square,
         encoded: &impl Fn(u32, u32) -> Option<Encoded>,
     ) -> Option<Verdict> {
-        let corners = pixel.corners().map(|(x, y)| encoded(x, y));
-        let [Some(a), Some(b), Some(c), Some(d)] = corners else {
+        self.verdict_of_block(&neighbourhood_block(pixel, encoded))
+    }
+
+    /// `verdict` from the pixel's 4×4 block of corners (`neighbourhood_block`): row by row
+    /// from the corner up and left of the pixel's own top-left one, None outside the image.
+    /// A renderer judging every pixel reads the block from a dense array of corners, each
+    /// encoded once, instead of through a lookup per corner.
+    pub fn verdict_of_block(&self, block: &[Option<Encoded>; 16]) -> Option<Verdict> {
+        let [Some(a), Some(b), Some(c), Some(d)] = [block[5], block[6], block[9], block[10]] else {
             return None;
         };
         let (busy, textured) = match self.rule {
-            AdaptiveRule::Neighbourhood => self.neighbourhood(pixel, encoded),
+            AdaptiveRule::Neighbourhood => self.neighbourhood(block),
             AdaptiveRule::Corners => (spread_encoded(&[a, b, c, d]) > self.threshold, false),
         };
         Some(Verdict { busy, textured })
     }
 
-    /// `textured`: inherited from the pixel; `judged`: the pixel's verdict when judged
-    /// beforehand (the pixel's own square only).
     fn walk_square(
         &self,
         square: Square,
-        textured: bool,
-        judged: Option<Verdict>,
         max_level: u32,
         lookup: &impl Fn(u32, u32) -> Option<Color>,
         visit: &mut impl FnMut(Square, Visit),
     ) {
         let corners = square.corners().map(|(x, y)| lookup(x, y));
-        self.walk_known(square, corners, textured, judged, max_level, lookup, visit);
+        self.walk_known(square, corners, false, max_level, lookup, visit);
     }
 
     /// `walk_square` of a square whose corners' colours are known: a split square hands
     /// its quarters the colours it looked up for its new points, so that a walk looks up
     /// each point once instead of once per square that has it as a corner.
-    #[allow(clippy::too_many_arguments)]
     fn walk_known(
         &self,
         square: Square,
         corners: [Option<Color>; 4],
         textured: bool,
-        judged: Option<Verdict>,
         max_level: u32,
         lookup: &impl Fn(u32, u32) -> Option<Color>,
         visit: &mut impl FnMut(Square, Visit),
@@ -204,12 +178,11 @@ impl Refinement {
             return;
         };
         let corners = [a, b, c, d];
-        let (busy, textured) = match judged {
-            Some(v) => (v.busy, v.textured),
-            None if square.level == 0 && self.rule == AdaptiveRule::Neighbourhood => {
-                self.neighbourhood(&square, &|x, y| lookup(x, y).map(|c| self.encode(c)))
-            }
-            None => (self.contrast(&corners) > self.threshold, textured),
+        let (busy, textured) = if square.level == 0 && self.rule == AdaptiveRule::Neighbourhood {
+            let encoded = |x, y| lookup(x, y).map(|c| self.encode(c));
+            self.neighbourhood(&neighbourhood_block(&square, &encoded))
+        } else {
+            (self.contrast(&corners) > self.threshold, textured)
         };
         if textured && self.texture_n > 0 && self.depth > 0 {
             visit(square, Visit::Stratified(corners));
@@ -237,48 +210,40 @@ impl Refinement {
         let quarters = [[a, t, l, m], [t, b, m, r], [l, m, c, u], [m, r, u, d]];
         for (child, corners) in square.children().into_iter().zip(quarters) {
             let corners = corners.map(Some);
-            self.walk_known(child, corners, textured, None, max_level, lookup, visit);
+            self.walk_known(child, corners, textured, max_level, lookup, visit);
         }
     }
 
-    /// The neighbourhood rule for a pixel: whether the 4×4 corners around it differ, and
-    /// whether they change colour more often than one straight edge can make them.
-    /// `encoded`: the corners' colours display-encoded, which the 24 comparisons below
-    /// would otherwise encode up to four times each (the encoding, a power, dominates the
-    /// sampler's own cost).
-    fn neighbourhood(
-        &self,
-        pixel: &Square,
-        encoded: &impl Fn(u32, u32) -> Option<Encoded>,
-    ) -> (bool, bool) {
-        let s = pixel.size as i64;
-        let mut block = [None; 16];
-        for dy in -1..=2i64 {
-            for dx in -1..=2i64 {
-                let (x, y) = (pixel.x as i64 + dx * s, pixel.y as i64 + dy * s);
-                if x >= 0 && y >= 0 {
-                    block[((dy + 1) * 4 + dx + 1) as usize] = encoded(x as u32, y as u32);
-                }
-            }
-        }
-        let mut present = [[0.0; 3]; 16];
-        let mut count = 0;
-        for c in block.iter().flatten() {
-            present[count] = *c;
-            count += 1;
-        }
-        let busy = spread_encoded(&present[..count]) > self.threshold;
-        if !busy {
-            // No pair of the block can differ by more than the whole block spreads: no
-            // changes, so no texture either (most pixels of most images end here).
-            return (false, false);
-        }
+    /// The neighbourhood rule for a pixel, from its 4×4 block of display-encoded corners
+    /// (`neighbourhood_block`): whether they differ, and whether they change colour more
+    /// often than one straight edge can make them. Encoded beforehand, since the 24
+    /// comparisons below would otherwise encode each corner up to four times (the encoding,
+    /// a power, dominates the rule's cost).
+    fn neighbourhood(&self, block: &[Option<Encoded>; 16]) -> (bool, bool) {
+        let busy = spread_encoded(block.iter().flatten()) > self.threshold;
+        // No pair of the block can differ by more than the whole block spreads: no changes,
+        // so no texture either (most pixels of most images end here).
+        (busy, busy && self.textured(block))
+    }
+
+    /// The texture half of the neighbourhood rule: whether the block's corners change
+    /// colour more often than one straight edge can make them.
+    fn textured(&self, block: &[Option<Encoded>; 16]) -> bool {
+        self.textured_by(|k| block[k])
+    }
+
+    /// `textured` of the block whose entry k is `corner(k)`: a renderer's block wholly
+    /// inside the image has no absent corners to check for.
+    #[inline]
+    fn textured_by(&self, corner: impl Fn(usize) -> Option<Encoded>) -> bool {
         // The spread of two colours is their largest channel difference (bit for bit:
-        // max − min is |a − b|); 24 pairs per pixel, so without the general loop.
-        let differ = |i: usize, j: usize| match (block[i], block[j]) {
+        // max − min is |a − b|; encoded values are never NaN, so "some channel differs by
+        // more" is "the largest difference is more"); 24 pairs per pixel.
+        let t = self.threshold;
+        let differ = |i: usize, j: usize| match (corner(i), corner(j)) {
             (Some(a), Some(b)) => {
                 let d = |k: usize| (a[k] - b[k]).abs();
-                d(0).max(d(1)).max(d(2)) > self.threshold
+                d(0) > t || d(1) > t || d(2) > t
             }
             _ => false,
         };
@@ -293,11 +258,60 @@ impl Refinement {
         // changes colour at most once per row and column (8 inside the image, fewer along
         // its borders, where the block is cut).
         let line =
-            |a: usize, step: usize| (0..4).filter(|&k| block[a + k * step].is_some()).count();
+            |a: usize, step: usize| (0..4).filter(|&k| corner(a + k * step).is_some()).count();
         let straight_edge_changes = (0..4)
             .map(|i| (line(i * 4, 1) >= 2) as usize + (line(i, 4) >= 2) as usize)
             .sum::<usize>();
-        (busy, changes > straight_edge_changes)
+        changes > straight_edge_changes
+    }
+
+    /// The verdicts of a row of pixels at once, from the corner lines above, at, below and
+    /// two below its top edge (`lines[1]` and `lines[2]` are the row's own corners, W + 1
+    /// of them; the others are None outside the image): what `verdict` says of each pixel.
+    /// The neighbourhood rule's 4×4 blocks overlap by 12 corners from one pixel to the
+    /// next, so the row's per-column extremes over the four lines are taken once
+    /// (`extremes`: working memory) and each block's spread from four columns; only busy
+    /// pixels then look at their block's changes.
+    pub fn row_verdicts(
+        &self,
+        lines: [Option<&[Encoded]>; 4],
+        extremes: &mut Vec<[Encoded; 2]>,
+        out: &mut Vec<Verdict>,
+    ) {
+        out.clear();
+        let (Some(top), Some(bottom)) = (lines[1], lines[2]) else {
+            return;
+        };
+        let n = top.len();
+        let width = n.saturating_sub(1);
+        if self.rule == AdaptiveRule::Corners {
+            out.extend((0..width).map(|x| Verdict {
+                busy: spread_encoded(&[top[x], top[x + 1], bottom[x], bottom[x + 1]])
+                    > self.threshold,
+                textured: false,
+            }));
+            return;
+        }
+        extremes.clear();
+        extremes.extend((0..n).map(|i| extremes_of(lines.iter().flatten().map(|l| &l[i]))));
+        for x in 0..width {
+            let columns = &extremes[x.saturating_sub(1)..(x + 3).min(n)];
+            let lo = extremes_of(columns.iter().map(|e| &e[0]))[0];
+            let hi = extremes_of(columns.iter().map(|e| &e[1]))[1];
+            let busy = spread_of(lo, hi) > self.threshold;
+            let textured = busy
+                && match lines {
+                    [Some(a), Some(b), Some(c), Some(d)] if x >= 1 && x + 3 <= n => {
+                        let rows = [a, b, c, d].map(|l| &l[x - 1..x + 3]);
+                        self.textured_by(|k| Some(rows[k / 4][k % 4]))
+                    }
+                    _ => self.textured_by(|k| {
+                        let i = (x + k % 4).checked_sub(1).filter(|&i| i < n)?;
+                        lines[k / 4].map(|l| l[i])
+                    }),
+                };
+            out.push(Verdict { busy, textured });
+        }
     }
 }
 
@@ -389,16 +403,174 @@ impl Square {
     }
 }
 
-/// The largest per-channel spread of colours already display-encoded.
-fn spread_encoded(colours: &[[f32; 3]]) -> f32 {
+/// The 4×4 pixel corners around `pixel` (its own four are entries 5, 6, 9 and 10), row by
+/// row, read through `encoded`; None left of or above the image (and wherever `encoded`
+/// says so: right of or below it).
+pub fn neighbourhood_block(
+    pixel: &Square,
+    encoded: &impl Fn(u32, u32) -> Option<Encoded>,
+) -> [Option<Encoded>; 16] {
+    let s = pixel.size as i64;
+    let mut block = [None; 16];
+    for dy in -1..=2i64 {
+        for dx in -1..=2i64 {
+            let (x, y) = (pixel.x as i64 + dx * s, pixel.y as i64 + dy * s);
+            if x >= 0 && y >= 0 {
+                block[((dy + 1) * 4 + dx + 1) as usize] = encoded(x as u32, y as u32);
+            }
+        }
+    }
+    block
+}
+
+/// A lattice point as `Refinement::refine` sees it: its colour and, if both its lattice
+/// coordinates are even, its display-encoded colour. Only such points are corners of
+/// squares that can still split (squares of side 2 and more), the only ones the rule
+/// compares; the finest points never need the encoding.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Point {
+    /// The radiance traced at the point.
+    pub colour: Color,
+    /// Meaningful where both coordinates are even (`Point::compared`).
+    pub encoded: Encoded,
+}
+
+impl Point {
+    /// Whether the rule ever compares lattice point (x, y), so that its `encoded` is needed.
+    pub fn compared(x: u32, y: u32) -> bool {
+        (x | y) & 1 == 0
+    }
+}
+
+/// Where `Refinement::refine` gets the points a split adds: a renderer traces each the
+/// first time any square asks for it and hands every later asker the same point.
+pub trait PointSource {
+    /// Lattice point (x, y), traced if this is the first time anyone asks for it.
+    fn point(&mut self, x: u32, y: u32) -> Point;
+}
+
+/// What `Refinement::refine` did with a pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Refined {
+    /// The pixel is textured and takes the stratified pass instead (nothing was visited).
+    Stratified,
+    /// The quadtree was walked to its leaves; this many squares split.
+    Quadtree {
+        /// Squares split (the statistics' `adaptive_splits`).
+        splits: u64,
+    },
+}
+
+impl Refinement {
+    /// The whole refinement of one pixel in one walk, for a renderer that traces points on
+    /// demand: squares are decided parent first, a split square's five new points come
+    /// from `points`, and `leaf` receives every square that does not split with the mean
+    /// of its corners, in the order `walk` visits them (the order the pixel's sum is taken
+    /// in). `corners`: the pixel's own, in `Square::corners` order; `verdict`: the rule's
+    /// judgement of the pixel (`verdict`). Decides exactly as `walk` at full depth when
+    /// every point is traced (tested).
+    pub fn refine(
+        &self,
+        pixel: Square,
+        verdict: Verdict,
+        corners: [Point; 4],
+        points: &mut impl PointSource,
+        leaf: &mut impl FnMut(Square, Color),
+    ) -> Refined {
+        debug_assert_eq!(pixel.level, 0);
+        if self.stratified(&verdict) {
+            return Refined::Stratified;
+        }
+        let mut splits = 0;
+        let busy = Some(verdict.busy);
+        self.refine_square(
+            pixel,
+            corners,
+            busy,
+            verdict.textured,
+            points,
+            leaf,
+            &mut splits,
+        );
+        Refined::Quadtree { splits }
+    }
+
+    /// Whether a pixel so judged takes the stratified pass instead of the quadtree.
+    pub fn stratified(&self, verdict: &Verdict) -> bool {
+        verdict.textured && self.texture_n > 0 && self.depth > 0
+    }
+
+    /// Whether a pixel so judged is one leaf, its corners' mean: neither split nor given
+    /// the stratified pass (what `refine` finds without asking for a point).
+    pub fn quiet(&self, verdict: &Verdict) -> bool {
+        !self.stratified(verdict) && !self.splits(0, verdict.textured, || verdict.busy)
+    }
+
+    /// Whether a square at `level` of a pixel (`textured` or not) splits; `busy`: whether
+    /// its corners differ (the pixel's verdict at level 0), asked only if it matters.
+    /// Texture is refined to depth − 1 regardless, and one level further where it differs.
+    #[inline]
+    fn splits(&self, level: u32, textured: bool, busy: impl FnOnce() -> bool) -> bool {
+        level < self.depth && ((textured && level + 1 < self.depth) || busy())
+    }
+
+    /// `busy`: the pixel's verdict (level 0 only); below, the square's own contrast.
+    #[allow(clippy::too_many_arguments)]
+    fn refine_square(
+        &self,
+        square: Square,
+        c: [Point; 4],
+        busy: Option<bool>,
+        textured: bool,
+        points: &mut impl PointSource,
+        leaf: &mut impl FnMut(Square, Color),
+        splits: &mut u64,
+    ) {
+        let split = self.splits(square.level, textured, || {
+            busy.unwrap_or_else(|| spread_encoded(&c.map(|p| p.encoded)) > self.threshold)
+        });
+        if !split {
+            let mean = (c[0].colour + c[1].colour + c[2].colour + c[3].colour) * 0.25;
+            leaf(square, mean);
+            return;
+        }
+        *splits += 1;
+        let [m, t, l, r, u] = square.new_points().map(|(x, y)| points.point(x, y));
+        let [a, b, cc, d] = c;
+        // As in `walk_known`: quarters in `children` order, corners in `corners` order.
+        let quarters = [[a, t, l, m], [t, b, m, r], [l, m, cc, u], [m, r, u, d]];
+        for (child, corners) in square.children().into_iter().zip(quarters) {
+            self.refine_square(child, corners, None, textured, points, leaf, splits);
+        }
+    }
+}
+
+/// The largest per-channel spread of colours already display-encoded. Encoded values are
+/// never NaN (`Transfer::encode` maps NaN to 0), so plain comparisons find the same
+/// extremes as `f32::min` and `f32::max`, without their NaN handling.
+#[inline]
+fn spread_encoded<'c>(colours: impl IntoIterator<Item = &'c Encoded>) -> f32 {
+    let [lo, hi] = extremes_of(colours);
+    spread_of(lo, hi)
+}
+
+/// Per channel, the smallest and the largest of the encoded colours (∞ and −∞ for none).
+#[inline]
+fn extremes_of<'c>(colours: impl IntoIterator<Item = &'c Encoded>) -> [Encoded; 2] {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
     for c in colours {
-        for (k, &e) in c.iter().enumerate() {
-            lo[k] = lo[k].min(e);
-            hi[k] = hi[k].max(e);
+        for k in 0..3 {
+            lo[k] = if c[k] < lo[k] { c[k] } else { lo[k] };
+            hi[k] = if c[k] > hi[k] { c[k] } else { hi[k] };
         }
     }
+    [lo, hi]
+}
+
+/// The largest channel spread between per-channel extremes (0 for no colours).
+#[inline]
+fn spread_of(lo: Encoded, hi: Encoded) -> f32 {
     (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max)
 }
 
@@ -517,7 +689,7 @@ mod tests {
     }
 
     #[test]
-    fn judged_and_resumed_walks_decide_as_the_full_walk() {
+    fn refine_decides_as_the_full_walk() {
         // A slanted edge, and a fine checker (texture) below y = 24 lattice steps.
         let lookup = |x: u32, y: u32| {
             let white = if y >= 24 {
@@ -531,64 +703,143 @@ mod tests {
                 Color::splat(0.02)
             })
         };
+        /// Looks points up and remembers which were asked for.
+        struct Asked<'a, F> {
+            lookup: &'a F,
+            rule: &'a Refinement,
+            asked: Vec<(u32, u32)>,
+        }
+        impl<F: Fn(u32, u32) -> Option<Color>> PointSource for Asked<'_, F> {
+            fn point(&mut self, x: u32, y: u32) -> Point {
+                self.asked.push((x, y));
+                let colour = (self.lookup)(x, y).unwrap();
+                let encoded = if Point::compared(x, y) {
+                    self.rule.encode(colour)
+                } else {
+                    // Never compared: a wrong value would show.
+                    [f32::NAN; 3]
+                };
+                Point { colour, encoded }
+            }
+        }
+        for rule in AdaptiveRule::ALL {
+            for texture_n in [0, 3] {
+                let r = Refinement {
+                    threshold: 0.1,
+                    transfer: Transfer::Srgb,
+                    depth: 3,
+                    rule,
+                    jitter: 0.0,
+                    texture_n,
+                    seed: 0,
+                };
+                let encoded = |x: u32, y: u32| lookup(x, y).map(|c| r.encode(c));
+                let (mut splits, mut textured) = (0, 0);
+                for (px, py) in [(0, 0), (1, 1), (2, 1), (1, 2), (3, 3), (0, 4)] {
+                    let name = format!("{rule}, texture {texture_n}, pixel ({px}, {py})");
+                    let pixel = Square::pixel(px, py, r.steps());
+                    let verdict = r.verdict(&pixel, &encoded).unwrap();
+                    textured += verdict.textured as usize;
+                    // The full walk: leaves with their means, split squares' new points.
+                    let (mut leaves, mut new, mut stratified) = (Vec::new(), Vec::new(), false);
+                    r.walk(pixel, r.depth, &lookup, &mut |sq, v| match v {
+                        Visit::Leaf(c) => leaves.push((sq, (c[0] + c[1] + c[2] + c[3]) * 0.25)),
+                        Visit::Split => new.extend(sq.new_points()),
+                        Visit::Stratified(_) => stratified = true,
+                        Visit::Missing | Visit::Frontier(_) => panic!("{name}: {v:?}"),
+                    });
+                    let corners = pixel.corners().map(|(x, y)| {
+                        let colour = lookup(x, y).unwrap();
+                        Point {
+                            colour,
+                            encoded: r.encode(colour),
+                        }
+                    });
+                    let mut source = Asked {
+                        lookup: &lookup,
+                        rule: &r,
+                        asked: Vec::new(),
+                    };
+                    let mut found = Vec::new();
+                    let outcome = r.refine(pixel, verdict, corners, &mut source, &mut |sq, m| {
+                        found.push((sq, m))
+                    });
+                    if stratified {
+                        assert_eq!(outcome, Refined::Stratified, "{name}");
+                        assert!(found.is_empty() && source.asked.is_empty(), "{name}");
+                        continue;
+                    }
+                    assert_eq!(found, leaves, "{name}");
+                    assert_eq!(source.asked, new, "{name}: the points asked for");
+                    assert_eq!(
+                        outcome,
+                        Refined::Quadtree {
+                            splits: new.len() as u64 / 5
+                        },
+                        "{name}"
+                    );
+                    splits += new.len() / 5;
+                }
+                // The cases above are not vacuous.
+                assert!(splits > 6, "{rule}: {splits} splits");
+                assert_eq!(textured > 0, rule == AdaptiveRule::Neighbourhood, "{rule}");
+            }
+        }
+    }
+
+    #[test]
+    fn row_verdicts_are_the_verdicts_of_each_pixel() {
+        // Corners of a 7×5-pixel image: an edge, a checker patch (texture) and noise.
+        let (w, h) = (7usize, 5usize);
+        let colour = |i: usize, j: usize| -> Encoded {
+            let v = if j >= 3 && i < 4 {
+                ((i + j) % 2) as f32
+            } else if i + 2 * j < 7 {
+                0.9
+            } else {
+                0.1 + 0.07 * ((i * 7 + j * 3) % 5) as f32
+            };
+            [v, 0.5 * v, 0.2]
+        };
+        let lines: Vec<Vec<Encoded>> = (0..=h)
+            .map(|j| (0..=w).map(|i| colour(i, j)).collect())
+            .collect();
         for rule in AdaptiveRule::ALL {
             let r = Refinement {
                 threshold: 0.1,
-                transfer: Transfer::Srgb,
-                depth: 3,
+                transfer: Transfer::Display,
+                depth: 2,
                 rule,
                 jitter: 0.0,
-                texture_n: 0,
+                texture_n: 3,
                 seed: 0,
             };
-            let encoded = |x: u32, y: u32| lookup(x, y).map(|c| r.encode(c));
-            let (mut splits, mut textured) = (0, 0);
-            for (px, py) in [(0, 0), (1, 1), (2, 1), (1, 2), (3, 3), (0, 4)] {
-                let pixel = Square::pixel(px, py, r.steps());
-                let verdict = r.verdict(&pixel, &encoded).unwrap();
-                textured += verdict.textured as usize;
-                let full = |judged: bool| {
-                    let mut seen = Vec::new();
-                    let mut visit = |sq, v| seen.push((sq, v));
-                    if judged {
-                        r.walk_judged(pixel, verdict, r.depth, &lookup, &mut visit);
-                    } else {
-                        r.walk(pixel, r.depth, &lookup, &mut visit);
-                    }
-                    seen
+            let steps = r.steps();
+            let encoded = |x: u32, y: u32| {
+                let (i, j) = ((x / steps) as usize, (y / steps) as usize);
+                (i <= w && j <= h).then(|| lines[j][i])
+            };
+            let (mut extremes, mut row) = (Vec::new(), Vec::new());
+            let (mut busy, mut textured) = (0, 0);
+            for y in 0..h {
+                let line = |d: i64| {
+                    let j = y as i64 + d;
+                    (0..=h as i64).contains(&j).then(|| &lines[j as usize][..])
                 };
-                assert_eq!(full(true), full(false), "{rule}, pixel ({px}, {py})");
-                // Level by level, resumed from the squares that split one level up.
-                let mut frontier = Vec::new();
-                for level in 0..r.depth {
-                    let mut expected = Vec::new();
-                    r.walk(pixel, level, &lookup, &mut |sq, v| {
-                        if matches!(v, Visit::Frontier(_)) && sq.level == level {
-                            expected.push(sq);
-                        }
-                    });
-                    let mut found = Vec::new();
-                    let mut visit = |sq: Square, v| {
-                        if matches!(v, Visit::Frontier(_)) && sq.level == level {
-                            found.push(sq);
-                        }
-                    };
-                    if level == 0 {
-                        r.walk_judged(pixel, verdict, 0, &lookup, &mut visit);
-                    } else {
-                        for parent in &frontier {
-                            for child in Square::children(parent) {
-                                r.walk_below(child, verdict.textured, level, &lookup, &mut visit);
-                            }
-                        }
-                    }
-                    assert_eq!(found, expected, "{rule}, pixel ({px}, {py}), level {level}");
-                    splits += found.len();
-                    frontier = found;
+                r.row_verdicts(
+                    [line(-1), line(0), line(1), line(2)],
+                    &mut extremes,
+                    &mut row,
+                );
+                assert_eq!(row.len(), w);
+                for (x, v) in row.iter().enumerate() {
+                    let pixel = Square::pixel(x as u32, y as u32, steps);
+                    assert_eq!(Some(*v), r.verdict(&pixel, &encoded), "{rule} ({x}, {y})");
+                    busy += v.busy as usize;
+                    textured += v.textured as usize;
                 }
             }
-            // The cases above are not vacuous.
-            assert!(splits > 6, "{rule}: {splits} splits");
+            assert!(busy > 5, "{rule}: {busy} busy");
             assert_eq!(textured > 0, rule == AdaptiveRule::Neighbourhood, "{rule}");
         }
     }
