@@ -304,4 +304,50 @@ mod tests {
             }
         }
     }
+
+    /// `NodeWidth::Auto` takes the 8-wide layout exactly when the CPU has AVX2, `Four`
+    /// never; both layouts reference the same leaves, each once.
+    #[test]
+    fn the_width_is_chosen_at_run_time_and_keeps_the_leaves() {
+        use super::super::{simd8, Bvh, BvhOptions, NodeWidth};
+        let bounds: Vec<Aabb> = (0..500)
+            .map(|i| {
+                let x = (i * 37 % 101) as f32;
+                let y = (i * 53 % 89) as f32;
+                let z = (i * 11 % 97) as f32;
+                Aabb::new(Vec3::new(x, y, z), Vec3::new(x + 1.5, y + 0.5, z + 2.0))
+            })
+            .collect();
+        let build = |width| {
+            let options = BvhOptions {
+                width,
+                ..BvhOptions::default()
+            };
+            Bvh::build_over_bounds((0..500).collect(), bounds.clone(), &options)
+        };
+        let four = build(NodeWidth::Four);
+        assert!(!four.wide.is_empty() && four.wide8.is_empty());
+        let auto = build(NodeWidth::Auto);
+        assert_eq!(auto.wide8.is_empty(), !simd8::available());
+        assert_eq!(auto.wide.is_empty(), simd8::available());
+        let leaves = |slots: Vec<(u32, u32)>| {
+            let mut l: Vec<_> = slots.into_iter().filter(|s| s.1 > 0).collect();
+            l.sort_unstable();
+            l
+        };
+        let of4 = leaves(
+            four.wide
+                .iter()
+                .flat_map(|n| n.child.into_iter().zip(n.count))
+                .collect(),
+        );
+        let of8 = leaves(
+            Wide8Node::from_tree(&four.nodes)
+                .iter()
+                .flat_map(|n| n.child.into_iter().zip(n.count))
+                .collect(),
+        );
+        assert_eq!(of4, of8);
+        assert_eq!(of4.iter().map(|l| l.1).sum::<u32>(), 500);
+    }
 }
