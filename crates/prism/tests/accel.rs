@@ -13,7 +13,7 @@ use common::oracle::{random_ray, same_nearest, TestScene};
 use common::{icosphere, lattice_cube, rotate, trace_ray, Rng};
 use prism::accel::{
     Accel, AccelKind, AccelSpec, BruteForce, Bvh, BvhBuilder, BvhOptions, Grid, GridOptions,
-    KdTree, KdTreeOptions, Octree, OctreeOptions, SceneIntersector,
+    KdTree, KdTreeOptions, NodeWidth, Octree, OctreeOptions, SceneIntersector,
 };
 use prism::geometry::{generate, AaBox, Cone, Geometry, Plane, Shape, Sphere};
 use prism::math::{TraceRay, Vec3};
@@ -214,6 +214,14 @@ fn bvh_settings() -> Vec<(String, BvhOptions)> {
             settings.push((name, options));
         }
     }
+    // The 4-wide SSE layout too (the default is 8-wide where the CPU has AVX2).
+    settings.push((
+        "binned, 4-wide".to_string(),
+        BvhOptions {
+            width: NodeWidth::Four,
+            ..BvhOptions::default()
+        },
+    ));
     let fine_lbvh = BvhOptions {
         builder: BvhBuilder::Lbvh,
         reinsert: true,
@@ -517,6 +525,7 @@ fn built_in_scenes_render_identically_with_every_accelerator() {
             }
         }
         specs.push("bvh:split=2".parse().unwrap());
+        specs.push("bvh:width=4".parse().unwrap());
         for volume in ["sphere", "obb", "dop14", "dop26", "hull"] {
             specs.push(format!("bvh:volume={volume}").parse().unwrap());
         }

@@ -4,7 +4,7 @@
 //! instead of following primitive → mesh → index triple → three vertices per triangle.
 //! Other leaves keep primitive ids into `Bvh::prims`.
 
-use super::wide::WideNode;
+use super::wide::LeafSlots;
 use crate::geometry::{Geometry, Shape, TrianglePack};
 use crate::math::Vec3;
 use rayon::prelude::*;
@@ -18,8 +18,8 @@ pub(super) const PACKED: u32 = 1 << 31;
 /// the packs. `prims` are the leaves' primitive ids, as `child`/`count` index them.
 /// Chunks of nodes are packed in parallel and joined in order, so the result does not
 /// depend on the thread count.
-pub(super) fn pack_triangles(
-    wide: &mut [WideNode],
+pub(super) fn pack_triangles<N: LeafSlots>(
+    wide: &mut [N],
     prims: &[u32],
     geometry: &Geometry,
 ) -> Vec<TrianglePack> {
@@ -31,9 +31,10 @@ pub(super) fn pack_triangles(
     let mut first = 0u32;
     for (nodes, packs) in wide.chunks_mut(1024).zip(&chunks) {
         for node in nodes {
-            for k in 0..4 {
-                if node.count[k] & PACKED != 0 {
-                    node.child[k] += first;
+            let (child, count) = node.slots();
+            for (c, &n) in child.iter_mut().zip(count.iter()) {
+                if n & PACKED != 0 {
+                    *c += first;
                 }
             }
         }
@@ -43,15 +44,20 @@ pub(super) fn pack_triangles(
 }
 
 /// Packs the triangle leaves of `nodes`, numbering their packs from 0.
-fn pack_chunk(nodes: &mut [WideNode], prims: &[u32], geometry: &Geometry) -> Vec<TrianglePack> {
+fn pack_chunk<N: LeafSlots>(
+    nodes: &mut [N],
+    prims: &[u32],
+    geometry: &Geometry,
+) -> Vec<TrianglePack> {
     let mut packs = Vec::new();
     for node in nodes {
-        for k in 0..4 {
-            let count = node.count[k];
+        let (child, counts) = node.slots();
+        for k in 0..child.len() {
+            let count = counts[k];
             if count == 0 {
                 continue;
             }
-            let ids = &prims[node.child[k] as usize..][..count as usize];
+            let ids = &prims[child[k] as usize..][..count as usize];
             let triangle = |p: u32| match geometry.primitives[p as usize].shape {
                 Shape::Triangle { mesh, index } => Some((mesh, index)),
                 _ => None,
@@ -68,8 +74,8 @@ fn pack_chunk(nodes: &mut [WideNode], prims: &[u32], geometry: &Geometry) -> Vec
                 }
                 packs.push(TrianglePack::new(&lanes[..group.len()]));
             }
-            node.child[k] = first as u32;
-            node.count[k] = PACKED | (packs.len() - first) as u32;
+            child[k] = first as u32;
+            counts[k] = PACKED | (packs.len() - first) as u32;
         }
     }
     packs

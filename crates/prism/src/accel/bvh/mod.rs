@@ -6,14 +6,15 @@ mod build;
 mod leaves;
 mod options;
 mod reinsert;
+mod simd8;
 mod traverse;
 mod wide;
 
 use crate::accel::AccelInfo;
 use crate::math::{Aabb, Vec3};
-use wide::WideNode;
+use wide::{Wide8Node, WideNode};
 
-pub use options::{BvhBuilder, BvhOptions};
+pub use options::{BvhBuilder, BvhOptions, NodeWidth};
 
 /// A node is 32 bytes, two to a cache line. Interior nodes have `count == 0` and their
 /// children at `first` and `first + 1`; leaves hold `prims[first .. first + count]`.
@@ -76,7 +77,11 @@ pub struct Bvh {
     /// The tree as built: binary nodes, the root at 0.
     nodes: Vec<Node>,
     /// The same tree as traversed: 4-wide nodes (`wide.rs`).
+    /// Empty when `wide8` is used.
     wide: Vec<WideNode>,
+    /// The same tree as 8-wide nodes (`wide.rs`, traversed by `simd8.rs`): built instead of
+    /// `wide` when the CPU has AVX2 (`NodeWidth::Auto`), otherwise empty.
+    wide8: Vec<Wide8Node>,
     /// Leaves of triangles only, their vertices in leaf order (`leaves.rs`); empty until
     /// `Bvh::build` packs them (a tree over boxes alone has none).
     packs: Vec<crate::geometry::TrianglePack>,
@@ -96,10 +101,15 @@ impl Bvh {
     /// Takes a built tree (root at 0, interior nodes' children at `first`, `first + 1`)
     /// and derives the traversal layout.
     fn from_tree(nodes: Vec<Node>, prims: Vec<u32>, options: &BvhOptions) -> Bvh {
-        let wide = WideNode::from_tree(&nodes);
+        let (wide, wide8) = if options.width == NodeWidth::Auto && simd8::available() {
+            (Vec::new(), Wide8Node::from_tree(&nodes))
+        } else {
+            (WideNode::from_tree(&nodes), Vec::new())
+        };
         Bvh {
             nodes,
             wide,
+            wide8,
             packs: Vec::new(),
             prims,
             builder: options.builder,
@@ -197,6 +207,7 @@ impl Bvh {
     pub fn memory_bytes(&self) -> usize {
         self.nodes.len() * std::mem::size_of::<Node>()
             + self.wide.len() * std::mem::size_of::<WideNode>()
+            + self.wide8.len() * std::mem::size_of::<Wide8Node>()
             + self.packs.len() * std::mem::size_of::<crate::geometry::TrianglePack>()
             + self.prims.len() * 4
     }

@@ -42,6 +42,24 @@ impl BvhBuilder {
     }
 }
 
+/// The traversal layout derived from the built tree (`wide.rs`, `simd8.rs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum NodeWidth {
+    /// 8-wide nodes tested with AVX2 where the CPU has it (detected at run time), else
+    /// 4-wide nodes.
+    #[default]
+    Auto,
+    /// 4-wide nodes (SSE) on every CPU.
+    Four,
+}
+
+named_kinds! {
+    NodeWidth, "node width" {
+        Auto => "auto",
+        Four => "4",
+    }
+}
+
 /// How a BVH is built; also the `bvh:` keys of `--accel` (see `Method`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BvhOptions {
@@ -65,6 +83,9 @@ pub struct BvhOptions {
     /// Subtrees with more primitives than this are built on separate threads. The tree does
     /// not depend on it (or on the thread count); `usize::MAX` builds on one thread.
     pub parallel_threshold: usize,
+    /// The traversal layout: 8-wide where AVX2 is available, or always 4-wide. The tree,
+    /// and so every answer, is the same either way.
+    pub width: NodeWidth,
 }
 
 impl Default for BvhOptions {
@@ -78,6 +99,7 @@ impl Default for BvhOptions {
             presplit: 0.0,
             volume: NodeVolume::Aabb,
             parallel_threshold: 4096,
+            width: NodeWidth::Auto,
         }
     }
 }
@@ -130,6 +152,13 @@ impl Method for BvhOptions {
             accepts: Accepts::Choice(&NodeVolume::NAMES),
             get: |o| Value::Choice(o.volume.index()),
             set: |o, v| o.volume = NodeVolume::ALL[v.choice()],
+        },
+        Key {
+            name: "width",
+            help: "traversal node width (auto: 8 with AVX2, else 4)",
+            accepts: Accepts::Choice(&NodeWidth::NAMES),
+            get: |o| Value::Choice(o.width.index()),
+            set: |o, v| o.width = NodeWidth::ALL[v.choice()],
         },
         Key {
             name: "reinsert",

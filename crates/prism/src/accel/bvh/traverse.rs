@@ -1,4 +1,5 @@
-//! Stack traversal of the 4-wide layout: test a node's child boxes at once, descend into
+//! Stack traversal of the 4-wide layout (the 8-wide one, where the CPU has AVX2, is in
+//! `simd8.rs`): test a node's child boxes at once, descend into
 //! the nearest hit, push the others farthest first.
 //! Nearest-hit queries shrink `t_max` as hits are found, so far subtrees get culled.
 
@@ -45,6 +46,13 @@ impl Accel for Bvh {
         };
         if root.is_leaf() {
             leaf.test(root.first, root.count, &mut search, stats);
+            return search.best();
+        }
+
+        if !self.wide8.is_empty() {
+            super::simd8::traverse(&self.wide8, ray, &mut search, stats, |c, n, s, st| {
+                leaf.test(c, n, s, st)
+            });
             return search.best();
         }
 

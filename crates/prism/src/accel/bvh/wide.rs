@@ -1,4 +1,4 @@
-//! The traversal layout of a BVH: a 4-wide tree whose nodes hold up to four children's
+//! The traversal layouts of a BVH: a 4-wide tree whose nodes hold up to four children's
 //! boxes in SIMD lanes (128 bytes, two cache lines), so one visit tests four boxes with a
 //! handful of 4-wide operations, and a ray takes half as many steps as in the binary tree.
 //!
@@ -6,6 +6,10 @@
 //! statistics and the tests speak about; `WideNode`s are derived from it after the build
 //! by pulling grandchildren up (the child with the largest box is opened first), in
 //! depth-first order so a subtree stays close in memory.
+//!
+//! `Wide8Node` is the same with eight children (256 bytes, four cache lines), collapsed
+//! the same way; it is built instead of `WideNode` when the CPU has AVX2, and `simd8.rs`
+//! tests its eight boxes at once.
 
 use super::Node;
 use crate::math::TraceRay;
@@ -51,7 +55,7 @@ impl WideNode {
         // (interior binary node, the wide slot its children go to)
         let mut stack = vec![(0usize, 0usize)];
         while let Some((node, slot)) = stack.pop() {
-            let children = collapse(nodes, node);
+            let children = collapse(nodes, node, 4);
             let mut w = WideNode::EMPTY;
             let mut interior = Vec::new();
             for (k, &c) in children.iter().enumerate() {
@@ -101,13 +105,96 @@ impl WideNode {
     }
 }
 
+/// The leaf slots of a wide node, as `leaves.rs` rewrites them: (`child`, `count`).
+pub(super) trait LeafSlots: Send {
+    fn slots(&mut self) -> (&mut [u32], &mut [u32]);
+}
+
+impl LeafSlots for WideNode {
+    fn slots(&mut self) -> (&mut [u32], &mut [u32]) {
+        (&mut self.child, &mut self.count)
+    }
+}
+
+impl LeafSlots for Wide8Node {
+    fn slots(&mut self) -> (&mut [u32], &mut [u32]) {
+        (&mut self.child, &mut self.count)
+    }
+}
+
+/// Up to eight children: `bounds[axis][k]` is child k's minimum on `axis` and
+/// `bounds[3 + axis][k]` its maximum; unused lanes hold an empty box (min +∞, max −∞).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
+pub(super) struct Wide8Node {
+    pub bounds: [[f32; 8]; 6],
+    /// As in `WideNode`: a leaf child's first primitive or pack, or an interior child's
+    /// `Wide8Node` index.
+    pub child: [u32; 8],
+    /// As in `WideNode`: a leaf child's primitives (or `PACKED | packs`), 0 otherwise.
+    pub count: [u32; 8],
+}
+
+impl Wide8Node {
+    pub(super) const EMPTY: Wide8Node = Wide8Node {
+        bounds: [
+            [f32::INFINITY; 8],
+            [f32::INFINITY; 8],
+            [f32::INFINITY; 8],
+            [f32::NEG_INFINITY; 8],
+            [f32::NEG_INFINITY; 8],
+            [f32::NEG_INFINITY; 8],
+        ],
+        child: [0; 8],
+        count: [0; 8],
+    };
+
+    /// Sets lane `k` to node `n`'s box.
+    pub(super) fn set_box(&mut self, k: usize, n: &Node) {
+        for axis in 0..3 {
+            self.bounds[axis][k] = n.min[axis];
+            self.bounds[3 + axis][k] = n.max[axis];
+        }
+    }
+
+    /// 8-wide nodes for the tree `nodes`, as `WideNode::from_tree` makes 4-wide ones.
+    pub(super) fn from_tree(nodes: &[Node]) -> Vec<Wide8Node> {
+        let mut wide = Vec::new();
+        if nodes.first().is_none_or(Node::is_leaf) {
+            return wide;
+        }
+        wide.push(Wide8Node::EMPTY);
+        let mut stack = vec![(0usize, 0usize)];
+        while let Some((node, slot)) = stack.pop() {
+            let children = collapse(nodes, node, 8);
+            let mut w = Wide8Node::EMPTY;
+            let mut interior = Vec::new();
+            for (k, &c) in children.iter().enumerate() {
+                let n = &nodes[c];
+                w.set_box(k, n);
+                if n.is_leaf() {
+                    w.child[k] = n.first;
+                    w.count[k] = n.count;
+                } else {
+                    w.child[k] = wide.len() as u32;
+                    wide.push(Wide8Node::EMPTY);
+                    interior.push((c, w.child[k] as usize));
+                }
+            }
+            wide[slot] = w;
+            stack.extend(interior.into_iter().rev());
+        }
+        wide
+    }
+}
+
 /// The binary nodes that become the children of the wide node for `root`: its two
 /// children, then repeatedly the interior one with the largest box replaced by its own two
-/// children, until there are four or only leaves. Order is kept left to right.
-fn collapse(nodes: &[Node], root: usize) -> Vec<usize> {
+/// children, until there are `width` or only leaves. Order is kept left to right.
+fn collapse(nodes: &[Node], root: usize, width: usize) -> Vec<usize> {
     let first = nodes[root].first as usize;
     let mut children = vec![first, first + 1];
-    while children.len() < 4 {
+    while children.len() < width {
         let area = |i: usize| {
             let n = &nodes[i];
             crate::math::Aabb::new(n.min, n.max).surface_area()
@@ -216,5 +303,51 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// `NodeWidth::Auto` takes the 8-wide layout exactly when the CPU has AVX2, `Four`
+    /// never; both layouts reference the same leaves, each once.
+    #[test]
+    fn the_width_is_chosen_at_run_time_and_keeps_the_leaves() {
+        use super::super::{simd8, Bvh, BvhOptions, NodeWidth};
+        let bounds: Vec<Aabb> = (0..500)
+            .map(|i| {
+                let x = (i * 37 % 101) as f32;
+                let y = (i * 53 % 89) as f32;
+                let z = (i * 11 % 97) as f32;
+                Aabb::new(Vec3::new(x, y, z), Vec3::new(x + 1.5, y + 0.5, z + 2.0))
+            })
+            .collect();
+        let build = |width| {
+            let options = BvhOptions {
+                width,
+                ..BvhOptions::default()
+            };
+            Bvh::build_over_bounds((0..500).collect(), bounds.clone(), &options)
+        };
+        let four = build(NodeWidth::Four);
+        assert!(!four.wide.is_empty() && four.wide8.is_empty());
+        let auto = build(NodeWidth::Auto);
+        assert_eq!(auto.wide8.is_empty(), !simd8::available());
+        assert_eq!(auto.wide.is_empty(), simd8::available());
+        let leaves = |slots: Vec<(u32, u32)>| {
+            let mut l: Vec<_> = slots.into_iter().filter(|s| s.1 > 0).collect();
+            l.sort_unstable();
+            l
+        };
+        let of4 = leaves(
+            four.wide
+                .iter()
+                .flat_map(|n| n.child.into_iter().zip(n.count))
+                .collect(),
+        );
+        let of8 = leaves(
+            Wide8Node::from_tree(&four.nodes)
+                .iter()
+                .flat_map(|n| n.child.into_iter().zip(n.count))
+                .collect(),
+        );
+        assert_eq!(of4, of8);
+        assert_eq!(of4.iter().map(|l| l.1).sum::<u32>(), 500);
     }
 }

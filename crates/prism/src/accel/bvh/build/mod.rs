@@ -53,7 +53,11 @@ impl Bvh {
         });
         let test_block = if all_triangles { 4 } else { 1 };
         let mut bvh = Bvh::build_blocks(prims, bounds, options, test_block);
-        bvh.packs = super::leaves::pack_triangles(&mut bvh.wide, &bvh.prims, geometry);
+        bvh.packs = if bvh.wide8.is_empty() {
+            super::leaves::pack_triangles(&mut bvh.wide, &bvh.prims, geometry)
+        } else {
+            super::leaves::pack_triangles(&mut bvh.wide8, &bvh.prims, geometry)
+        };
         bvh
     }
 

@@ -1,0 +1,284 @@
+//! The 8-wide traversal with AVX2, chosen at run time: `available` asks the CPU once, when
+//! a `Bvh` is built, and only then is the tree laid out as `Wide8Node`s (`wide.rs`); other
+//! CPUs and other architectures keep the 4-wide SSE layout and `traverse.rs`.
+//!
+//! A visit tests a node's eight boxes with a handful of 256-bit operations, the same
+//! closed-box test as `WideNode::hit` and `Aabb::hit` lane by lane (unit-tested below),
+//! then descends into the nearest child hit and pushes the others farthest first.
+
+// The one place outside the benchmark and CLI shims that allows unsafe code: std::arch
+// intrinsics and `#[target_feature]` functions can only be called in unsafe blocks (and
+// only after `is_x86_feature_detected!` said yes; see `traverse`). Nothing else here is
+// unsafe; the workspace's `unsafe_code = "deny"` lists this module as an exception.
+#![allow(unsafe_code)]
+
+use super::wide::Wide8Node;
+use crate::accel::query::HitSearch;
+use crate::math::TraceRay;
+use crate::stats::Stats;
+
+/// Whether this CPU can take the 8-wide AVX2 path (AVX2 and POPCNT).
+pub(super) fn available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("popcnt")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// Walks `nodes` (root at 0) for `ray`, handing leaves to `leaf`, which returns true when
+/// the query is answered. `nodes` must come from a `Bvh` built while `available()` was
+/// true (the only way `Bvh::wide8` is filled).
+#[inline(always)]
+pub(super) fn traverse(
+    nodes: &[Wide8Node],
+    ray: &TraceRay,
+    search: &mut HitSearch,
+    stats: &mut Stats,
+    leaf: impl FnMut(u32, u32, &mut HitSearch, &mut Stats) -> bool,
+) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        debug_assert!(available());
+        // SAFETY: `nodes` is non-empty only when AVX2 was detected (see above).
+        unsafe { x86::traverse(nodes, ray, search, stats, leaf) }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = (nodes, ray, search, stats, leaf);
+        unreachable!("8-wide nodes are only built on x86-64 with AVX2")
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod x86 {
+    use super::Wide8Node;
+    use crate::accel::bvh::MAX_DEPTH;
+    use crate::accel::query::HitSearch;
+    use crate::accel::stack::TraversalStack;
+    use crate::math::TraceRay;
+    use crate::stats::Stats;
+    use std::arch::x86_64::*;
+
+    /// A ray prepared for `Ray8::hit`: origin and inverse direction broadcast per axis, and
+    /// per axis the row of `Wide8Node::bounds` holding the entry plane (the max for a ray
+    /// running toward negative values) and the exit plane.
+    pub(super) struct Ray8 {
+        origin: [__m256; 3],
+        inv_dir: [__m256; 3],
+        near: [usize; 3],
+        far: [usize; 3],
+        exit_scale: __m256,
+    }
+
+    impl Ray8 {
+        #[target_feature(enable = "avx2,popcnt")]
+        pub(super) fn new(ray: &TraceRay) -> Ray8 {
+            let o = ray.ray.origin;
+            let inv = ray.inv_dir;
+            let neg = [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0];
+            let near = [0, 1, 2].map(|a| if neg[a] { 3 + a } else { a });
+            let far = [0, 1, 2].map(|a| if neg[a] { a } else { 3 + a });
+            Ray8 {
+                origin: [o.x, o.y, o.z].map(|v| _mm256_set1_ps(v)),
+                inv_dir: [inv.x, inv.y, inv.z].map(|v| _mm256_set1_ps(v)),
+                near,
+                far,
+                exit_scale: _mm256_set1_ps(crate::accel::CULL_SLACK),
+            }
+        }
+
+        /// The children hit within `t_max`: a bit mask of lanes and their entry distances
+        /// (meaningful in the lanes of the mask). Lane by lane the test of `WideNode::hit`:
+        /// `max`/`min` return their second operand when the first is NaN, so a NaN slab
+        /// distance leaves the running bound alone, as the 4-wide `select` does.
+        #[target_feature(enable = "avx2,popcnt")]
+        #[inline]
+        pub(super) fn hit(&self, node: &Wide8Node, t_max: f32) -> (u32, [f32; 8]) {
+            let load = |row: usize| {
+                // SAFETY: each row of `bounds` is eight f32s; unaligned load.
+                unsafe { _mm256_loadu_ps(node.bounds[row].as_ptr()) }
+            };
+            let mut enter = _mm256_setzero_ps();
+            let mut exit = _mm256_set1_ps(t_max);
+            for axis in 0..3 {
+                let near = _mm256_mul_ps(
+                    _mm256_sub_ps(load(self.near[axis]), self.origin[axis]),
+                    self.inv_dir[axis],
+                );
+                let far = _mm256_mul_ps(
+                    _mm256_sub_ps(load(self.far[axis]), self.origin[axis]),
+                    self.inv_dir[axis],
+                );
+                enter = _mm256_max_ps(near, enter);
+                exit = _mm256_min_ps(far, exit);
+            }
+            let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(enter, _mm256_mul_ps(exit, self.exit_scale));
+            let mut t = [0.0f32; 8];
+            // SAFETY: `t` holds eight f32s; unaligned store.
+            unsafe { _mm256_storeu_ps(t.as_mut_ptr(), enter) };
+            (_mm256_movemask_ps(hit) as u32, t)
+        }
+
+        /// Children in use (unused lanes hold min = +∞).
+        #[target_feature(enable = "avx2,popcnt")]
+        #[inline]
+        pub(super) fn children(node: &Wide8Node) -> u32 {
+            // SAFETY: a row of eight f32s; unaligned load.
+            let min_x = unsafe { _mm256_loadu_ps(node.bounds[0].as_ptr()) };
+            let used = _mm256_cmp_ps::<_CMP_LT_OQ>(min_x, _mm256_set1_ps(f32::INFINITY));
+            (_mm256_movemask_ps(used) as u32).count_ones()
+        }
+    }
+
+    /// `super::traverse` compiled for AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2 and POPCNT.
+    #[target_feature(enable = "avx2,popcnt")]
+    pub(super) unsafe fn traverse(
+        nodes: &[Wide8Node],
+        ray: &TraceRay,
+        search: &mut HitSearch,
+        stats: &mut Stats,
+        mut leaf: impl FnMut(u32, u32, &mut HitSearch, &mut Stats) -> bool,
+    ) {
+        let ray8 = Ray8::new(ray);
+        let slack = crate::accel::CULL_SLACK;
+        // Deferred children: (child, primitive count or 0 for interior, entry distance).
+        // A visit defers at most seven, and the wide tree is no deeper than the binary one.
+        let mut stack = TraversalStack::<(u32, u32, f32), { 7 * MAX_DEPTH }>::new();
+        let (mut child, mut count) = (0u32, 0u32);
+        loop {
+            if count > 0 {
+                if leaf(child, count, search, stats) {
+                    return;
+                }
+            } else {
+                let node = &nodes[child as usize];
+                stats.node_visits += u64::from(Ray8::children(node));
+                let (mut mask, t) = ray8.hit(node, search.t_max());
+                if mask != 0 {
+                    let first = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    if mask == 0 {
+                        (child, count) = (node.child[first], node.count[first]);
+                        continue;
+                    }
+                    // Two or more: order them nearest first (ties keep lane order).
+                    let mut hits = [(0.0f32, 0usize); 8];
+                    hits[0] = (t[first], first);
+                    let mut n = 1;
+                    while mask != 0 {
+                        let k = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        let mut j = n;
+                        while j > 0 && hits[j - 1].0 > t[k] {
+                            hits[j] = hits[j - 1];
+                            j -= 1;
+                        }
+                        hits[j] = (t[k], k);
+                        n += 1;
+                    }
+                    // Farthest first onto the stack, so the nearer ones come off first.
+                    for &(t_enter, k) in hits[1..n].iter().rev() {
+                        stack.push((node.child[k], node.count[k], t_enter));
+                    }
+                    let k = hits[0].1;
+                    (child, count) = (node.child[k], node.count[k]);
+                    continue;
+                }
+            }
+            // Pop the next deferred child, skipping those whose entry lies beyond a hit
+            // found since they were pushed.
+            loop {
+                let Some((c, n, t_enter)) = stack.pop() else {
+                    return;
+                };
+                if t_enter <= search.t_max() * slack {
+                    (child, count) = (c, n);
+                    break;
+                }
+            }
+        }
+    }
+
+    #[cfg(test)]
+    mod tests {
+        use super::*;
+        use crate::accel::bvh::Node;
+        use crate::math::{Aabb, Ray, Vec3};
+
+        fn leaf(min: Vec3, max: Vec3) -> Node {
+            Node {
+                min,
+                first: 0,
+                max,
+                count: 1,
+            }
+        }
+
+        /// The AVX2 test agrees with `Aabb::hit` on each child, including rays lying in a
+        /// face plane, rays starting inside and axis-parallel rays of both signs; the unused
+        /// lanes are never hit.
+        #[test]
+        fn avx2_test_matches_the_box_test() {
+            if !super::super::available() {
+                return;
+            }
+            let boxes = [
+                leaf(Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 1.0)),
+                leaf(Vec3::new(2.0, -1.0, 0.5), Vec3::new(3.0, 0.5, 4.0)),
+                leaf(Vec3::new(-2.0, 1.0, 1.0), Vec3::new(-1.0, 1.0, 2.0)),
+                leaf(Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 1.0, 2.0)),
+                leaf(Vec3::new(-1.0, -1.0, -1.0), Vec3::new(5.0, 5.0, 5.0)),
+                leaf(Vec3::new(0.5, 0.5, 0.5), Vec3::new(0.5, 0.5, 0.5)),
+            ];
+            let mut w = Wide8Node::EMPTY;
+            for (k, n) in boxes.iter().enumerate() {
+                w.set_box(k, n);
+            }
+            let origins = [
+                Vec3::new(-1.0, 0.5, 0.5),
+                Vec3::new(0.5, 0.5, 0.5),
+                Vec3::new(-1.0, 0.0, 0.0),
+                Vec3::new(0.0, 1.0, 2.0),
+                Vec3::new(5.0, 0.5, 0.5),
+                Vec3::new(2.0, 0.5, 1.0),
+                Vec3::new(-1.5, 1.0, 0.0),
+                Vec3::new(-1.0, -1.0, -1.0),
+            ];
+            let dirs = [
+                Vec3::X,
+                -Vec3::X,
+                Vec3::Y,
+                -Vec3::Y,
+                Vec3::Z,
+                -Vec3::Z,
+                Vec3::new(1.0, 0.2, -0.1),
+                Vec3::new(-1.0, -0.0, 0.0),
+                Vec3::new(0.0, -0.0, 1.0),
+                Vec3::new(3.0, -2.0, 1.0),
+                Vec3::new(1.0, 1.0, 1.0),
+            ];
+            for o in origins {
+                for d in dirs {
+                    let ray = TraceRay::new(Ray::new(o, d));
+                    for t_max in [f32::INFINITY, 1.5] {
+                        // SAFETY: AVX2 was detected above.
+                        let (mask, t) = unsafe { Ray8::new(&ray).hit(&w, t_max) };
+                        for (k, n) in boxes.iter().enumerate() {
+                            let expected = Aabb::new(n.min, n.max).hit(o, ray.inv_dir, t_max);
+                            let got = (mask >> k & 1 == 1).then_some(t[k]);
+                            assert_eq!(got, expected, "o {o} d {d} t_max {t_max} child {k}");
+                        }
+                        assert_eq!(mask >> boxes.len(), 0, "an unused lane is hit");
+                    }
+                }
+            }
+        }
+    }
+}
