@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# Whole renders of this checkout against another git revision, side by side: process CPU
+# time (user + system) of each `prism render` with one render thread, the two binaries taken
+# in turns ROUNDS times (default 3), medians, and whether the two images are byte-identical.
+# Scenes: the SPD files (with --preset spd) when ../shared/scenes/spd exists, and the
+# built-ins whitted, cornell, sphereflake and torusknot. How docs/performance.md's
+# "Whole renders" table was made.
+#
+# Usage: bench/render-vs.sh REVISION [output file]   e.g. bench/render-vs.sh 29d38f2
+# PRISM_LOCK names a lock file that serialises each timed render with other builds and
+# benchmarks on a shared machine (default /tmp/prism-cargo.lock).
+set -euo pipefail
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+rev=${1:?usage: bench/render-vs.sh REVISION [output file]}
+out=${2:-/dev/stdout}
+rounds=${ROUNDS:-3}
+lock=${PRISM_LOCK:-/tmp/prism-cargo.lock}
+cd "$root"
+
+work=$(mktemp -d)
+cleanup() {
+    git worktree remove --force "$work/old" >/dev/null 2>&1 || true
+    rm -rf "$work"
+}
+trap cleanup EXIT
+
+# Both binaries, built first so that no build runs while anything is timed.
+git worktree add --detach "$work/old" "$rev" >/dev/null
+(cd "$work/old" && flock "$lock" cargo build --release --quiet -p prism-cli)
+flock "$lock" cargo build --release --quiet -p prism-cli
+cp "$work/old/target/release/prism" "$work/prism-old"
+cp "${CARGO_TARGET_DIR:-target}/release/prism" "$work/prism-new"
+
+# CPU seconds (user + system) of one render.
+cpu() {
+    /usr/bin/time -f "%U %S" -o "$work/time" "$@" >/dev/null 2>&1
+    awk '{ print $1 + $2 }' "$work/time"
+}
+
+median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
+
+scenes=()
+if [[ -d ../shared/scenes/spd ]]; then
+    for f in ../shared/scenes/spd/*.nff; do scenes+=("$f"); done
+fi
+scenes+=(builtin:whitted builtin:cornell builtin:sphereflake builtin:torusknot)
+
+{
+    echo "# whole renders: $(git rev-parse --short HEAD) against $rev, 1 render thread, CPU s, median of $rounds in turns"
+    printf '%-14s %8s %8s %7s  %s\n' scene before after speedup image
+    for s in "${scenes[@]}"; do
+        if [[ $s == builtin:* ]]; then
+            name=${s#builtin:}
+            args=(render -b "$name" --threads 1)
+        else
+            name=$(basename "$s" .nff)
+            args=(render "$s" --preset spd --threads 1)
+        fi
+        old=() new=()
+        for _ in $(seq "$rounds"); do
+            old+=("$(flock "$lock" bash -c "$(declare -f cpu); work=$work; cpu $work/prism-old ${args[*]} -o $work/old.png")")
+            new+=("$(flock "$lock" bash -c "$(declare -f cpu); work=$work; cpu $work/prism-new ${args[*]} -o $work/new.png")")
+        done
+        o=$(median "${old[@]}") n=$(median "${new[@]}")
+        same=$(cmp -s "$work/old.png" "$work/new.png" && echo identical || echo DIFFERENT)
+        speedup=$(awk -v o="$o" -v n="$n" 'BEGIN { if (n > 0) printf "%.2f", o / n; else print "-" }')
+        printf '%-14s %8.2f %8.2f %7s  %s\n' "$name" "$o" "$n" "$speedup" "$same"
+    done
+} | tee "$out"
