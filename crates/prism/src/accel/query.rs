@@ -105,11 +105,7 @@ impl HitSearch {
         prim: u32,
         stats: &mut Stats,
     ) -> bool {
-        let limit = match self.best {
-            Some(b) if prim < b.prim => next_up(self.t_max),
-            _ => self.t_max,
-        };
-        match counted_test(geometry, prim, ray, limit, stats) {
+        match counted_test(geometry, prim, ray, self.limit_for(prim), stats) {
             Some(h) => self.keep(Hit::new(prim, h)),
             None => false,
         }
@@ -134,11 +130,7 @@ impl HitSearch {
             let lane = kept.trailing_zeros() as usize;
             kept &= kept - 1;
             let prim = pack.ids[lane];
-            let limit = match self.best {
-                Some(b) if prim < b.prim => next_up(self.t_max),
-                _ => self.t_max,
-            };
-            if let Some(h) = pack.intersect(lane, ray, limit) {
+            if let Some(h) = pack.intersect(lane, ray, self.limit_for(prim)) {
                 let hit = ShapeHit {
                     t: h.t,
                     u: h.b1,
@@ -196,6 +188,16 @@ impl HitSearch {
     #[inline(always)]
     pub(crate) fn settled_by(&self, t: f32) -> bool {
         self.best.is_some() && self.t_max <= t
+    }
+
+    /// The bound primitive `prim`'s hit must come before: one ulp beyond the best distance
+    /// for an id lower than the best hit's (the tie rule), the best distance otherwise.
+    #[inline(always)]
+    fn limit_for(&self, prim: u32) -> f32 {
+        match self.best {
+            Some(b) if prim < b.prim => next_up(self.t_max),
+            _ => self.t_max,
+        }
     }
 
     #[inline(always)]

@@ -4,7 +4,8 @@
 //!
 //! A visit tests a node's eight boxes with a handful of 256-bit operations, the same
 //! closed-box test as `WideNode::hit` and `Aabb::hit` lane by lane (unit-tested below),
-//! then descends into the nearest child hit and pushes the others farthest first.
+//! and the walk itself (nearest child first, the others pushed farthest first) is the one
+//! `traverse.rs` shares between both widths.
 
 // The one place outside the benchmark and CLI shims that allows unsafe code: std::arch
 // intrinsics and `#[target_feature]` functions can only be called in unsafe blocks (and
@@ -56,9 +57,8 @@ pub(super) fn traverse(
 #[cfg(target_arch = "x86_64")]
 mod x86 {
     use super::Wide8Node;
-    use crate::accel::bvh::MAX_DEPTH;
+    use crate::accel::bvh::traverse::Visit;
     use crate::accel::query::HitSearch;
-    use crate::accel::stack::TraversalStack;
     use crate::math::TraceRay;
     use crate::stats::Stats;
     use std::arch::x86_64::*;
@@ -144,66 +144,23 @@ mod x86 {
         ray: &TraceRay,
         search: &mut HitSearch,
         stats: &mut Stats,
-        mut leaf: impl FnMut(u32, u32, &mut HitSearch, &mut Stats) -> bool,
+        leaf: impl FnMut(u32, u32, &mut HitSearch, &mut Stats) -> bool,
     ) {
         let ray8 = Ray8::new(ray);
-        let slack = crate::accel::CULL_SLACK;
-        // Deferred children: (child, primitive count or 0 for interior, entry distance).
-        // A visit defers at most seven, and the wide tree is no deeper than the binary one.
-        let mut stack = TraversalStack::<(u32, u32, f32), { 7 * MAX_DEPTH }>::new();
-        let (mut child, mut count) = (0u32, 0u32);
-        loop {
-            if count > 0 {
-                if leaf(child, count, search, stats) {
-                    return;
+        crate::accel::bvh::traverse::walk(
+            nodes,
+            |node: &Wide8Node, t_max| {
+                let (hit, entries) = ray8.hit(node, t_max);
+                Visit {
+                    children: Ray8::children(node),
+                    hit,
+                    entries,
                 }
-            } else {
-                let node = &nodes[child as usize];
-                stats.node_visits += u64::from(Ray8::children(node));
-                let (mut mask, t) = ray8.hit(node, search.t_max());
-                if mask != 0 {
-                    let first = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    if mask == 0 {
-                        (child, count) = (node.child[first], node.count[first]);
-                        continue;
-                    }
-                    // Two or more: order them nearest first (ties keep lane order).
-                    let mut hits = [(0.0f32, 0usize); 8];
-                    hits[0] = (t[first], first);
-                    let mut n = 1;
-                    while mask != 0 {
-                        let k = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        let mut j = n;
-                        while j > 0 && hits[j - 1].0 > t[k] {
-                            hits[j] = hits[j - 1];
-                            j -= 1;
-                        }
-                        hits[j] = (t[k], k);
-                        n += 1;
-                    }
-                    // Farthest first onto the stack, so the nearer ones come off first.
-                    for &(t_enter, k) in hits[1..n].iter().rev() {
-                        stack.push((node.child[k], node.count[k], t_enter));
-                    }
-                    let k = hits[0].1;
-                    (child, count) = (node.child[k], node.count[k]);
-                    continue;
-                }
-            }
-            // Pop the next deferred child, skipping those whose entry lies beyond a hit
-            // found since they were pushed.
-            loop {
-                let Some((c, n, t_enter)) = stack.pop() else {
-                    return;
-                };
-                if t_enter <= search.t_max() * slack {
-                    (child, count) = (c, n);
-                    break;
-                }
-            }
-        }
+            },
+            search,
+            stats,
+            leaf,
+        )
     }
 
     #[cfg(test)]
@@ -227,6 +184,8 @@ mod x86 {
         #[test]
         fn avx2_test_matches_the_box_test() {
             if !super::super::available() {
+                // Nothing to test: such CPUs never build 8-wide nodes (see `available`).
+                eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
                 return;
             }
             let boxes = [

@@ -4,7 +4,7 @@
 //! Nearest-hit queries shrink `t_max` as hits are found, so far subtrees get culled.
 
 use super::leaves::PACKED;
-use super::wide::WideRay;
+use super::wide::{LeafSlots, WideNode, WideRay};
 use super::{Bvh, Node, MAX_DEPTH};
 use crate::accel::query::HitSearch;
 use crate::accel::stack::TraversalStack;
@@ -12,6 +12,7 @@ use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
 use crate::geometry::{Geometry, PackRay, TrianglePack};
 use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
+use glam::Vec4;
 
 #[inline(always)]
 fn node_hit(node: &Node, ray: &TraceRay, t_max: f32) -> Option<f32> {
@@ -57,62 +58,114 @@ impl Accel for Bvh {
         }
 
         let wide_ray = WideRay::new(ray);
-        // Entry distances are compared against t_max with the same slack the box test
-        // gives exits (`CULL_SLACK`): a hit's reported distance may be a little short.
-        let slack = crate::accel::CULL_SLACK;
-        // Deferred children: (child, primitive count or 0 for interior, entry distance).
-        // A visit defers at most three, and the wide tree is no deeper than the binary one.
-        let mut stack = TraversalStack::<(u32, u32, f32), { 3 * MAX_DEPTH }>::new();
-        let (mut child, mut count) = (0u32, 0u32);
-        loop {
-            if count > 0 {
-                if leaf.test(child, count, &mut search, stats) {
-                    return search.best();
+        walk(
+            &self.wide,
+            |node: &WideNode, t_max| {
+                let t = node.hit(&wide_ray, t_max);
+                let mut entries = [0.0; 8];
+                entries[..4].copy_from_slice(&t.to_array());
+                Visit {
+                    children: node.children(),
+                    hit: t.cmplt(Vec4::INFINITY).bitmask(),
+                    entries,
                 }
-            } else {
-                let node = &self.wide[child as usize];
-                stats.node_visits += u64::from(node.children());
-                let t = node.hit(&wide_ray, search.t_max());
-                // The children hit, nearest first (ties keep lane order).
-                let mut hits = [(0.0f32, 0usize); 4];
-                let mut n = 0;
-                for k in 0..4 {
-                    if t[k] < f32::INFINITY {
-                        let mut j = n;
-                        while j > 0 && hits[j - 1].0 > t[k] {
-                            hits[j] = hits[j - 1];
-                            j -= 1;
-                        }
-                        hits[j] = (t[k], k);
-                        n += 1;
-                    }
-                }
-                if n > 0 {
-                    // Farthest first onto the stack, so the nearer ones come off first.
-                    for &(t_enter, k) in hits[1..n].iter().rev() {
-                        stack.push((node.child[k], node.count[k], t_enter));
-                    }
-                    let k = hits[0].1;
-                    (child, count) = (node.child[k], node.count[k]);
-                    continue;
-                }
-            }
-            // Pop the next deferred child, skipping those whose entry lies beyond a hit
-            // found since they were pushed.
-            loop {
-                let Some((c, n, t_enter)) = stack.pop() else {
-                    return search.best();
-                };
-                if t_enter <= search.t_max() * slack {
-                    (child, count) = (c, n);
-                    break;
-                }
-            }
-        }
+            },
+            &mut search,
+            stats,
+            |c, n, s, st| leaf.test(c, n, s, st),
+        );
+        search.best()
     }
 
     fn info(&self) -> AccelInfo {
         self.info()
+    }
+}
+
+/// What one visit of a wide node found.
+pub(super) struct Visit {
+    /// Children in use (what the statistics count as node visits).
+    pub children: u32,
+    /// The children the ray enters before the bound, a bit per lane.
+    pub hit: u32,
+    /// Their entry distances (meaningful in the lanes of `hit`).
+    pub entries: [f32; 8],
+}
+
+/// The stack walk both wide layouts share: visit a node (`visit`, the layout's SIMD box
+/// test), descend into the nearest child hit, push the others farthest first (ties keep
+/// lane order), hand leaves to `leaf` (true when the query is answered), and skip deferred
+/// children whose entry lies beyond a hit found since they were pushed. `#[inline(always)]`
+/// so that the 8-wide caller's AVX2 compilation reaches the whole walk.
+#[inline(always)]
+pub(super) fn walk<N: LeafSlots>(
+    nodes: &[N],
+    visit: impl Fn(&N, f32) -> Visit,
+    search: &mut HitSearch,
+    stats: &mut Stats,
+    mut leaf: impl FnMut(u32, u32, &mut HitSearch, &mut Stats) -> bool,
+) {
+    // Entry distances are compared against t_max with the same slack the box test gives
+    // exits (`CULL_SLACK`): a hit's reported distance may be a little short.
+    let slack = crate::accel::CULL_SLACK;
+    // Deferred children: (child, primitive count or 0 for interior, entry distance). A
+    // visit defers at most seven, and a wide tree is no deeper than the binary one.
+    let mut stack = TraversalStack::<(u32, u32, f32), { 7 * MAX_DEPTH }>::new();
+    let (mut child, mut count) = (0u32, 0u32);
+    loop {
+        if count > 0 {
+            if leaf(child, count, search, stats) {
+                return;
+            }
+        } else {
+            let node = &nodes[child as usize];
+            let Visit {
+                children,
+                hit: mut mask,
+                entries: t,
+            } = visit(node, search.t_max());
+            stats.node_visits += u64::from(children);
+            let (children, counts) = node.children_and_counts();
+            if mask != 0 {
+                let first = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                if mask == 0 {
+                    (child, count) = (children[first], counts[first]);
+                    continue;
+                }
+                // Two or more: order them nearest first (ties keep lane order).
+                let mut hits = [(0.0f32, 0usize); 8];
+                hits[0] = (t[first], first);
+                let mut n = 1;
+                while mask != 0 {
+                    let k = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let mut j = n;
+                    while j > 0 && hits[j - 1].0 > t[k] {
+                        hits[j] = hits[j - 1];
+                        j -= 1;
+                    }
+                    hits[j] = (t[k], k);
+                    n += 1;
+                }
+                // Farthest first onto the stack, so the nearer ones come off first.
+                for &(t_enter, k) in hits[1..n].iter().rev() {
+                    stack.push((children[k], counts[k], t_enter));
+                }
+                let k = hits[0].1;
+                (child, count) = (children[k], counts[k]);
+                continue;
+            }
+        }
+        loop {
+            let Some((c, n, t_enter)) = stack.pop() else {
+                return;
+            };
+            if t_enter <= search.t_max() * slack {
+                (child, count) = (c, n);
+                break;
+            }
+        }
     }
 }
 

@@ -105,20 +105,30 @@ impl WideNode {
     }
 }
 
-/// The leaf slots of a wide node, as `leaves.rs` rewrites them: (`child`, `count`).
+/// The child slots of a wide node (`child`, `count`): read by the traversal's shared walk,
+/// rewritten by `leaves.rs`.
 pub(super) trait LeafSlots: Send {
     fn slots(&mut self) -> (&mut [u32], &mut [u32]);
+    fn children_and_counts(&self) -> (&[u32], &[u32]);
 }
 
 impl LeafSlots for WideNode {
     fn slots(&mut self) -> (&mut [u32], &mut [u32]) {
         (&mut self.child, &mut self.count)
     }
+    #[inline(always)]
+    fn children_and_counts(&self) -> (&[u32], &[u32]) {
+        (&self.child, &self.count)
+    }
 }
 
 impl LeafSlots for Wide8Node {
     fn slots(&mut self) -> (&mut [u32], &mut [u32]) {
         (&mut self.child, &mut self.count)
+    }
+    #[inline(always)]
+    fn children_and_counts(&self) -> (&[u32], &[u32]) {
+        (&self.child, &self.count)
     }
 }
 
