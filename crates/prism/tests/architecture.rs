@@ -149,12 +149,13 @@ fn the_concept_table_points_at_files_that_exist() {
         checked += 1;
     }
     assert!(checked >= 15, "only {checked} concepts point at files");
+    // The lecture items the table must name, built or (honestly) "not yet".
     for concept in ["ray packets", "beam tracing", "path tracing"] {
         assert!(
             table
                 .lines()
-                .any(|l| l.starts_with(&format!("| {concept} | not yet"))),
-            "the concept table should say honestly that {concept} is not there yet"
+                .any(|l| l.starts_with(&format!("| {concept} |"))),
+            "the concept table has no row for {concept} (a file, or \"not yet\")"
         );
     }
 }

@@ -50,6 +50,23 @@ pub trait Accel: Send + Sync {
     /// What was built: node counts, depth, leaf sizes, SAH cost, memory.
     fn info(&self) -> AccelInfo;
 
+    /// Answers a packet of rays (at most `PACKET_MAX`), ray i with bound `t_max[i]`:
+    /// `answers[i]` is exactly what `query` gives ray i. A method that can walk coherent
+    /// rays together (the BVH) does so; the others answer one ray at a time.
+    fn query_packet(
+        &self,
+        geometry: &Geometry,
+        rays: &[TraceRay],
+        t_max: &[f32],
+        mode: QueryMode,
+        answers: &mut [Option<Hit>],
+        stats: &mut Stats,
+    ) {
+        for ((ray, &t), answer) in rays.iter().zip(t_max).zip(answers.iter_mut()) {
+            *answer = self.query(geometry, ray, t, mode, stats);
+        }
+    }
+
     /// Nearest hit with `0 < t < t_max`.
     fn intersect(
         &self,
@@ -72,6 +89,9 @@ pub trait Accel: Send + Sync {
         self.info().to_string()
     }
 }
+
+/// Most rays in one packet (`Accel::query_packet`): an 8 × 8 block of camera rays.
+pub const PACKET_MAX: usize = 64;
 
 /// How much farther than the best hit so far a hierarchy still looks (a factor on t).
 /// A primitive's reported distance can be off from its exact intersection by far more than
@@ -121,6 +141,41 @@ impl SceneIntersector {
             search.test_unbounded(geometry, &tr, prim, stats);
         }
         search.best()
+    }
+
+    /// The nearest hits of a packet of rays (at most `PACKET_MAX`), each with
+    /// `0 < t < t_max`: `answers[i]` is exactly `intersect(rays[i])`, but coherent rays
+    /// walk the accelerator together (`Accel::query_packet`).
+    pub fn intersect_packet(
+        &self,
+        geometry: &Geometry,
+        rays: &[Ray],
+        t_max: f32,
+        answers: &mut [Option<Hit>],
+        stats: &mut Stats,
+    ) {
+        let traced: arrayvec::ArrayVec<TraceRay, PACKET_MAX> =
+            rays.iter().map(|r| TraceRay::new(*r)).collect();
+        let bounds = [t_max; PACKET_MAX];
+        let n = traced.len();
+        self.accel.query_packet(
+            geometry,
+            &traced,
+            &bounds[..n],
+            QueryMode::Nearest,
+            &mut answers[..n],
+            stats,
+        );
+        for (tr, answer) in traced.iter().zip(answers.iter_mut()) {
+            let mut search = HitSearch::new(t_max, QueryMode::Nearest);
+            if let Some(hit) = *answer {
+                search.offer(hit);
+            }
+            for &prim in &self.unbounded {
+                search.test_unbounded(geometry, tr, prim, stats);
+            }
+            *answer = search.best();
+        }
     }
 
     /// The first blocker an any-hit query finds, planes first (a few tests that may spare

@@ -5,6 +5,7 @@
 mod build;
 mod leaves;
 mod options;
+mod packet;
 mod reinsert;
 mod simd8;
 mod traverse;

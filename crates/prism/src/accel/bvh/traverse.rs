@@ -43,7 +43,7 @@ impl Accel for Bvh {
             packs: &self.packs,
             geometry,
             ray,
-            pack_ray: PackRay::new(ray),
+            pack_ray: &PackRay::new(ray),
         };
         if root.is_leaf() {
             leaf.test(root.first, root.count, &mut search, stats);
@@ -51,7 +51,7 @@ impl Accel for Bvh {
         }
 
         if !self.wide8.is_empty() {
-            super::simd8::traverse(&self.wide8, ray, &mut search, stats, |c, n, s, st| {
+            super::simd8::traverse(&self.wide8, ray, &mut search, stats, |c, n, _, s, st| {
                 leaf.test(c, n, s, st)
             });
             return search.best();
@@ -72,13 +72,38 @@ impl Accel for Bvh {
             },
             &mut search,
             stats,
-            |c, n, s, st| leaf.test(c, n, s, st),
+            |c, n, _, s, st| leaf.test(c, n, s, st),
         );
         search.best()
     }
 
+    fn query_packet(
+        &self,
+        geometry: &Geometry,
+        rays: &[TraceRay],
+        t_max: &[f32],
+        mode: QueryMode,
+        answers: &mut [Option<Hit>],
+        stats: &mut Stats,
+    ) {
+        super::packet::query(self, geometry, rays, t_max, mode, answers, stats)
+    }
+
     fn info(&self) -> AccelInfo {
         self.info()
+    }
+}
+
+/// What the shared walk culls against: the distance beyond which no hit is wanted any more
+/// (one ray's best hit so far, or the farthest of a packet's).
+pub(super) trait CullBound {
+    fn t_max(&self) -> f32;
+}
+
+impl CullBound for HitSearch {
+    #[inline(always)]
+    fn t_max(&self) -> f32 {
+        HitSearch::t_max(self)
     }
 }
 
@@ -94,16 +119,17 @@ pub(super) struct Visit {
 
 /// The stack walk both wide layouts share: visit a node (`visit`, the layout's SIMD box
 /// test), descend into the nearest child hit, push the others farthest first (ties keep
-/// lane order), hand leaves to `leaf` (true when the query is answered), and skip deferred
-/// children whose entry lies beyond a hit found since they were pushed. `#[inline(always)]`
-/// so that the 8-wide caller's AVX2 compilation reaches the whole walk.
+/// lane order), hand leaves to `leaf` with their entry distance (true when the query is
+/// answered), and skip deferred children whose entry lies beyond a hit found since they
+/// were pushed. `#[inline(always)]` so that the 8-wide caller's AVX2 compilation reaches
+/// the whole walk. One ray or a packet: `search` says how far to look.
 #[inline(always)]
-pub(super) fn walk<N: LeafSlots>(
+pub(super) fn walk<N: LeafSlots, S: CullBound>(
     nodes: &[N],
     visit: impl Fn(&N, f32) -> Visit,
-    search: &mut HitSearch,
+    search: &mut S,
     stats: &mut Stats,
-    mut leaf: impl FnMut(u32, u32, &mut HitSearch, &mut Stats) -> bool,
+    mut leaf: impl FnMut(u32, u32, f32, &mut S, &mut Stats) -> bool,
 ) {
     // Entry distances are compared against t_max with the same slack the box test gives
     // exits (`CULL_SLACK`): a hit's reported distance may be a little short.
@@ -111,10 +137,10 @@ pub(super) fn walk<N: LeafSlots>(
     // Deferred children: (child, primitive count or 0 for interior, entry distance). A
     // visit defers at most seven, and a wide tree is no deeper than the binary one.
     let mut stack = TraversalStack::<(u32, u32, f32), { 7 * MAX_DEPTH }>::new();
-    let (mut child, mut count) = (0u32, 0u32);
+    let (mut child, mut count, mut enter) = (0u32, 0u32, 0.0f32);
     loop {
         if count > 0 {
-            if leaf(child, count, search, stats) {
+            if leaf(child, count, enter, search, stats) {
                 return;
             }
         } else {
@@ -130,7 +156,7 @@ pub(super) fn walk<N: LeafSlots>(
                 let first = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
                 if mask == 0 {
-                    (child, count) = (children[first], counts[first]);
+                    (child, count, enter) = (children[first], counts[first], t[first]);
                     continue;
                 }
                 // Two or more: order them nearest first (ties keep lane order).
@@ -152,8 +178,8 @@ pub(super) fn walk<N: LeafSlots>(
                 for &(t_enter, k) in hits[1..n].iter().rev() {
                     stack.push((children[k], counts[k], t_enter));
                 }
-                let k = hits[0].1;
-                (child, count) = (children[k], counts[k]);
+                let (t_enter, k) = hits[0];
+                (child, count, enter) = (children[k], counts[k], t_enter);
                 continue;
             }
         }
@@ -162,7 +188,7 @@ pub(super) fn walk<N: LeafSlots>(
                 return;
             };
             if t_enter <= search.t_max() * slack {
-                (child, count) = (c, n);
+                (child, count, enter) = (c, n, t_enter);
                 break;
             }
         }
@@ -170,24 +196,30 @@ pub(super) fn walk<N: LeafSlots>(
 }
 
 /// Tests a leaf's primitives.
-struct LeafQuery<'a> {
-    prims: &'a [u32],
-    packs: &'a [TrianglePack],
-    geometry: &'a Geometry,
-    ray: &'a TraceRay,
-    pack_ray: PackRay,
+pub(super) struct LeafQuery<'a> {
+    pub(super) prims: &'a [u32],
+    pub(super) packs: &'a [TrianglePack],
+    pub(super) geometry: &'a Geometry,
+    pub(super) ray: &'a TraceRay,
+    pub(super) pack_ray: &'a PackRay,
 }
 
 impl LeafQuery<'_> {
     /// Tests a leaf: `packs[first .. first + n]` when `count` is `PACKED | n`, otherwise
     /// `prims[first .. first + count]`; true when the query is answered.
     #[inline(always)]
-    fn test(&self, first: u32, count: u32, search: &mut HitSearch, stats: &mut Stats) -> bool {
+    pub(super) fn test(
+        &self,
+        first: u32,
+        count: u32,
+        search: &mut HitSearch,
+        stats: &mut Stats,
+    ) -> bool {
         if count & PACKED != 0 {
             let packs = &self.packs[first as usize..(first + (count & !PACKED)) as usize];
             return packs
                 .iter()
-                .any(|pack| search.test_pack(pack, &self.pack_ray, self.ray, stats));
+                .any(|pack| search.test_pack(pack, self.pack_ray, self.ray, stats));
         }
         self.prims[first as usize..(first + count) as usize]
             .iter()

@@ -37,6 +37,18 @@ impl WideNode {
         count: [0; 4],
     };
 
+    /// The children's minima on `axis`, a lane per child.
+    #[inline(always)]
+    pub(super) fn min_row(&self, axis: usize) -> Vec4 {
+        self.min[axis]
+    }
+
+    /// The children's maxima on `axis`, a lane per child.
+    #[inline(always)]
+    pub(super) fn max_row(&self, axis: usize) -> Vec4 {
+        self.max[axis]
+    }
+
     /// Children in use (boxes a visit tests).
     #[inline(always)]
     pub(super) fn children(&self) -> u32 {

@@ -1,0 +1,251 @@
+//! Packets: several coherent rays (a block of camera rays) walked through the tree
+//! together. A node visit tests the children's boxes once for the whole packet, against
+//! the interval of its origins and inverse directions (interval arithmetic, as Boulos et
+//! al. 2006 cull whole packets): a child none of the rays can enter is skipped for all of
+//! them with one SIMD test instead of one per ray. A leaf is tested ray by ray, with each
+//! ray's own search, skipping rays whose best hit already lies before the leaf, so every
+//! ray gets exactly the answer its own query gives (the tie rule is per ray, and the
+//! interval test only ever lets through more than a ray's own test would).
+//!
+//! The interval test is exact about rounding: subtraction and multiplication round
+//! monotonically, so bounds computed from the extreme origins and inverse directions bound
+//! every ray's own rounded slab distances. It needs every ray's direction to have the same
+//! sign on each axis and no zero component (no infinite inverse); other packets are
+//! answered one ray at a time.
+
+use super::traverse::{walk, CullBound, LeafQuery, Visit};
+use super::wide::WideNode;
+use super::Bvh;
+use crate::accel::query::HitSearch;
+use crate::accel::{Hit, QueryMode, CULL_SLACK, PACKET_MAX};
+use crate::geometry::{Geometry, PackRay};
+use crate::math::TraceRay;
+use crate::stats::Stats;
+use arrayvec::ArrayVec;
+use glam::Vec4;
+
+/// The extremes of a packet's rays per axis, arranged for the box test: the origin bound
+/// that gives the nearest entry into a box and the one that gives the farthest exit, and
+/// the inverse directions' interval.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PacketBounds {
+    /// Per axis, whether the rays run toward negative values (the box's max is entered).
+    pub negative: [bool; 3],
+    /// Per axis, the origin coordinate that makes `entry plane - origin` smallest (the
+    /// largest origin for a positive direction, the smallest for a negative one).
+    pub origin_near: [f32; 3],
+    /// Per axis, the origin coordinate that makes `exit plane - origin` largest.
+    pub origin_far: [f32; 3],
+    /// Per axis, the smallest inverse direction.
+    pub inv_lo: [f32; 3],
+    /// Per axis, the largest inverse direction.
+    pub inv_hi: [f32; 3],
+}
+
+impl PacketBounds {
+    /// The bounds of `rays`, or None when their directions disagree in sign on some axis or
+    /// one has a zero component (such packets are not coherent enough to share a walk).
+    pub(super) fn new(rays: &[TraceRay]) -> Option<PacketBounds> {
+        let first = rays.first()?;
+        let negative = [0, 1, 2].map(|a| first.ray.dir[a] < 0.0);
+        let (mut o_lo, mut o_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        let (mut inv_lo, mut inv_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        for r in rays {
+            for a in 0..3 {
+                let d = r.ray.dir[a];
+                let inv = r.inv_dir[a];
+                // A zero (or NaN) component, or a sign unlike the first ray's.
+                if d == 0.0 || d.is_nan() || (d < 0.0) != negative[a] || !inv.is_finite() {
+                    return None;
+                }
+                o_lo[a] = o_lo[a].min(r.ray.origin[a]);
+                o_hi[a] = o_hi[a].max(r.ray.origin[a]);
+                inv_lo[a] = inv_lo[a].min(inv);
+                inv_hi[a] = inv_hi[a].max(inv);
+            }
+        }
+        Some(PacketBounds {
+            negative,
+            origin_near: [0, 1, 2].map(|a| if negative[a] { o_lo[a] } else { o_hi[a] }),
+            origin_far: [0, 1, 2].map(|a| if negative[a] { o_hi[a] } else { o_lo[a] }),
+            inv_lo,
+            inv_hi,
+        })
+    }
+}
+
+/// The packet's bounds for the 4-wide box test, broadcast per axis.
+struct Packet4 {
+    bounds: PacketBounds,
+    origin_near: [Vec4; 3],
+    origin_far: [Vec4; 3],
+    inv_lo: [Vec4; 3],
+    inv_hi: [Vec4; 3],
+}
+
+impl Packet4 {
+    fn new(bounds: PacketBounds) -> Packet4 {
+        Packet4 {
+            bounds,
+            origin_near: bounds.origin_near.map(Vec4::splat),
+            origin_far: bounds.origin_far.map(Vec4::splat),
+            inv_lo: bounds.inv_lo.map(Vec4::splat),
+            inv_hi: bounds.inv_hi.map(Vec4::splat),
+        }
+    }
+
+    /// Per child, a lower bound of the entry distance of every ray of the packet into its
+    /// box, and whether some ray may enter it before `t_max`.
+    #[inline(always)]
+    fn hit(&self, node: &WideNode, t_max: f32) -> (u32, Vec4) {
+        let zero = Vec4::ZERO;
+        let mut enter = zero;
+        let mut exit = Vec4::splat(t_max);
+        for axis in 0..3 {
+            let (near_plane, far_plane) = if self.bounds.negative[axis] {
+                (node.max_row(axis), node.min_row(axis))
+            } else {
+                (node.min_row(axis), node.max_row(axis))
+            };
+            // The lowest product of the distance interval and the inverse interval, and
+            // the highest: which end of the inverse interval depends on the distance's sign.
+            let d = near_plane - self.origin_near[axis];
+            let near = d * Vec4::select(d.cmpge(zero), self.inv_lo[axis], self.inv_hi[axis]);
+            let d = far_plane - self.origin_far[axis];
+            let far = d * Vec4::select(d.cmpge(zero), self.inv_hi[axis], self.inv_lo[axis]);
+            enter = enter.max(near);
+            exit = exit.min(far);
+        }
+        let hit = enter.cmple(exit * Vec4::splat(CULL_SLACK));
+        (hit.bitmask(), enter)
+    }
+}
+
+/// One search per ray of the packet, and the farthest bound any of them still has.
+pub(super) struct PacketSearch {
+    searches: ArrayVec<HitSearch, PACKET_MAX>,
+    /// Rays whose query is answered (any-hit rays that found a blocker), a bit per ray.
+    done: u64,
+    all: u64,
+    t_max: f32,
+}
+
+impl CullBound for PacketSearch {
+    #[inline(always)]
+    fn t_max(&self) -> f32 {
+        self.t_max
+    }
+}
+
+impl PacketSearch {
+    fn new(t_max: &[f32], mode: QueryMode) -> PacketSearch {
+        let searches: ArrayVec<HitSearch, PACKET_MAX> =
+            t_max.iter().map(|&t| HitSearch::new(t, mode)).collect();
+        let all = if searches.len() == 64 {
+            u64::MAX
+        } else {
+            (1u64 << searches.len()) - 1
+        };
+        PacketSearch {
+            t_max: t_max.iter().copied().fold(0.0, f32::max),
+            searches,
+            done: 0,
+            all,
+        }
+    }
+
+    /// Tests a leaf, entered no nearer than `enter` by any ray, for every ray still
+    /// searching whose bound reaches it; true when every ray's query is answered.
+    #[inline(always)]
+    fn test_leaf(
+        &mut self,
+        leaf: &LeafQuery,
+        rays: &[TraceRay],
+        pack_rays: &[PackRay],
+        (first, count, enter): (u32, u32, f32),
+        stats: &mut Stats,
+    ) -> bool {
+        let mut t_max = 0.0f32;
+        let mut open = !self.done & self.all;
+        while open != 0 {
+            let i = open.trailing_zeros() as usize;
+            open &= open - 1;
+            let search = &mut self.searches[i];
+            if enter <= search.t_max() * CULL_SLACK {
+                let ray_leaf = LeafQuery {
+                    ray: &rays[i],
+                    pack_ray: &pack_rays[i],
+                    ..*leaf
+                };
+                if ray_leaf.test(first, count, search, stats) {
+                    self.done |= 1 << i;
+                    continue;
+                }
+            }
+            t_max = t_max.max(search.t_max());
+        }
+        self.t_max = t_max;
+        self.done == self.all
+    }
+}
+
+/// Answers `rays` (at most `PACKET_MAX`, each with its own bound) as a packet where they
+/// are coherent, one by one otherwise; `answers[i]` is what `bvh.query` gives `rays[i]`.
+#[inline(always)]
+pub(super) fn query(
+    bvh: &Bvh,
+    geometry: &Geometry,
+    rays: &[TraceRay],
+    t_max: &[f32],
+    mode: QueryMode,
+    answers: &mut [Option<Hit>],
+    stats: &mut Stats,
+) {
+    use crate::accel::Accel;
+    assert!(rays.len() <= PACKET_MAX && t_max.len() == rays.len() && answers.len() == rays.len());
+    let bounds = match PacketBounds::new(rays) {
+        Some(b) if rays.len() > 1 && !bvh.nodes.first().is_none_or(|n| n.is_leaf()) => b,
+        _ => {
+            for ((ray, &t), answer) in rays.iter().zip(t_max).zip(answers.iter_mut()) {
+                *answer = bvh.query(geometry, ray, t, mode, stats);
+            }
+            return;
+        }
+    };
+    let pack_rays: ArrayVec<PackRay, PACKET_MAX> = rays.iter().map(PackRay::new).collect();
+    let leaf = LeafQuery {
+        prims: &bvh.prims,
+        packs: &bvh.packs,
+        geometry,
+        ray: &rays[0],
+        pack_ray: &pack_rays[0],
+    };
+    let mut search = PacketSearch::new(t_max, mode);
+    let test_leaf = |c, n, enter, s: &mut PacketSearch, st: &mut Stats| {
+        s.test_leaf(&leaf, rays, &pack_rays, (c, n, enter), st)
+    };
+    if !bvh.wide8.is_empty() {
+        super::simd8::traverse_packet(&bvh.wide8, &bounds, &mut search, stats, test_leaf);
+    } else {
+        let packet = Packet4::new(bounds);
+        walk(
+            &bvh.wide,
+            |node: &WideNode, t_max| {
+                let (hit, t) = packet.hit(node, t_max);
+                let mut entries = [0.0; 8];
+                entries[..4].copy_from_slice(&t.to_array());
+                Visit {
+                    children: node.children(),
+                    hit,
+                    entries,
+                }
+            },
+            &mut search,
+            stats,
+            test_leaf,
+        );
+    }
+    for (answer, s) in answers.iter_mut().zip(&search.searches) {
+        *answer = s.best();
+    }
+}

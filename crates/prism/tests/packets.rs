@@ -1,0 +1,280 @@
+//! Ray packets (`Accel::query_packet`): every ray of a packet gets exactly the answer its
+//! own query gives (the same hit, bit for bit, for nearest-hit packets; the same
+//! occluded/visible answer for any-hit packets), for coherent camera and shadow packets
+//! that take the packet walk and for incoherent ones that fall back to single rays, with
+//! both node widths, at 1e-3 and 1e3 scale; and coherent packets do visit fewer nodes.
+
+mod common;
+
+use common::oracle::TestScene;
+use common::{icosphere, Rng};
+use prism::accel::{Accel, Bvh, BvhOptions, Hit, NodeWidth, QueryMode, PACKET_MAX};
+use prism::geometry::{AaBox, Shape, Sphere};
+use prism::math::{Ray, TraceRay, Vec3};
+use prism::Stats;
+
+/// Icospheres (closed meshes, packed leaves), loose triangles, spheres and boxes (leaves of
+/// other shapes) in `[-2, 2]³ · scale + offset`.
+fn scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
+    let mut rng = Rng::new(seed);
+    let mut s = TestScene::new();
+    let p = |rng: &mut Rng| offset + scale * rng.point_in(Vec3::splat(-2.0), Vec3::splat(2.0));
+    for _ in 0..6 {
+        let c = p(&mut rng);
+        s.add_mesh(icosphere(c, scale * rng.range(0.2, 0.7), 3));
+    }
+    let mut tris = Vec::new();
+    for _ in 0..200 {
+        let a = p(&mut rng);
+        let size = scale * rng.range(0.02, 0.5);
+        tris.push([
+            a,
+            a + size * rng.unit_vector(),
+            a + size * rng.unit_vector(),
+        ]);
+    }
+    s.add_triangles(&tris);
+    for _ in 0..30 {
+        let c = p(&mut rng);
+        let r = scale * rng.range(0.05, 0.3);
+        s.geometry.add(Shape::from(Sphere::new(c, r)), 0);
+        s.features.push(c + Vec3::new(r, 0.0, 0.0));
+    }
+    for _ in 0..10 {
+        let a = p(&mut rng);
+        let b = a + scale * rng.point_in(Vec3::splat(0.05), Vec3::splat(0.6));
+        s.add_box(AaBox::new(a, b));
+    }
+    s
+}
+
+/// Camera rays of one `w` × `h` block of pixels of an image of `res` × `res` pixels seen
+/// from `eye` toward `target`, block at pixel (x0, y0).
+fn camera_block(
+    eye: Vec3,
+    target: Vec3,
+    res: u32,
+    (x0, y0, w, h): (u32, u32, u32, u32),
+) -> Vec<TraceRay> {
+    let forward = (target - eye).normalize();
+    let right = forward.cross(Vec3::Y).normalize();
+    let up = right.cross(forward);
+    let half = (0.4f32).tan();
+    let mut rays = Vec::new();
+    for y in y0..y0 + h {
+        for x in x0..x0 + w {
+            let u = (2.0 * (x as f32 + 0.5) / res as f32 - 1.0) * half;
+            let v = (1.0 - 2.0 * (y as f32 + 0.5) / res as f32) * half;
+            let dir = (forward + u * right + v * up).normalize();
+            rays.push(TraceRay::new(Ray::new(eye, dir)));
+        }
+    }
+    rays
+}
+
+/// Holds `accel`'s packet answers to its single-ray answers; returns the node visits of
+/// the packet queries and of the single ones.
+fn check_packet(
+    what: &str,
+    accel: &dyn Accel,
+    s: &TestScene,
+    rays: &[TraceRay],
+    t_max: &[f32],
+    mode: QueryMode,
+) -> (u64, u64) {
+    let g = &s.geometry;
+    let mut answers = vec![None; rays.len()];
+    let mut packet_stats = Stats::default();
+    accel.query_packet(g, rays, t_max, mode, &mut answers, &mut packet_stats);
+    let mut single_stats = Stats::default();
+    for (i, (ray, &t)) in rays.iter().zip(t_max).enumerate() {
+        let single: Option<Hit> = accel.query(g, ray, t, mode, &mut single_stats);
+        match mode {
+            QueryMode::Nearest => assert_eq!(
+                answers[i],
+                single,
+                "{what}: ray {i} of {}: {:?}, t_max {t}",
+                rays.len(),
+                ray.ray
+            ),
+            // Any hit may stop at a different blocker; whether there is one is the answer.
+            QueryMode::Any => assert_eq!(
+                answers[i].is_some(),
+                single.is_some(),
+                "{what}: any-hit ray {i} of {}: {:?}, t_max {t}",
+                rays.len(),
+                ray.ray
+            ),
+        }
+    }
+    (packet_stats.node_visits, single_stats.node_visits)
+}
+
+fn settings() -> Vec<(&'static str, BvhOptions)> {
+    vec![
+        ("8-wide where the CPU allows", BvhOptions::default()),
+        (
+            "4-wide",
+            BvhOptions {
+                width: NodeWidth::Four,
+                ..BvhOptions::default()
+            },
+        ),
+        (
+            "one primitive per leaf",
+            BvhOptions {
+                max_leaf_size: 1,
+                ..BvhOptions::default()
+            },
+        ),
+    ]
+}
+
+fn check_scene(name: &str, scale: f32, offset: Vec3, seed: u64) {
+    let s = scene(seed, scale, offset);
+    let g = &s.geometry;
+    let prims: Vec<u32> = (0..g.primitives.len() as u32).collect();
+    let centre = offset;
+    let mut rng = Rng::new(seed ^ 0x5eed);
+    for (setting, options) in settings() {
+        let bvh = Bvh::build(g, prims.clone(), &options);
+        let what = |kind: &str| format!("{name}/{setting}/{kind}");
+        let (mut packet_visits, mut single_visits) = (0, 0);
+        // Camera blocks from outside the scene and from inside it, of every size up to the
+        // largest packet, including odd shapes, over the whole image.
+        let eyes = [
+            centre + scale * Vec3::new(5.0, 2.5, 6.0),
+            centre + scale * Vec3::new(-0.3, 0.2, 0.1),
+        ];
+        for eye in eyes {
+            for (w, h) in [(8, 8), (4, 4), (2, 1), (5, 3), (1, 1)] {
+                let res = 48;
+                for y0 in (0..res - h + 1).step_by(h as usize * 3) {
+                    for x0 in (0..res - w + 1).step_by(w as usize * 2) {
+                        let rays = camera_block(eye, centre, res, (x0, y0, w, h));
+                        assert!(rays.len() <= PACKET_MAX);
+                        let inf = vec![f32::INFINITY; rays.len()];
+                        let (p, s1) = check_packet(
+                            &what("camera"),
+                            &bvh,
+                            &s,
+                            &rays,
+                            &inf,
+                            QueryMode::Nearest,
+                        );
+                        packet_visits += p;
+                        single_visits += s1;
+                        // Bounded queries: each ray's own bound, some before its nearest
+                        // hit, some exactly at it, some beyond.
+                        let mut answers = vec![None; rays.len()];
+                        let mut stats = Stats::default();
+                        bvh.query_packet(
+                            g,
+                            &rays,
+                            &inf,
+                            QueryMode::Nearest,
+                            &mut answers,
+                            &mut stats,
+                        );
+                        let bounds: Vec<f32> = answers
+                            .iter()
+                            .map(|a| match (a, rng.below(3)) {
+                                (Some(h), 0) => h.t,
+                                (Some(h), 1) => h.t * rng.range(0.5, 1.5),
+                                _ => scale * rng.range(0.0, 10.0),
+                            })
+                            .collect();
+                        check_packet(
+                            &what("bounded"),
+                            &bvh,
+                            &s,
+                            &rays,
+                            &bounds,
+                            QueryMode::Nearest,
+                        );
+                        check_packet(&what("any-hit"), &bvh, &s, &rays, &bounds, QueryMode::Any);
+                        // Shadow packets: from this block's hits to one light.
+                        let light = centre + scale * Vec3::new(rng.range(-3.0, 3.0), 4.0, 1.0);
+                        let (shadow, dist): (Vec<TraceRay>, Vec<f32>) = rays
+                            .iter()
+                            .zip(&answers)
+                            .filter_map(|(r, a)| {
+                                let p = r.ray.at(a.as_ref()?.t * 0.999);
+                                let to = light - p;
+                                let d = to.length();
+                                Some((TraceRay::new(Ray::new(p, to / d)), d))
+                            })
+                            .unzip();
+                        if !shadow.is_empty() {
+                            check_packet(&what("shadow"), &bvh, &s, &shadow, &dist, QueryMode::Any);
+                        }
+                    }
+                }
+            }
+        }
+        // The packet walk must be the one taken: one visit per packet, not per ray.
+        assert!(
+            packet_visits * 2 < single_visits,
+            "{name}/{setting}: packets visited {packet_visits} nodes, single rays {single_visits}"
+        );
+        // Incoherent packets (random origins and directions, axis-parallel rays with zero
+        // components, a ray repeated) answer one ray at a time, still correctly.
+        let bounds = g.world_bounds();
+        for n in [2, 7, 16, 64] {
+            let rays: Vec<TraceRay> = (0..n)
+                .map(|k| {
+                    let o = rng.point_in(bounds.min, bounds.max);
+                    let d = match k % 3 {
+                        0 => rng.unit_vector(),
+                        1 => rng.axis_direction(),
+                        _ => (s.features[rng.below(s.features.len())] - o).normalize(),
+                    };
+                    TraceRay::new(Ray::new(o, d))
+                })
+                .collect();
+            let inf = vec![f32::INFINITY; n];
+            check_packet(
+                &what("incoherent"),
+                &bvh,
+                &s,
+                &rays,
+                &inf,
+                QueryMode::Nearest,
+            );
+            check_packet(
+                &what("incoherent any"),
+                &bvh,
+                &s,
+                &rays,
+                &inf,
+                QueryMode::Any,
+            );
+            // Nearly parallel rays aimed at surface features: a coherent packet whose rays
+            // graze edges and vertices.
+            let eye = centre + scale * Vec3::new(4.0, -3.0, 5.0);
+            let f = s.features[rng.below(s.features.len())];
+            let rays: Vec<TraceRay> = (0..n)
+                .map(|_| {
+                    let jitter = scale * 1e-4 * rng.unit_vector();
+                    TraceRay::new(Ray::new(eye, (f + jitter - eye).normalize()))
+                })
+                .collect();
+            check_packet(&what("grazing"), &bvh, &s, &rays, &inf, QueryMode::Nearest);
+        }
+    }
+}
+
+#[test]
+fn packets_answer_as_single_rays_do() {
+    check_scene("unit", 1.0, Vec3::ZERO, 1);
+}
+
+#[test]
+fn packets_answer_as_single_rays_do_at_small_scale() {
+    check_scene("1e-3", 1e-3, Vec3::splat(2e-3), 2);
+}
+
+#[test]
+fn packets_answer_as_single_rays_do_at_large_scale() {
+    check_scene("1e3", 1e3, Vec3::new(4e3, -2e3, 1e3), 3);
+}
