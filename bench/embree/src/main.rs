@@ -263,7 +263,11 @@ fn run(o: &Options) -> Result<(), String> {
     println!("  prism: {info}\n");
 
     let widths = packet_widths(&device);
-    let mut methods = vec![Method::Prism(&intersector, &geometry)];
+    let mut methods = vec![
+        Method::Prism(&intersector, &geometry),
+        Method::PrismPackets(&intersector, &geometry, 16),
+        Method::PrismPackets(&intersector, &geometry, 64),
+    ];
     for (scene, &q) in scenes.iter().zip(&qualities) {
         for &w in &widths {
             methods.push(Method::Embree(scene, q, w));

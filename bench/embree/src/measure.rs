@@ -17,6 +17,9 @@ const CHUNK: usize = 4096;
 pub enum Method<'a> {
     /// prism's default BVH through its public single-ray API.
     Prism(&'a SceneIntersector, &'a Geometry),
+    /// The same through its packet API (`intersect_packet`, `occluded_packet`), this many
+    /// consecutive rays to a packet.
+    PrismPackets(&'a SceneIntersector, &'a Geometry, usize),
     Embree(&'a embree::Scene<'a>, embree::Quality, embree::Width),
 }
 
@@ -24,6 +27,7 @@ impl Method<'_> {
     pub fn label(&self) -> String {
         match self {
             Method::Prism(..) => "prism".into(),
+            Method::PrismPackets(_, _, n) => format!("prism-p{n}"),
             Method::Embree(_, q, w) => {
                 let q = match q {
                     embree::Quality::Medium => "M",
@@ -49,6 +53,46 @@ impl Method<'_> {
                         job.t[k] = hit.map_or(f32::INFINITY, |h| h.t);
                         job.prim[k] = hit.map_or(u32::MAX, |h| h.prim);
                     }
+                }
+            }
+            Method::PrismPackets(intersector, geometry, lanes) => {
+                let mut stats = Stats::default();
+                let mut start = 0;
+                while start < range.len() {
+                    let end = (start + lanes).min(range.len());
+                    let i = range.start + start..range.start + end;
+                    let rays = &set.rays[i.clone()];
+                    if set.any_hit {
+                        let mut blocked = [false; prism::accel::PACKET_MAX];
+                        let n = rays.len();
+                        intersector.occluded_packet(
+                            geometry,
+                            rays,
+                            &set.t_max[i],
+                            &mut blocked[..n],
+                            &mut stats,
+                        );
+                        for (k, b) in blocked[..n].iter().enumerate() {
+                            job.hit[start + k] = *b as u8;
+                        }
+                    } else {
+                        let mut hits = [None; prism::accel::PACKET_MAX];
+                        let n = rays.len();
+                        // Every ray of a set shares one bound in nearest-hit sets.
+                        let t_max = set.t_max[i.start];
+                        intersector.intersect_packet(
+                            geometry,
+                            rays,
+                            t_max,
+                            &mut hits[..n],
+                            &mut stats,
+                        );
+                        for (k, hit) in hits[..n].iter().enumerate() {
+                            job.t[start + k] = hit.map_or(f32::INFINITY, |h| h.t);
+                            job.prim[start + k] = hit.map_or(u32::MAX, |h| h.prim);
+                        }
+                    }
+                    start = end;
                 }
             }
             Method::Embree(scene, _, width) => {

@@ -198,6 +198,38 @@ impl SceneIntersector {
             .query(geometry, &tr, t_max, QueryMode::Any, stats)
     }
 
+    /// For a packet of rays (at most `PACKET_MAX`), whether anything, planes included, is
+    /// hit along ray i with `0 < t < t_max[i]`: `blocked[i]` is exactly `occluded(rays[i])`,
+    /// but coherent rays walk the accelerator together (`Accel::query_packet`).
+    pub fn occluded_packet(
+        &self,
+        geometry: &Geometry,
+        rays: &[Ray],
+        t_max: &[f32],
+        blocked: &mut [bool],
+        stats: &mut Stats,
+    ) {
+        let traced: arrayvec::ArrayVec<TraceRay, PACKET_MAX> =
+            rays.iter().map(|r| TraceRay::new(*r)).collect();
+        let n = traced.len();
+        let mut answers = [None; PACKET_MAX];
+        self.accel.query_packet(
+            geometry,
+            &traced,
+            &t_max[..n],
+            QueryMode::Any,
+            &mut answers[..n],
+            stats,
+        );
+        for (i, tr) in traced.iter().enumerate() {
+            blocked[i] = answers[i].is_some()
+                || self.unbounded.iter().any(|&prim| {
+                    HitSearch::new(t_max[i], QueryMode::Any)
+                        .test_unbounded(geometry, tr, prim, stats)
+                });
+        }
+    }
+
     /// Whether anything, planes included, is hit along `ray` with `0 < t < t_max`.
     pub fn occluded(&self, geometry: &Geometry, ray: &Ray, t_max: f32, stats: &mut Stats) -> bool {
         self.any_hit(geometry, ray, t_max, stats).is_some()

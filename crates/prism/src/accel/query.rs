@@ -129,19 +129,34 @@ impl HitSearch {
         while kept != 0 {
             let lane = kept.trailing_zeros() as usize;
             kept &= kept - 1;
-            let prim = pack.ids[lane];
-            if let Some(h) = pack.intersect(lane, ray, self.limit_for(prim)) {
+            if self.test_pack_lane(pack, lane, ray) {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// The scalar test of triangle `lane` of `pack`, which a first pass kept (uncounted:
+    /// the caller counts the pack's lanes); true when the query is answered.
+    #[inline(always)]
+    pub(crate) fn test_pack_lane(
+        &mut self,
+        pack: &TrianglePack,
+        lane: usize,
+        ray: &TraceRay,
+    ) -> bool {
+        let prim = pack.ids[lane];
+        match pack.intersect(lane, ray, self.limit_for(prim)) {
+            Some(h) => {
                 let hit = ShapeHit {
                     t: h.t,
                     u: h.b1,
                     v: h.b2,
                 };
-                if self.keep(Hit::new(prim, hit)) {
-                    return true;
-                }
+                self.keep(Hit::new(prim, hit))
             }
+            None => false,
         }
-        false
     }
 
     /// Tests an unbounded primitive (a plane) after the accelerator has answered: its hit

@@ -65,6 +65,13 @@ impl TrianglePack {
         false
     }
 
+    /// Vertex coordinates by vertex, axis and lane: `[i][axis][lane]`, for first passes
+    /// that test one triangle against several rays.
+    #[inline(always)]
+    pub fn lanes_by_vertex(&self) -> &[[Vec4; 3]; 3] {
+        &self.v
+    }
+
     /// Triangle `lane`'s vertices.
     #[inline(always)]
     pub fn vertices(&self, lane: usize) -> [Vec3; 3] {

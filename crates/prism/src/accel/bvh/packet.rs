@@ -18,7 +18,7 @@ use super::wide::WideNode;
 use super::Bvh;
 use crate::accel::query::HitSearch;
 use crate::accel::{Hit, QueryMode, CULL_SLACK, PACKET_MAX};
-use crate::geometry::{Geometry, PackRay};
+use crate::geometry::{Geometry, PackRay, TrianglePack};
 use crate::math::TraceRay;
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
@@ -121,6 +121,54 @@ impl Packet4 {
     }
 }
 
+/// The rays of a packet in SoA form for the per-ray SIMD tests (`simd8.rs`): per axis,
+/// ray i's origin and inverse direction; in the rays' shared axis permutation, the origin
+/// and the watertight test's shear. Lanes past the packet's rays are never read unmasked.
+pub(super) struct RaySoa<'a> {
+    rays: &'a [TraceRay],
+    pub(super) origin: [[f32; PACKET_MAX]; 3],
+    pub(super) inv_dir: [[f32; PACKET_MAX]; 3],
+    /// The origin permuted to (kx, ky, kz), as `PackRay` holds it.
+    pub(super) permuted_origin: [[f32; PACKET_MAX]; 3],
+    pub(super) shear: [[f32; PACKET_MAX]; 3],
+    /// The axis permutation (kx, ky, kz) when every ray has the same one, so that one
+    /// triangle can be tested against several rays exactly as each ray's own first pass
+    /// tests it.
+    pub(super) permutation: Option<[usize; 3]>,
+}
+
+impl<'a> RaySoa<'a> {
+    /// Ray i itself, for the scalar tests.
+    #[inline(always)]
+    pub(super) fn ray(&self, i: usize) -> &'a TraceRay {
+        &self.rays[i]
+    }
+
+    fn new(rays: &'a [TraceRay]) -> RaySoa<'a> {
+        let mut soa = RaySoa {
+            rays,
+            origin: [[0.0; PACKET_MAX]; 3],
+            inv_dir: [[0.0; PACKET_MAX]; 3],
+            permuted_origin: [[0.0; PACKET_MAX]; 3],
+            shear: [[0.0; PACKET_MAX]; 3],
+            permutation: rays.first().map(|r| [r.kx % 3, r.ky % 3, r.kz % 3]),
+        };
+        for (i, r) in rays.iter().enumerate() {
+            let k = [r.kx % 3, r.ky % 3, r.kz % 3];
+            if soa.permutation != Some(k) {
+                soa.permutation = None;
+            }
+            for a in 0..3 {
+                soa.origin[a][i] = r.ray.origin[a];
+                soa.inv_dir[a][i] = r.inv_dir[a];
+                soa.permuted_origin[a][i] = r.ray.origin[k[a]];
+                soa.shear[a][i] = r.shear[a];
+            }
+        }
+        soa
+    }
+}
+
 /// One search per ray of the packet, and the farthest bound any of them still has.
 pub(super) struct PacketSearch {
     searches: ArrayVec<HitSearch, PACKET_MAX>,
@@ -128,6 +176,11 @@ pub(super) struct PacketSearch {
     done: u64,
     all: u64,
     t_max: f32,
+    /// Per ray, its search's bound (−∞ once answered, and past the packet's rays), read
+    /// by the per-ray box tests.
+    pub(super) bound: [f32; PACKET_MAX],
+    /// Per ray, its search's bound for a first pass over triangles (`nested_limit`).
+    pub(super) nested: [f32; PACKET_MAX],
 }
 
 impl CullBound for PacketSearch {
@@ -146,46 +199,94 @@ impl PacketSearch {
         } else {
             (1u64 << searches.len()) - 1
         };
+        let mut bound = [f32::NEG_INFINITY; PACKET_MAX];
+        let mut nested = [f32::NEG_INFINITY; PACKET_MAX];
+        bound[..t_max.len()].copy_from_slice(t_max);
+        nested[..t_max.len()].copy_from_slice(t_max);
         PacketSearch {
             t_max: t_max.iter().copied().fold(0.0, f32::max),
             searches,
             done: 0,
             all,
+            bound,
+            nested,
         }
     }
 
-    /// Tests a leaf, entered no nearer than `enter` by any ray, for every ray still
-    /// searching whose bound reaches it; true when every ray's query is answered.
+    /// The rays still searching, a bit per ray.
     #[inline(always)]
-    fn test_leaf(
+    pub(super) fn open(&self) -> u64 {
+        !self.done & self.all
+    }
+
+    /// Ray i's search after a test: its bounds for the SIMD tests, and whether it is
+    /// answered.
+    #[inline(always)]
+    fn settle(&mut self, i: usize, answered: bool) {
+        if answered {
+            self.done |= 1 << i;
+            self.bound[i] = f32::NEG_INFINITY;
+            self.nested[i] = f32::NEG_INFINITY;
+        } else {
+            self.bound[i] = self.searches[i].t_max();
+            self.nested[i] = self.searches[i].nested_limit();
+        }
+    }
+
+    /// After a leaf: the packet's bound is the farthest of its open rays'; true when every
+    /// ray is answered.
+    #[inline(always)]
+    pub(super) fn finish_leaf(&mut self) -> bool {
+        let mut t_max = f32::NEG_INFINITY;
+        let mut open = self.open();
+        while open != 0 {
+            let i = open.trailing_zeros() as usize;
+            open &= open - 1;
+            t_max = t_max.max(self.bound[i]);
+        }
+        self.t_max = t_max;
+        self.done == self.all
+    }
+
+    /// The scalar test of triangle `lane` of `pack` for ray i, which a first pass kept.
+    #[inline(always)]
+    pub(super) fn test_pack_lane(
+        &mut self,
+        i: usize,
+        pack: &TrianglePack,
+        lane: usize,
+        ray: &TraceRay,
+    ) {
+        let answered = self.searches[i].test_pack_lane(pack, lane, ray);
+        self.settle(i, answered);
+    }
+
+    /// Tests a leaf for the rays of `rays_in` (a bit per ray) that are still searching, one
+    /// ray at a time; `enter` is a lower bound of their entry distances.
+    #[inline(always)]
+    pub(super) fn test_leaf_per_ray(
         &mut self,
         leaf: &LeafQuery,
         rays: &[TraceRay],
         pack_rays: &[PackRay],
         (first, count, enter): (u32, u32, f32),
+        rays_in: u64,
         stats: &mut Stats,
-    ) -> bool {
-        let mut t_max = 0.0f32;
-        let mut open = !self.done & self.all;
+    ) {
+        let mut open = self.open() & rays_in;
         while open != 0 {
             let i = open.trailing_zeros() as usize;
             open &= open - 1;
-            let search = &mut self.searches[i];
-            if enter <= search.t_max() * CULL_SLACK {
+            if enter <= self.bound[i] * CULL_SLACK {
                 let ray_leaf = LeafQuery {
                     ray: &rays[i],
                     pack_ray: &pack_rays[i],
                     ..*leaf
                 };
-                if ray_leaf.test(first, count, search, stats) {
-                    self.done |= 1 << i;
-                    continue;
-                }
+                let answered = ray_leaf.test(first, count, &mut self.searches[i], stats);
+                self.settle(i, answered);
             }
-            t_max = t_max.max(search.t_max());
         }
-        self.t_max = t_max;
-        self.done == self.all
     }
 }
 
@@ -221,11 +322,19 @@ pub(super) fn query(
         pack_ray: &pack_rays[0],
     };
     let mut search = PacketSearch::new(t_max, mode);
-    let test_leaf = |c, n, enter, s: &mut PacketSearch, st: &mut Stats| {
-        s.test_leaf(&leaf, rays, &pack_rays, (c, n, enter), st)
-    };
     if !bvh.wide8.is_empty() {
-        super::simd8::traverse_packet(&bvh.wide8, &bounds, &mut search, stats, test_leaf);
+        let soa = RaySoa::new(rays);
+        super::simd8::traverse_packet(
+            &bvh.wide8,
+            &bounds,
+            &soa,
+            &bvh.packs,
+            &mut search,
+            stats,
+            |c, n, enter, rays_in, s: &mut PacketSearch, st: &mut Stats| {
+                s.test_leaf_per_ray(&leaf, rays, &pack_rays, (c, n, enter), rays_in, st)
+            },
+        );
     } else {
         let packet = Packet4::new(bounds);
         walk(
@@ -242,7 +351,10 @@ pub(super) fn query(
             },
             &mut search,
             stats,
-            test_leaf,
+            |c, n, enter, s: &mut PacketSearch, st: &mut Stats| {
+                s.test_leaf_per_ray(&leaf, rays, &pack_rays, (c, n, enter), u64::MAX, st);
+                s.finish_leaf()
+            },
         );
     }
     for (answer, s) in answers.iter_mut().zip(&search.searches) {

@@ -13,10 +13,10 @@
 // unsafe; the workspace's `unsafe_code = "deny"` lists this module as an exception.
 #![allow(unsafe_code)]
 
-use super::packet::PacketBounds;
-use super::traverse::CullBound;
+use super::packet::{PacketBounds, PacketSearch, RaySoa};
 use super::wide::Wide8Node;
 use crate::accel::query::HitSearch;
+use crate::geometry::TrianglePack;
 use crate::math::TraceRay;
 use crate::stats::Stats;
 
@@ -56,34 +56,44 @@ pub(super) fn traverse(
     }
 }
 
-/// Walks `nodes` for a packet whose interval is `bounds`, as `traverse` does for one ray:
-/// each visit tests the eight boxes once for the whole packet (`packet.rs`).
+/// Walks `nodes` for a packet of rays (`packet.rs`): each visit first tests the eight
+/// boxes once for the whole packet against its interval `bounds`, then each box that
+/// passes against the packet's rays eight at a time, so every child goes on with the rays
+/// that enter it. Leaves of triangle packs are tested one triangle against eight rays when
+/// the rays share an axis permutation; other leaves go to `leaf` with their rays.
 #[inline(always)]
-pub(super) fn traverse_packet<S: CullBound>(
+pub(super) fn traverse_packet(
     nodes: &[Wide8Node],
     bounds: &PacketBounds,
-    search: &mut S,
+    soa: &RaySoa<'_>,
+    packs: &[TrianglePack],
+    search: &mut PacketSearch,
     stats: &mut Stats,
-    leaf: impl FnMut(u32, u32, f32, &mut S, &mut Stats) -> bool,
+    leaf: impl FnMut(u32, u32, f32, u64, &mut PacketSearch, &mut Stats),
 ) {
     #[cfg(target_arch = "x86_64")]
     {
         debug_assert!(available());
         // SAFETY: `nodes` is non-empty only when AVX2 was detected (see `traverse`).
-        unsafe { x86::traverse_packet(nodes, bounds, search, stats, leaf) }
+        unsafe { x86::traverse_packet(nodes, bounds, soa, packs, search, stats, leaf) }
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        let _ = (nodes, bounds, search, stats, leaf);
+        let _ = (nodes, bounds, soa, packs, search, stats, leaf);
         unreachable!("8-wide nodes are only built on x86-64 with AVX2")
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
-    use super::{CullBound, PacketBounds, Wide8Node};
-    use crate::accel::bvh::traverse::Visit;
+    use super::{PacketBounds, PacketSearch, RaySoa, TrianglePack, Wide8Node};
+    use crate::accel::bvh::leaves::PACKED;
+    use crate::accel::bvh::traverse::{CullBound, Visit};
+    use crate::accel::bvh::MAX_DEPTH;
     use crate::accel::query::HitSearch;
+    use crate::accel::stack::TraversalStack;
+    use crate::accel::CULL_SLACK;
+    use crate::geometry::ShapeKind;
     use crate::math::TraceRay;
     use crate::stats::Stats;
     use std::arch::x86_64::*;
@@ -219,33 +229,232 @@ mod x86 {
         }
     }
 
+    /// The rays of `rays_in` (a bit per ray) whose own box test enters child `lane` of
+    /// `node` before their bound: `Ray8::hit`'s test, eight rays per step instead of eight
+    /// boxes.
+    #[target_feature(enable = "avx2,popcnt")]
+    #[inline]
+    fn rays_entering(
+        packet: &Packet8,
+        node: &Wide8Node,
+        lane: usize,
+        rays_in: u64,
+        soa: &RaySoa<'_>,
+        bound: &[f32; 64],
+    ) -> u64 {
+        let plane = |row: usize| _mm256_set1_ps(node.bounds[row][lane]);
+        let near = packet.near.map(plane);
+        let far = packet.far.map(plane);
+        let load = |v: &[f32; 64], at: usize| {
+            // SAFETY: `at + 8 <= 64`; unaligned load.
+            unsafe { _mm256_loadu_ps(v.as_ptr().add(at)) }
+        };
+        let mut out = 0u64;
+        for group in 0..8 {
+            let at = 8 * group;
+            let wanted = (rays_in >> at) & 0xff;
+            if wanted == 0 {
+                continue;
+            }
+            let mut enter = _mm256_setzero_ps();
+            let mut exit = load(bound, at);
+            for axis in 0..3 {
+                let o = load(&soa.origin[axis], at);
+                let inv = load(&soa.inv_dir[axis], at);
+                let t_near = _mm256_mul_ps(_mm256_sub_ps(near[axis], o), inv);
+                let t_far = _mm256_mul_ps(_mm256_sub_ps(far[axis], o), inv);
+                enter = _mm256_max_ps(t_near, enter);
+                exit = _mm256_min_ps(t_far, exit);
+            }
+            let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(enter, _mm256_mul_ps(exit, packet.exit_scale));
+            out |= ((_mm256_movemask_ps(hit) as u64) & wanted) << at;
+        }
+        out
+    }
+
+    /// The rays of `rays_in` that triangle `lane` of `pack` may hit before their bound
+    /// for a first pass (`nested`): `TrianglePack::candidates`' operations, in the same
+    /// order, one triangle against eight rays sharing the axis permutation `k`, so each
+    /// ray keeps exactly the triangles its own first pass keeps.
+    #[target_feature(enable = "avx2,popcnt")]
+    #[inline]
+    fn triangle_candidates(
+        pack: &TrianglePack,
+        lane: usize,
+        k: [usize; 3],
+        rays_in: u64,
+        soa: &RaySoa<'_>,
+        nested: &[f32; 64],
+    ) -> u64 {
+        let v = pack.lanes_by_vertex();
+        let vertex = |i: usize| k.map(|axis| _mm256_set1_ps(v[i][axis][lane]));
+        let (pa, pb, pc) = (vertex(0), vertex(1), vertex(2));
+        let load = |v: &[f32; 64], at: usize| {
+            // SAFETY: `at + 8 <= 64`; unaligned load.
+            unsafe { _mm256_loadu_ps(v.as_ptr().add(at)) }
+        };
+        let zero = _mm256_setzero_ps();
+        let mut out = 0u64;
+        for group in 0..8 {
+            let at = 8 * group;
+            let wanted = (rays_in >> at) & 0xff;
+            if wanted == 0 {
+                continue;
+            }
+            let o = [0, 1, 2].map(|a| load(&soa.permuted_origin[a], at));
+            let (sx, sy, sz) = (
+                load(&soa.shear[0], at),
+                load(&soa.shear[1], at),
+                load(&soa.shear[2], at),
+            );
+            let rel = |p: &[__m256; 3]| [0, 1, 2].map(|a| _mm256_sub_ps(p[a], o[a]));
+            let (a, b, c) = (rel(&pa), rel(&pb), rel(&pc));
+            let sheared = |p: &[__m256; 3]| {
+                (
+                    _mm256_sub_ps(p[0], _mm256_mul_ps(sx, p[2])),
+                    _mm256_sub_ps(p[1], _mm256_mul_ps(sy, p[2])),
+                )
+            };
+            let (ax, ay) = sheared(&a);
+            let (bx, by) = sheared(&b);
+            let (cx, cy) = sheared(&c);
+            let u = _mm256_sub_ps(_mm256_mul_ps(cx, by), _mm256_mul_ps(cy, bx));
+            let v = _mm256_sub_ps(_mm256_mul_ps(ax, cy), _mm256_mul_ps(ay, cx));
+            let w = _mm256_sub_ps(_mm256_mul_ps(bx, ay), _mm256_mul_ps(by, ax));
+            let eq = |x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero);
+            let lt = |x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero);
+            let gt = |x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero);
+            let or = |x, y| _mm256_or_ps(x, y);
+            let and = |x, y| _mm256_and_ps(x, y);
+            let exact_zero = or(or(eq(u), eq(v)), eq(w));
+            let outside = and(or(or(lt(u), lt(v)), lt(w)), or(or(gt(u), gt(v)), gt(w)));
+            let det = _mm256_add_ps(_mm256_add_ps(u, v), w);
+            let az = _mm256_mul_ps(sz, a[2]);
+            let bz = _mm256_mul_ps(sz, b[2]);
+            let cz = _mm256_mul_ps(sz, c[2]);
+            let t_scaled = _mm256_add_ps(
+                _mm256_add_ps(_mm256_mul_ps(u, az), _mm256_mul_ps(v, bz)),
+                _mm256_mul_ps(w, cz),
+            );
+            let limit = _mm256_mul_ps(load(nested, at), det);
+            let behind_or_beyond = or(
+                and(
+                    lt(det),
+                    or(
+                        _mm256_cmp_ps::<_CMP_GE_OQ>(t_scaled, zero),
+                        _mm256_cmp_ps::<_CMP_LT_OQ>(t_scaled, limit),
+                    ),
+                ),
+                and(
+                    gt(det),
+                    or(
+                        _mm256_cmp_ps::<_CMP_LE_OQ>(t_scaled, zero),
+                        _mm256_cmp_ps::<_CMP_GT_OQ>(t_scaled, limit),
+                    ),
+                ),
+            );
+            let rejected = _mm256_movemask_ps(or(or(outside, behind_or_beyond), eq(det)))
+                & !_mm256_movemask_ps(exact_zero);
+            out |= ((!rejected as u64) & wanted) << at;
+        }
+        out
+    }
+
     /// `super::traverse_packet` compiled for AVX2.
     ///
     /// # Safety
     /// The CPU must support AVX2 and POPCNT.
     #[target_feature(enable = "avx2,popcnt")]
-    pub(super) unsafe fn traverse_packet<S: CullBound>(
+    pub(super) unsafe fn traverse_packet(
         nodes: &[Wide8Node],
         bounds: &PacketBounds,
-        search: &mut S,
+        soa: &RaySoa<'_>,
+        packs: &[TrianglePack],
+        search: &mut PacketSearch,
         stats: &mut Stats,
-        leaf: impl FnMut(u32, u32, f32, &mut S, &mut Stats) -> bool,
+        mut leaf: impl FnMut(u32, u32, f32, u64, &mut PacketSearch, &mut Stats),
     ) {
         let packet = Packet8::new(bounds);
-        crate::accel::bvh::traverse::walk(
-            nodes,
-            |node: &Wide8Node, t_max| {
-                let (hit, entries) = packet.hit(node, t_max);
-                Visit {
-                    children: Ray8::children(node),
-                    hit,
-                    entries,
+        // Deferred children: (child, count or 0, entry bound, the rays that enter it).
+        let mut stack = TraversalStack::<(u32, u32, f32, u64), { 7 * MAX_DEPTH }>::new();
+        let (mut child, mut count, mut enter, mut rays) = (0u32, 0u32, 0.0f32, search.open());
+        loop {
+            if count > 0 {
+                rays &= search.open();
+                if count & PACKED != 0 && soa.permutation.is_some() {
+                    let k = soa.permutation.unwrap_or([0, 1, 2]);
+                    let first = child as usize;
+                    let n = (count & !PACKED) as usize;
+                    for pack in &packs[first..first + n] {
+                        let open = rays & search.open();
+                        if open == 0 {
+                            break;
+                        }
+                        stats.count_tests(
+                            ShapeKind::Triangle,
+                            (pack.len() as u64) * u64::from(open.count_ones()),
+                        );
+                        for lane in 0..pack.len() {
+                            let open = rays & search.open();
+                            let mut kept =
+                                triangle_candidates(pack, lane, k, open, soa, &search.nested);
+                            while kept != 0 {
+                                let i = kept.trailing_zeros() as usize;
+                                kept &= kept - 1;
+                                search.test_pack_lane(i, pack, lane, soa.ray(i));
+                            }
+                        }
+                    }
+                } else {
+                    leaf(child, count, enter, rays, search, stats);
                 }
-            },
-            search,
-            stats,
-            leaf,
-        )
+                if search.finish_leaf() {
+                    return;
+                }
+            } else {
+                let node = &nodes[child as usize];
+                let (mut mask, t) = packet.hit(node, search.t_max());
+                stats.node_visits += u64::from(Ray8::children(node));
+                let (children, counts) = (&node.child, &node.count);
+                // Each child the packet may enter goes on with the rays that do enter it.
+                let mut hits = [(0.0f32, 0usize, 0u64); 8];
+                let mut n = 0;
+                while mask != 0 {
+                    let k = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let entering = rays_entering(&packet, node, k, rays, soa, &search.bound);
+                    if entering == 0 {
+                        continue;
+                    }
+                    // Nearest first (ties keep lane order).
+                    let mut j = n;
+                    while j > 0 && hits[j - 1].0 > t[k] {
+                        hits[j] = hits[j - 1];
+                        j -= 1;
+                    }
+                    hits[j] = (t[k], k, entering);
+                    n += 1;
+                }
+                if n > 0 {
+                    for &(t_enter, k, r) in hits[1..n].iter().rev() {
+                        stack.push((children[k], counts[k], t_enter, r));
+                    }
+                    let (t_enter, k, r) = hits[0];
+                    (child, count, enter, rays) = (children[k], counts[k], t_enter, r);
+                    continue;
+                }
+            }
+            loop {
+                let Some((c, n, t_enter, r)) = stack.pop() else {
+                    return;
+                };
+                let r = r & search.open();
+                if r != 0 && t_enter <= search.t_max() * CULL_SLACK {
+                    (child, count, enter, rays) = (c, n, t_enter, r);
+                    break;
+                }
+            }
+        }
     }
 
     /// `super::traverse` compiled for AVX2.
