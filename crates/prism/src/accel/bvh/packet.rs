@@ -158,10 +158,10 @@ impl<'a> RaySoa<'a> {
             if soa.permutation != Some(k) {
                 soa.permutation = None;
             }
-            for a in 0..3 {
+            for (a, &ka) in k.iter().enumerate() {
                 soa.origin[a][i] = r.ray.origin[a];
                 soa.inv_dir[a][i] = r.inv_dir[a];
-                soa.permuted_origin[a][i] = r.ray.origin[k[a]];
+                soa.permuted_origin[a][i] = r.ray.origin[ka];
                 soa.shear[a][i] = r.shear[a];
             }
         }
