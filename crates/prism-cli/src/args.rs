@@ -191,6 +191,11 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "SPEC")]
     pub shadows: Option<prism::integrator::ShadowSpec>,
 
+    /// Trace every camera ray on its own instead of in packets of 8 × 8 neighbouring
+    /// pixels. The image is the same either way; this measures what packets buy.
+    #[arg(long)]
+    pub no_packets: bool,
+
     /// Apply a published procedure: `spd` = Haines' SPD rules (corner rays, depth 5, a
     /// reflection ray at every reflective or transmitting surface); `pov` = POV-Ray's
     /// adaptive +AM2 +R3 pattern (the adaptive options given with it still apply on top).
@@ -337,6 +342,9 @@ impl RenderArgs {
         }
         if let Some(v) = self.shadows {
             o.shadows = v;
+        }
+        if self.no_packets {
+            o.packets = false;
         }
         Ok(o)
     }

@@ -88,9 +88,20 @@ pub struct RenderOptions {
     /// Who answers shadow rays: the accelerator's any-hit query, a shadow cache, light
     /// buffers or both (`integrator::ShadowSpec`); every method gives the same image.
     pub shadows: crate::integrator::ShadowSpec,
-    /// Edge length of the square tiles handed to worker threads.
+    /// Edge length of the square tiles handed to worker threads (rounded up to whole
+    /// packets, `PACKET_EDGE`, when `packets` is on).
     pub tile_size: u32,
+    /// Trace the camera rays of neighbouring pixels as packets (`PACKET_EDGE` ×
+    /// `PACKET_EDGE` pixels, one packet per sample index) through the accelerator's packet
+    /// query; every ray gets the answer its own query gives, so the image is the same
+    /// either way. Only the per-pixel samplers use packets; the node visits and tests of a
+    /// packet are shared evenly among its pixels in the cost view.
+    pub packets: bool,
 }
+
+/// Pixels along each side of a camera-ray packet: 8 × 8 rays at one sample per pixel
+/// (`accel::PACKET_MAX`).
+pub const PACKET_EDGE: u32 = 8;
 
 impl Default for RenderOptions {
     fn default() -> Self {
@@ -115,6 +126,7 @@ impl Default for RenderOptions {
             accel: AccelSpec::default(),
             shadows: Default::default(),
             tile_size: 16,
+            packets: true,
         }
     }
 }
@@ -217,5 +229,17 @@ impl RenderOptions {
             return Err("tile_size must be at least 1".into());
         }
         Ok(())
+    }
+
+    /// The edge of the tiles a render hands out: `tile_size`, rounded up to whole packets
+    /// when packets are on, so that packets are the same blocks of pixels whatever the
+    /// tile size (and with them the statistics).
+    pub fn effective_tile_size(&self) -> u32 {
+        let size = self.tile_size.max(1);
+        if self.packets {
+            size.div_ceil(PACKET_EDGE).saturating_mul(PACKET_EDGE)
+        } else {
+            size
+        }
     }
 }

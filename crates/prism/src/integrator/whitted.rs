@@ -71,6 +71,22 @@ impl<'a> Whitted<'a> {
         self.trace(ray, 1, Color::ONE, stats)
     }
 
+    /// The first hits of a packet of camera rays (at most `accel::PACKET_MAX`), walked
+    /// together; `shade_camera_hit` continues each. Exactly the hits
+    /// `trace_camera_ray` finds.
+    pub fn camera_hits(&self, rays: &[Ray], hits: &mut [Option<Hit>], stats: &mut Stats) {
+        stats.primary_rays += rays.len() as u64;
+        let s = self.scene;
+        s.intersector
+            .intersect_packet(&s.scene.geometry, rays, f32::INFINITY, hits, stats);
+    }
+
+    /// Radiance along camera ray `ray` whose first hit `camera_hits` found: the rest of
+    /// `trace_camera_ray`, with the same result bit for bit.
+    pub fn shade_camera_hit(&self, ray: &Ray, hit: Option<Hit>, stats: &mut Stats) -> Color {
+        self.shade(ray, hit, 1, Color::ONE, stats)
+    }
+
     fn nearest(&self, ray: &Ray, t_max: f32, stats: &mut Stats) -> Option<Hit> {
         let s = self.scene;
         s.intersector
@@ -81,8 +97,21 @@ impl<'a> Whitted<'a> {
     /// ray, per channel: what its radiance is worth in the pixel (for adaptive depth
     /// control).
     pub fn trace(&self, ray: &Ray, depth: u32, weight: Color, stats: &mut Stats) -> Color {
+        let hit = self.nearest(ray, f32::INFINITY, stats);
+        self.shade(ray, hit, depth, weight, stats)
+    }
+
+    /// Radiance along `ray` given its nearest hit (the background on a miss).
+    fn shade(
+        &self,
+        ray: &Ray,
+        hit: Option<Hit>,
+        depth: u32,
+        weight: Color,
+        stats: &mut Stats,
+    ) -> Color {
         let scene = self.scene.scene;
-        let Some(hit) = self.nearest(ray, f32::INFINITY, stats) else {
+        let Some(hit) = hit else {
             return scene.background;
         };
         if depth == 1 {

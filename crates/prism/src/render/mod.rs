@@ -76,7 +76,7 @@ pub fn worker_threads(options: &RenderOptions) -> usize {
     let pieces = match options.sampler {
         SamplerKind::Corners | SamplerKind::Adaptive => options.height as usize + 1,
         _ => {
-            let size = options.tile_size.max(1);
+            let size = options.effective_tile_size();
             (options.width.div_ceil(size) as usize) * (options.height.div_ceil(size) as usize)
         }
     };
@@ -159,6 +159,8 @@ pub(crate) struct Job<'a> {
     camera: CameraRays,
     integrator: Whitted<'a>,
     filter: Filter,
+    /// Trace camera rays in packets (`RenderOptions::packets`).
+    packets: bool,
     on_tile: &'a (dyn Fn(TileDone) + Sync),
     cancel: &'a AtomicBool,
 }
@@ -220,6 +222,7 @@ pub fn render(
         camera: scene.scene.camera.setup(options.width, options.height)?,
         integrator: Whitted::new(scene, options),
         filter: Filter::new(options.filter, options.filter_radius),
+        packets: options.packets,
         on_tile,
         cancel,
     };
@@ -234,7 +237,7 @@ pub fn render(
 
     let start = Instant::now();
     let traced = pool.install(|| match Sampler::new(options) {
-        Sampler::Pixel(pattern) => pixels::render(&job, &pattern, options.tile_size),
+        Sampler::Pixel(pattern) => pixels::render(&job, &pattern, options.effective_tile_size()),
         Sampler::Corners => lattice::render_corners(&job),
         Sampler::Adaptive(rule) => lattice::render_adaptive(&job, &rule),
     })?;

@@ -2,11 +2,21 @@
 //! own samples. With the one-pixel box filter a pixel is the plain mean of its samples,
 //! summed in sample order (the renderer's original arithmetic, bit for bit); any other
 //! filter splats the samples into a buffer with a margin, merged exactly into the film.
+//!
+//! With packets on, a tile is traced in blocks of `PACKET_EDGE` × `PACKET_EDGE` pixels:
+//! the camera rays of a block's pixels for one sample index find their first hits as one
+//! packet, then each is shaded on its own. Every sample's value is the one a single ray
+//! gives, and pixels still sum their samples in sample order, so the image is the same.
+//! Tiles are whole blocks (`RenderOptions::effective_tile_size`), so the blocks, and the
+//! statistics, do not depend on the tile size.
 
 use super::rays::PixelRays;
 use super::splat::{FilmSums, SplatBuffer};
-use super::{tiles, Film, Job, RenderError, TileDone, Traced};
+use super::{tiles, Film, Job, RenderError, Tile, TileDone, Traced};
+use crate::accel::PACKET_MAX;
+use crate::math::Ray;
 use crate::math::{Color, Vec2};
+use crate::options::PACKET_EDGE;
 use crate::sampling::PixelPattern;
 use crate::stats::Stats;
 use rayon::prelude::*;
@@ -65,23 +75,34 @@ pub(super) fn render(
                 )
             });
             let mut offsets: Vec<Vec2> = Vec::with_capacity(count as usize);
-            for y in tile.y0..tile.y1 {
-                for x in tile.x0..tile.x1 {
-                    let before = stats;
-                    offsets.clear();
-                    pattern.offsets(x, y, &mut offsets);
-                    let mut sum = Color::ZERO;
-                    for &o in &offsets {
-                        let c = job.trace(x as f32 + o.x, y as f32 + o.y, &mut stats);
-                        match &mut buffer {
-                            Some(b) => b.add(&job.filter, x, y, o, 1.0, c),
-                            None => sum += c,
+            if job.packets {
+                let (m, r) = trace_packets(job, pattern, tile, &mut buffer, &mut stats);
+                (means, rays) = (m, r);
+                if !local {
+                    means.clear();
+                }
+                for m in &mut means {
+                    *m *= mean_weight;
+                }
+            } else {
+                for y in tile.y0..tile.y1 {
+                    for x in tile.x0..tile.x1 {
+                        let before = stats;
+                        offsets.clear();
+                        pattern.offsets(x, y, &mut offsets);
+                        let mut sum = Color::ZERO;
+                        for &o in &offsets {
+                            let c = job.trace(x as f32 + o.x, y as f32 + o.y, &mut stats);
+                            match &mut buffer {
+                                Some(b) => b.add(&job.filter, x, y, o, 1.0, c),
+                                None => sum += c,
+                            }
                         }
+                        if local {
+                            means.push(sum * mean_weight);
+                        }
+                        rays.push(PixelRays::between(&before, &stats));
                     }
-                    if local {
-                        means.push(sum * mean_weight);
-                    }
-                    rays.push(PixelRays::between(&before, &stats));
                 }
             }
             if let (Some(b), Some(sums)) = (&buffer, &sums) {
@@ -123,4 +144,84 @@ pub(super) fn render(
     }
     out.film = film;
     Ok(out)
+}
+
+/// Traces `tile` block by block with packets of camera rays; returns per pixel (row-major
+/// in the tile) the sum of its samples in sample order (unused when `buffer` takes the
+/// samples) and its rays, the packets' shared traversal split evenly among their pixels.
+fn trace_packets(
+    job: &Job,
+    pattern: &PixelPattern,
+    tile: &Tile,
+    buffer: &mut Option<SplatBuffer>,
+    stats: &mut Stats,
+) -> (Vec<Color>, Vec<PixelRays>) {
+    let width = (tile.x1 - tile.x0) as usize;
+    let pixels = tile.pixel_count() as usize;
+    let mut sums = vec![Color::ZERO; pixels];
+    let mut rays = vec![PixelRays::default(); pixels];
+    let count = pattern.count() as usize;
+    let edge = PACKET_EDGE as usize;
+    let mut offsets: Vec<Vec2> = Vec::with_capacity(count);
+    // Per block pixel: its position, its samples' offsets and colours.
+    let mut block: Vec<(u32, u32)> = Vec::with_capacity(PACKET_MAX);
+    let mut block_offsets: Vec<Vec2> = Vec::with_capacity(PACKET_MAX * count);
+    let mut colors: Vec<Color> = vec![Color::ZERO; PACKET_MAX * count];
+    let mut camera_rays: Vec<Ray> = Vec::with_capacity(PACKET_MAX);
+    let mut hits = [None; PACKET_MAX];
+    for by in (tile.y0..tile.y1).step_by(edge) {
+        for bx in (tile.x0..tile.x1).step_by(edge) {
+            block.clear();
+            block_offsets.clear();
+            for y in by..(by + PACKET_EDGE).min(tile.y1) {
+                for x in bx..(bx + PACKET_EDGE).min(tile.x1) {
+                    block.push((x, y));
+                    offsets.clear();
+                    pattern.offsets(x, y, &mut offsets);
+                    block_offsets.extend_from_slice(&offsets);
+                }
+            }
+            let n = block.len();
+            let local = |x: u32, y: u32| (y - tile.y0) as usize * width + (x - tile.x0) as usize;
+            for s in 0..count {
+                camera_rays.clear();
+                camera_rays.extend(block.iter().enumerate().map(|(i, &(x, y))| {
+                    let o = block_offsets[i * count + s];
+                    job.camera.ray(x as f32 + o.x, y as f32 + o.y)
+                }));
+                let before = *stats;
+                job.integrator
+                    .camera_hits(&camera_rays, &mut hits[..n], stats);
+                let shared = PixelRays::between(&before, stats);
+                for (i, &(x, y)) in block.iter().enumerate() {
+                    let before = *stats;
+                    colors[i * count + s] =
+                        job.integrator
+                            .shade_camera_hit(&camera_rays[i], hits[i], stats);
+                    let r = &mut rays[local(x, y)];
+                    *r += shared.share(i, n);
+                    *r += PixelRays::between(&before, stats);
+                }
+            }
+            // Each pixel's samples in sample order, as the single-ray path sums them.
+            for (i, &(x, y)) in block.iter().enumerate() {
+                let samples = &colors[i * count..(i + 1) * count];
+                match buffer {
+                    Some(b) => {
+                        for (s, &c) in samples.iter().enumerate() {
+                            b.add(&job.filter, x, y, block_offsets[i * count + s], 1.0, c);
+                        }
+                    }
+                    None => {
+                        let mut sum = Color::ZERO;
+                        for &c in samples {
+                            sum += c;
+                        }
+                        sums[local(x, y)] = sum;
+                    }
+                }
+            }
+        }
+    }
+    (sums, rays)
 }

@@ -128,6 +128,24 @@ impl PixelRays {
     }
 }
 
+impl PixelRays {
+    /// Ray `i`'s share when `n` rays split these counts evenly (the first ones take the
+    /// remainders): how a packet's shared traversal is charged to its pixels.
+    pub(crate) fn share(&self, i: usize, n: usize) -> PixelRays {
+        let n64 = n as u64;
+        let part = |v: u64| v / n64 + u64::from((i as u64) < v % n64);
+        let part32 = |v: u32| part(u64::from(v)) as u32;
+        PixelRays {
+            camera: part32(self.camera),
+            total: part32(self.total),
+            node_visits: part(self.node_visits),
+            primitive_tests: part(self.primitive_tests),
+            shadow_node_visits: part(self.shadow_node_visits),
+            shadow_tests: part(self.shadow_tests),
+        }
+    }
+}
+
 impl std::ops::AddAssign for PixelRays {
     fn add_assign(&mut self, o: PixelRays) {
         self.camera = self.camera.saturating_add(o.camera);
