@@ -319,7 +319,8 @@ fn pixel_bits(r: &prism::render::RenderResult) -> Vec<u32> {
 fn renders_are_identical_with_and_without_packets() {
     use prism::render::FilterKind;
     use prism::sampling::SamplerKind;
-    let variants: Vec<(&str, Box<dyn Fn(&mut prism::RenderOptions)>)> = vec![
+    type Tweak = Box<dyn Fn(&mut prism::RenderOptions)>;
+    let variants: Vec<(&str, Tweak)> = vec![
         ("1 spp", Box::new(|_| {})),
         (
             "jittered 3×3, Gaussian",
