@@ -7,4 +7,4 @@ mod whitted;
 
 pub use light_buffer::{BufferParams, LightBuffer, LightBufferInfo};
 pub use shadow::{begin_piece, ShadowMethod, ShadowSpec, Shadows};
-pub use whitted::Whitted;
+pub use whitted::{Charge, Whitted};

@@ -9,13 +9,18 @@
 //! POV-Ray does. Weights are colours too: red glass passes red light only.
 
 use super::shadow::Shadows;
-use crate::accel::Hit;
+use crate::accel::{Hit, PACKET_MAX};
+use crate::geometry::SurfacePoint;
+use crate::light::{Light, LightSample};
 use crate::math::robust::offset_ray_origin;
+use crate::math::Vec3;
 use crate::math::{Color, Ray};
 use crate::options::RenderOptions;
 use crate::scene::PreparedScene;
 use crate::shading::optics::{reflect, refract};
+use crate::shading::Material;
 use crate::stats::Stats;
+use arrayvec::ArrayVec;
 
 /// Whitted's recursive ray tracer over one prepared scene: local shading with shadow rays, plus the
 /// reflected and refracted rays, to a depth and weight limit.
@@ -87,6 +92,88 @@ impl<'a> Whitted<'a> {
         self.shade(ray, hit, 1, Color::ONE, stats)
     }
 
+    /// `shade_camera_hit` for a packet of camera rays and their first hits, with the
+    /// shadow rays from the packet's hits to each light traced as packets too (where the
+    /// shadow method lets the accelerator answer them); `colors[i]` is exactly what
+    /// `shade_camera_hit` gives ray i. `charge(step, before, after)` is told the
+    /// statistics of each step (see `Charge`).
+    pub fn shade_camera_packet(
+        &self,
+        rays: &[Ray],
+        hits: &[Option<Hit>],
+        colors: &mut [Color],
+        stats: &mut Stats,
+        mut charge: impl FnMut(Charge, &Stats, &Stats),
+    ) {
+        let scene = self.scene.scene;
+        let mut surfaces: ArrayVec<Option<Surface>, PACKET_MAX> = ArrayVec::new();
+        for (ray, hit) in rays.iter().zip(hits) {
+            surfaces.push(hit.map(|h| self.surface(ray, h, 1, stats)));
+        }
+        // Per light answered as packets, whether each ray's shadow ray is blocked.
+        let mut blocked: Vec<Option<[bool; PACKET_MAX]>> = vec![None; scene.lights.len()];
+        let mut shadow_rays: ArrayVec<Ray, PACKET_MAX> = ArrayVec::new();
+        let mut distances: ArrayVec<f32, PACKET_MAX> = ArrayVec::new();
+        let mut owners: ArrayVec<usize, PACKET_MAX> = ArrayVec::new();
+        let mut answers = [false; PACKET_MAX];
+        for (index, light) in scene.lights.iter().enumerate() {
+            if !self.shadows.answers_packets(index) {
+                continue;
+            }
+            shadow_rays.clear();
+            distances.clear();
+            owners.clear();
+            for (i, surface) in surfaces.iter().enumerate() {
+                let Some(surface) = surface else { continue };
+                let Some(ls) = self.light_sample(surface, light) else {
+                    continue;
+                };
+                // The ray `Shadows::visibility` casts.
+                let origin =
+                    offset_ray_origin(surface.sp.p, surface.sp.p_error, surface.ng, ls.to_light);
+                shadow_rays.push(Ray::new(origin, ls.to_light));
+                distances.push(ls.distance);
+                owners.push(i);
+            }
+            let before = *stats;
+            let m = shadow_rays.len();
+            self.shadows
+                .blocked_packet(&shadow_rays, &distances, &mut answers[..m], stats);
+            charge(Charge::ShadowPacket { owners: &owners }, &before, stats);
+            let mut of_ray = [false; PACKET_MAX];
+            for (k, &i) in owners.iter().enumerate() {
+                of_ray[i] = answers[k];
+            }
+            blocked[index] = Some(of_ray);
+        }
+        for (i, surface) in surfaces.iter().enumerate() {
+            let before = *stats;
+            colors[i] = match surface {
+                None => scene.background,
+                Some(surface) => {
+                    let radiance =
+                        self.local(surface, stats, |index, ls, stats| match &blocked[index] {
+                            Some(of_ray) if !of_ray[i] => Color::ONE,
+                            Some(_) => {
+                                self.shadows
+                                    .blocked_visibility(&surface.sp, surface.ng, ls, stats)
+                            }
+                            None => self.shadows.visibility(
+                                index,
+                                1,
+                                &surface.sp,
+                                surface.ng,
+                                ls,
+                                stats,
+                            ),
+                        });
+                    self.recurse(&rays[i], surface, radiance, 1, Color::ONE, stats)
+                }
+            };
+            charge(Charge::Ray(i), &before, stats);
+        }
+    }
+
     fn nearest(&self, ray: &Ray, t_max: f32, stats: &mut Stats) -> Option<Hit> {
         let s = self.scene;
         s.intersector
@@ -110,17 +197,27 @@ impl<'a> Whitted<'a> {
         weight: Color,
         stats: &mut Stats,
     ) -> Color {
-        let scene = self.scene.scene;
         let Some(hit) = hit else {
-            return scene.background;
+            return self.scene.scene.background;
         };
+        let surface = self.surface(ray, hit, depth, stats);
+        let radiance = self.local(&surface, stats, |index, ls, stats| {
+            self.shadows
+                .visibility(index, depth, &surface.sp, surface.ng, ls, stats)
+        });
+        self.recurse(ray, &surface, radiance, depth, weight, stats)
+    }
+
+    /// What shading needs of a hit: the surface point, its normals facing the incoming
+    /// ray, the material and its colour there.
+    fn surface(&self, ray: &Ray, hit: Hit, depth: u32, stats: &mut Stats) -> Surface<'a> {
+        let scene = self.scene.scene;
         if depth == 1 {
             stats.primary_hits += 1;
         }
         let prim = &scene.geometry.primitives[hit.prim as usize];
         let material = &scene.materials[prim.material as usize];
         let sp = scene.geometry.surface(hit.prim, ray, &hit.shape_hit());
-
         // Face the normals towards the incoming ray; `entering` says which side it came from.
         let entering = ray.dir.dot(sp.ng) < 0.0;
         let (ng, ns) = if entering {
@@ -128,20 +225,46 @@ impl<'a> Whitted<'a> {
         } else {
             (-sp.ng, -sp.ns)
         };
-        let to_eye = -ray.dir;
-        let color = material.color_at(sp.uv, sp.p);
+        Surface {
+            color: material.color_at(sp.uv, sp.p),
+            sp,
+            ng,
+            ns,
+            entering,
+            material,
+            to_eye: -ray.dir,
+        }
+    }
 
-        // Local illumination.
+    /// What light `light` sends towards `surface`: None when it sends nothing there or
+    /// lies behind the surface (SPD rule 10: then no shadow ray is cast).
+    fn light_sample(&self, surface: &Surface, light: &Light) -> Option<LightSample> {
+        let ls = light.sample(surface.sp.p)?;
+        (surface.ng.dot(ls.to_light) > 0.0).then_some(ls)
+    }
+
+    /// Local illumination: ambient, plus diffuse and highlight from every light that
+    /// `visibility(light index, sample)` says reaches the surface.
+    fn local(
+        &self,
+        surface: &Surface,
+        stats: &mut Stats,
+        mut visibility: impl FnMut(usize, &LightSample, &mut Stats) -> Color,
+    ) -> Color {
+        let scene = self.scene.scene;
+        let Surface {
+            material,
+            color,
+            ns,
+            to_eye,
+            ..
+        } = *surface;
         let mut radiance = material.ambient * color * scene.ambient;
         for (index, light) in scene.lights.iter().enumerate() {
-            let Some(ls) = light.sample(sp.p) else {
+            let Some(ls) = self.light_sample(surface, light) else {
                 continue;
             };
-            // A light behind the surface contributes nothing: no shadow ray (SPD rule 10).
-            if ng.dot(ls.to_light) <= 0.0 {
-                continue;
-            }
-            let visibility = self.shadows.visibility(index, depth, &sp, ng, &ls, stats);
+            let visibility = visibility(index, &ls, stats);
             if visibility.max_element() <= 0.0 {
                 continue;
             }
@@ -149,7 +272,28 @@ impl<'a> Whitted<'a> {
             let highlight = material.highlight_term(ns, ls.to_light, to_eye);
             radiance += visibility * ls.color * (diffuse + Color::splat(highlight));
         }
+        radiance
+    }
 
+    /// Adds the reflected and refracted rays' radiance to `radiance`, the surface's own.
+    fn recurse(
+        &self,
+        ray: &Ray,
+        surface: &Surface,
+        mut radiance: Color,
+        depth: u32,
+        weight: Color,
+        stats: &mut Stats,
+    ) -> Color {
+        let Surface {
+            sp,
+            ng,
+            ns,
+            entering,
+            material,
+            to_eye,
+            ..
+        } = *surface;
         if depth >= self.max_depth {
             return radiance;
         }
@@ -195,4 +339,32 @@ impl<'a> Whitted<'a> {
         }
         radiance
     }
+}
+
+/// A hit as shading sees it.
+#[derive(Clone, Copy)]
+struct Surface<'a> {
+    sp: SurfacePoint,
+    /// Normals turned to face the incoming ray.
+    ng: Vec3,
+    ns: Vec3,
+    /// Whether the ray came from the side `sp.ng` faces.
+    entering: bool,
+    material: &'a Material,
+    /// The material's colour at the hit.
+    color: Color,
+    to_eye: Vec3,
+}
+
+/// A step of `Whitted::shade_camera_packet`, for charging its work to pixels.
+#[derive(Clone, Copy, Debug)]
+pub enum Charge<'o> {
+    /// A packet of shadow rays, one from each of the `owners` rays' hits (indices into
+    /// the packet): its traversal is shared by the packet.
+    ShadowPacket {
+        /// Whose hit each shadow ray starts from.
+        owners: &'o [usize],
+    },
+    /// Everything else of ray i's tree: its own work.
+    Ray(usize),
 }

@@ -14,6 +14,7 @@ use super::rays::PixelRays;
 use super::splat::{FilmSums, SplatBuffer};
 use super::{tiles, Film, Job, RenderError, Tile, TileDone, Traced};
 use crate::accel::PACKET_MAX;
+use crate::integrator::Charge;
 use crate::math::Ray;
 use crate::math::{Color, Vec2};
 use crate::options::PACKET_EDGE;
@@ -192,15 +193,35 @@ fn trace_packets(
                 let before = *stats;
                 job.integrator
                     .camera_hits(&camera_rays, &mut hits[..n], stats);
-                let shared = PixelRays::between(&before, stats);
+                let mut shared = PixelRays::between(&before, stats);
+                let mut own = [PixelRays::default(); PACKET_MAX];
+                let mut shaded = [Color::ZERO; PACKET_MAX];
+                job.integrator.shade_camera_packet(
+                    &camera_rays,
+                    &hits[..n],
+                    &mut shaded[..n],
+                    stats,
+                    |step, before, after| {
+                        let mut work = PixelRays::between(before, after);
+                        match step {
+                            Charge::Ray(i) => own[i] += work,
+                            // Each shadow ray counts in its own pixel; only the traversal
+                            // is shared.
+                            Charge::ShadowPacket { owners } => {
+                                for &i in owners {
+                                    own[i].total += 1;
+                                }
+                                work.total -= owners.len() as u32;
+                                shared += work;
+                            }
+                        }
+                    },
+                );
                 for (i, &(x, y)) in block.iter().enumerate() {
-                    let before = *stats;
-                    colors[i * count + s] =
-                        job.integrator
-                            .shade_camera_hit(&camera_rays[i], hits[i], stats);
+                    colors[i * count + s] = shaded[i];
                     let r = &mut rays[local(x, y)];
                     *r += shared.share(i, n);
-                    *r += PixelRays::between(&before, stats);
+                    *r += own[i];
                 }
             }
             // Each pixel's samples in sample order, as the single-ray path sums them.
