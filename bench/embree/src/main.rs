@@ -19,8 +19,8 @@ const USAGE: &str = "usage:
       NAME: bunny, blob, sphereflake or soup; CSV rows are appended to FILE
   embree-bench report FILE.csv    markdown tables of a CSV
   embree-bench diff --mesh NAME    primary rays on which prism and Embree disagree
-  embree-bench profile --mesh NAME [--repeats N] [--rays primary|incoherent|shadow]
-      prism alone, 1 thread: each ray set traced N times through `measure::run`, for a
+  embree-bench profile --mesh NAME [--repeats N] [--rays primary|incoherent|shadow] [--packets N]
+      prism alone (in packets of N rays with --packets), 1 thread: each ray set traced N times through `measure::run`, for a
       profiler (valgrind --tool=callgrind --collect-atstart=no --toggle-collect=embree_bench::measure::run)";
 
 struct Options {
@@ -32,6 +32,8 @@ struct Options {
     csv: Option<PathBuf>,
     /// `profile` only: trace just this ray set.
     rays: Option<String>,
+    /// `profile` only: trace in packets of this many rays.
+    packets: Option<usize>,
 }
 
 fn main() {
@@ -60,6 +62,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         threads: vec![1, 2],
         csv: None,
         rays: None,
+        packets: None,
     };
     let mut it = args.iter();
     while let Some(flag) = it.next() {
@@ -82,6 +85,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             }
             "--csv" => o.csv = Some(PathBuf::from(value)),
             "--rays" => o.rays = Some(value.clone()),
+            "--packets" => o.packets = Some(number()?.clamp(1, prism::accel::PACKET_MAX)),
             _ => return Err(format!("unknown option {flag}\n{USAGE}")),
         }
     }
@@ -162,7 +166,10 @@ fn profile(o: &Options) -> Result<(), String> {
     let mesh = meshes::make(&o.mesh, &o.meshes_dir)?;
     let geometry = prism_geometry(&mesh)?;
     let intersector = SceneIntersector::build(&geometry, &AccelSpec::default());
-    let method = Method::Prism(&intersector, &geometry);
+    let method = match o.packets {
+        Some(n) => Method::PrismPackets(&intersector, &geometry, n),
+        None => Method::Prism(&intersector, &geometry),
+    };
     let sets = workload::generate(&geometry, &intersector);
     for set in sets
         .iter()

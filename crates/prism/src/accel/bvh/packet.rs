@@ -43,39 +43,41 @@ pub(super) struct PacketBounds {
 }
 
 impl PacketBounds {
-    /// The bounds of `rays`, or None when their directions disagree in sign on some axis or
-    /// one has a zero component (such packets are not coherent enough to share a walk).
-    pub(super) fn new(rays: &[TraceRay]) -> Option<PacketBounds> {
-        let first = rays.first()?;
-        let negative = [0, 1, 2].map(|a| first.ray.dir[a] < 0.0);
-        let (mut o_lo, mut o_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        let (mut inv_lo, mut inv_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        for r in rays {
-            for a in 0..3 {
-                let d = r.ray.dir[a];
-                let inv = r.inv_dir[a];
-                // A zero (or NaN) component, or a sign unlike the first ray's.
-                if d == 0.0 || d.is_nan() || (d < 0.0) != negative[a] || !inv.is_finite() {
-                    return None;
-                }
-                o_lo[a] = o_lo[a].min(r.ray.origin[a]);
-                o_hi[a] = o_hi[a].max(r.ray.origin[a]);
-                inv_lo[a] = inv_lo[a].min(inv);
-                inv_hi[a] = inv_hi[a].max(inv);
+    /// The bounds of the `n` rays of `soa`, or None when their directions disagree in
+    /// sign on some axis or one has a zero (or NaN) component: such packets are not
+    /// coherent enough to share a walk.
+    fn of(soa: &RaySoa, n: usize) -> Option<PacketBounds> {
+        let mut b = PacketBounds {
+            negative: [false; 3],
+            origin_near: [0.0; 3],
+            origin_far: [0.0; 3],
+            inv_lo: [0.0; 3],
+            inv_hi: [0.0; 3],
+        };
+        for a in 0..3 {
+            let (o, inv) = (&soa.origin[a][..n], &soa.inv_dir[a][..n]);
+            // Folds the compiler can vectorise; NaN and ±∞ show in the sum.
+            let lo = inv.iter().fold(f32::INFINITY, |m, &v| m.min(v));
+            let hi = inv.iter().fold(f32::NEG_INFINITY, |m, &v| m.max(v));
+            let sum: f32 = inv.iter().sum();
+            if !sum.is_finite() || !(lo > 0.0 || hi < 0.0) {
+                return None;
             }
+            let o_lo = o.iter().fold(f32::INFINITY, |m, &v| m.min(v));
+            let o_hi = o.iter().fold(f32::NEG_INFINITY, |m, &v| m.max(v));
+            let negative = hi < 0.0;
+            b.negative[a] = negative;
+            (b.origin_near[a], b.origin_far[a]) =
+                if negative { (o_lo, o_hi) } else { (o_hi, o_lo) };
+            (b.inv_lo[a], b.inv_hi[a]) = (lo, hi);
         }
-        Some(PacketBounds {
-            negative,
-            origin_near: [0, 1, 2].map(|a| if negative[a] { o_lo[a] } else { o_hi[a] }),
-            origin_far: [0, 1, 2].map(|a| if negative[a] { o_hi[a] } else { o_lo[a] }),
-            inv_lo,
-            inv_hi,
-        })
+        Some(b)
     }
 }
 
-/// The packet's bounds for the 4-wide box test, broadcast per axis.
-struct Packet4 {
+/// The packet's bounds for the 4-wide box test, broadcast per axis: the 4-wide nodes'
+/// children, and the boxes of a triangle pack's four triangles.
+pub(super) struct Packet4 {
     bounds: PacketBounds,
     origin_near: [Vec4; 3],
     origin_far: [Vec4; 3],
@@ -84,7 +86,7 @@ struct Packet4 {
 }
 
 impl Packet4 {
-    fn new(bounds: PacketBounds) -> Packet4 {
+    pub(super) fn new(bounds: PacketBounds) -> Packet4 {
         Packet4 {
             bounds,
             origin_near: bounds.origin_near.map(Vec4::splat),
@@ -98,14 +100,21 @@ impl Packet4 {
     /// box, and whether some ray may enter it before `t_max`.
     #[inline(always)]
     fn hit(&self, node: &WideNode, t_max: f32) -> (u32, Vec4) {
+        let rows = |row: fn(&WideNode, usize) -> Vec4| [0, 1, 2].map(|a| row(node, a));
+        self.hit_boxes(rows(WideNode::min_row), rows(WideNode::max_row), t_max)
+    }
+
+    /// `hit` for four boxes given by their minima and maxima per axis.
+    #[inline(always)]
+    pub(super) fn hit_boxes(&self, min: [Vec4; 3], max: [Vec4; 3], t_max: f32) -> (u32, Vec4) {
         let zero = Vec4::ZERO;
         let mut enter = zero;
         let mut exit = Vec4::splat(t_max);
         for axis in 0..3 {
             let (near_plane, far_plane) = if self.bounds.negative[axis] {
-                (node.max_row(axis), node.min_row(axis))
+                (max[axis], min[axis])
             } else {
-                (node.min_row(axis), node.max_row(axis))
+                (min[axis], max[axis])
             };
             // The lowest product of the distance interval and the inverse interval, and
             // the highest: which end of the inverse interval depends on the distance's sign.
@@ -145,24 +154,31 @@ impl<'a> RaySoa<'a> {
     }
 
     fn new(rays: &'a [TraceRay]) -> RaySoa<'a> {
+        let first = rays.first().map(|r| [r.kx, r.ky, r.kz]);
         let mut soa = RaySoa {
             rays,
             origin: [[0.0; PACKET_MAX]; 3],
             inv_dir: [[0.0; PACKET_MAX]; 3],
             permuted_origin: [[0.0; PACKET_MAX]; 3],
             shear: [[0.0; PACKET_MAX]; 3],
-            permutation: rays.first().map(|r| [r.kx % 3, r.ky % 3, r.kz % 3]),
+            permutation: first,
         };
         for (i, r) in rays.iter().enumerate() {
-            let k = [r.kx % 3, r.ky % 3, r.kz % 3];
-            if soa.permutation != Some(k) {
+            let o = r.ray.origin;
+            for a in 0..3 {
+                soa.origin[a][i] = o[a];
+                soa.inv_dir[a][i] = r.inv_dir[a];
+            }
+            soa.shear[0][i] = r.shear.x;
+            soa.shear[1][i] = r.shear.y;
+            soa.shear[2][i] = r.shear.z;
+            if first != Some([r.kx, r.ky, r.kz]) {
                 soa.permutation = None;
             }
+        }
+        if let Some(k) = soa.permutation {
             for (a, &ka) in k.iter().enumerate() {
-                soa.origin[a][i] = r.ray.origin[a];
-                soa.inv_dir[a][i] = r.inv_dir[a];
-                soa.permuted_origin[a][i] = r.ray.origin[ka];
-                soa.shear[a][i] = r.shear[a];
+                soa.permuted_origin[a] = soa.origin[ka];
             }
         }
         soa
@@ -176,6 +192,9 @@ pub(super) struct PacketSearch {
     done: u64,
     all: u64,
     t_max: f32,
+    /// The nearest bound of the rays still searching: a box every ray enters before it is
+    /// entered by all of them.
+    t_min: f32,
     /// Per ray, its search's bound (−∞ once answered, and past the packet's rays), read
     /// by the per-ray box tests.
     pub(super) bound: [f32; PACKET_MAX],
@@ -205,12 +224,19 @@ impl PacketSearch {
         nested[..t_max.len()].copy_from_slice(t_max);
         PacketSearch {
             t_max: t_max.iter().copied().fold(0.0, f32::max),
+            t_min: t_max.iter().copied().fold(f32::INFINITY, f32::min),
             searches,
             done: 0,
             all,
             bound,
             nested,
         }
+    }
+
+    /// The nearest bound of the rays still searching.
+    #[inline(always)]
+    pub(super) fn t_min(&self) -> f32 {
+        self.t_min
     }
 
     /// The rays still searching, a bit per ray.
@@ -237,14 +263,15 @@ impl PacketSearch {
     /// ray is answered.
     #[inline(always)]
     pub(super) fn finish_leaf(&mut self) -> bool {
-        let mut t_max = f32::NEG_INFINITY;
+        let (mut t_max, mut t_min) = (f32::NEG_INFINITY, f32::INFINITY);
         let mut open = self.open();
         while open != 0 {
             let i = open.trailing_zeros() as usize;
             open &= open - 1;
             t_max = t_max.max(self.bound[i]);
+            t_min = t_min.min(self.bound[i]);
         }
-        self.t_max = t_max;
+        (self.t_max, self.t_min) = (t_max, t_min);
         self.done == self.all
     }
 
@@ -268,7 +295,6 @@ impl PacketSearch {
         &mut self,
         leaf: &LeafQuery,
         rays: &[TraceRay],
-        pack_rays: &[PackRay],
         (first, count, enter): (u32, u32, f32),
         rays_in: u64,
         stats: &mut Stats,
@@ -278,9 +304,10 @@ impl PacketSearch {
             let i = open.trailing_zeros() as usize;
             open &= open - 1;
             if enter <= self.bound[i] * CULL_SLACK {
+                let pack_ray = PackRay::new(&rays[i]);
                 let ray_leaf = LeafQuery {
                     ray: &rays[i],
-                    pack_ray: &pack_rays[i],
+                    pack_ray: &pack_ray,
                     ..*leaf
                 };
                 let answered = ray_leaf.test(first, count, &mut self.searches[i], stats);
@@ -304,7 +331,8 @@ pub(super) fn query(
 ) {
     use crate::accel::Accel;
     assert!(rays.len() <= PACKET_MAX && t_max.len() == rays.len() && answers.len() == rays.len());
-    let bounds = match PacketBounds::new(rays) {
+    let soa = RaySoa::new(rays);
+    let bounds = match PacketBounds::of(&soa, rays.len()) {
         Some(b) if rays.len() > 1 && !bvh.nodes.first().is_none_or(|n| n.is_leaf()) => b,
         _ => {
             for ((ray, &t), answer) in rays.iter().zip(t_max).zip(answers.iter_mut()) {
@@ -313,17 +341,16 @@ pub(super) fn query(
             return;
         }
     };
-    let pack_rays: ArrayVec<PackRay, PACKET_MAX> = rays.iter().map(PackRay::new).collect();
+    let first_pack_ray = PackRay::new(&rays[0]);
     let leaf = LeafQuery {
         prims: &bvh.prims,
         packs: &bvh.packs,
         geometry,
         ray: &rays[0],
-        pack_ray: &pack_rays[0],
+        pack_ray: &first_pack_ray,
     };
     let mut search = PacketSearch::new(t_max, mode);
     if !bvh.wide8.is_empty() {
-        let soa = RaySoa::new(rays);
         super::simd8::traverse_packet(
             &bvh.wide8,
             &bounds,
@@ -332,7 +359,7 @@ pub(super) fn query(
             &mut search,
             stats,
             |c, n, enter, rays_in, s: &mut PacketSearch, st: &mut Stats| {
-                s.test_leaf_per_ray(&leaf, rays, &pack_rays, (c, n, enter), rays_in, st)
+                s.test_leaf_per_ray(&leaf, rays, (c, n, enter), rays_in, st)
             },
         );
     } else {
@@ -352,7 +379,7 @@ pub(super) fn query(
             &mut search,
             stats,
             |c, n, enter, s: &mut PacketSearch, st: &mut Stats| {
-                s.test_leaf_per_ray(&leaf, rays, &pack_rays, (c, n, enter), u64::MAX, st);
+                s.test_leaf_per_ray(&leaf, rays, (c, n, enter), u64::MAX, st);
                 s.finish_leaf()
             },
         );

@@ -88,6 +88,7 @@ pub(super) fn traverse_packet(
 mod x86 {
     use super::{PacketBounds, PacketSearch, RaySoa, TrianglePack, Wide8Node};
     use crate::accel::bvh::leaves::PACKED;
+    use crate::accel::bvh::packet::Packet4;
     use crate::accel::bvh::traverse::{CullBound, Visit};
     use crate::accel::bvh::MAX_DEPTH;
     use crate::accel::query::HitSearch;
@@ -196,36 +197,53 @@ mod x86 {
             }
         }
 
-        /// The children some ray of the packet may enter before `t_max`, and per child a
-        /// lower bound of every ray's entry distance: `packet.rs`'s interval test, eight
-        /// lanes at once (checked against the 4-wide one below).
+        /// The children some ray of the packet may enter before `t_max` (the farthest bound
+        /// of its rays), per child a lower bound of every ray's entry distance, and the
+        /// children that every ray enters before `t_min` (the nearest bound), for which no
+        /// ray needs its own test: `packet.rs`'s interval test, eight lanes at once, and the
+        /// same interval arithmetic from the other ends.
         #[target_feature(enable = "avx2,popcnt")]
         #[inline]
-        pub(super) fn hit(&self, node: &Wide8Node, t_max: f32) -> (u32, [f32; 8]) {
+        pub(super) fn hit(&self, node: &Wide8Node, t_max: f32, t_min: f32) -> (u32, [f32; 8], u32) {
             let load = |row: usize| {
                 // SAFETY: each row of `bounds` is eight f32s; unaligned load.
                 unsafe { _mm256_loadu_ps(node.bounds[row].as_ptr()) }
             };
             let zero = _mm256_setzero_ps();
-            let mut enter = zero;
-            let mut exit = _mm256_set1_ps(t_max);
+            let (mut enter_lo, mut enter_hi) = (zero, zero);
+            let mut exit_hi = _mm256_set1_ps(t_max);
+            let mut exit_lo = _mm256_set1_ps(t_min);
             for axis in 0..3 {
                 // The interval products' low and high ends: which end of the inverse
                 // interval depends on the sign of the distance.
-                let d = _mm256_sub_ps(load(self.near[axis]), self.origin_near[axis]);
-                let non_negative = _mm256_cmp_ps::<_CMP_GE_OQ>(d, zero);
-                let inv = _mm256_blendv_ps(self.inv_hi[axis], self.inv_lo[axis], non_negative);
-                enter = _mm256_max_ps(_mm256_mul_ps(d, inv), enter);
-                let d = _mm256_sub_ps(load(self.far[axis]), self.origin_far[axis]);
-                let non_negative = _mm256_cmp_ps::<_CMP_GE_OQ>(d, zero);
-                let inv = _mm256_blendv_ps(self.inv_lo[axis], self.inv_hi[axis], non_negative);
-                exit = _mm256_min_ps(_mm256_mul_ps(d, inv), exit);
+                let near_plane = load(self.near[axis]);
+                let far_plane = load(self.far[axis]);
+                let (lo, hi) = (self.inv_lo[axis], self.inv_hi[axis]);
+                let product = |d: __m256, when_non_negative: __m256, when_negative: __m256| {
+                    let non_negative = _mm256_cmp_ps::<_CMP_GE_OQ>(d, zero);
+                    _mm256_mul_ps(
+                        d,
+                        _mm256_blendv_ps(when_negative, when_non_negative, non_negative),
+                    )
+                };
+                let d = _mm256_sub_ps(near_plane, self.origin_near[axis]);
+                enter_lo = _mm256_max_ps(product(d, lo, hi), enter_lo);
+                let d = _mm256_sub_ps(far_plane, self.origin_far[axis]);
+                exit_hi = _mm256_min_ps(product(d, hi, lo), exit_hi);
+                let d = _mm256_sub_ps(near_plane, self.origin_far[axis]);
+                enter_hi = _mm256_max_ps(product(d, hi, lo), enter_hi);
+                let d = _mm256_sub_ps(far_plane, self.origin_near[axis]);
+                exit_lo = _mm256_min_ps(product(d, lo, hi), exit_lo);
             }
-            let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(enter, _mm256_mul_ps(exit, self.exit_scale));
+            let some =
+                _mm256_cmp_ps::<_CMP_LE_OQ>(enter_lo, _mm256_mul_ps(exit_hi, self.exit_scale));
+            let all =
+                _mm256_cmp_ps::<_CMP_LE_OQ>(enter_hi, _mm256_mul_ps(exit_lo, self.exit_scale));
             let mut t = [0.0f32; 8];
             // SAFETY: `t` holds eight f32s; unaligned store.
-            unsafe { _mm256_storeu_ps(t.as_mut_ptr(), enter) };
-            (_mm256_movemask_ps(hit) as u32, t)
+            unsafe { _mm256_storeu_ps(t.as_mut_ptr(), enter_lo) };
+            let some = _mm256_movemask_ps(some) as u32;
+            (some, t, some & _mm256_movemask_ps(all) as u32)
         }
     }
 
@@ -375,6 +393,7 @@ mod x86 {
         mut leaf: impl FnMut(u32, u32, f32, u64, &mut PacketSearch, &mut Stats),
     ) {
         let packet = Packet8::new(bounds);
+        let box_test = Packet4::new(*bounds);
         // Deferred children: (child, count or 0, entry bound, the rays that enter it).
         let mut stack = TraversalStack::<(u32, u32, f32, u64), { 7 * MAX_DEPTH }>::new();
         let (mut child, mut count, mut enter, mut rays) = (0u32, 0u32, 0.0f32, search.open());
@@ -390,11 +409,20 @@ mod x86 {
                         if open == 0 {
                             break;
                         }
+                        // The triangles' boxes against the packet's interval first: a
+                        // triangle none of the rays can reach is skipped for all of them.
+                        let v = pack.lanes_by_vertex();
+                        let min = [0, 1, 2].map(|a| v[0][a].min(v[1][a]).min(v[2][a]));
+                        let max = [0, 1, 2].map(|a| v[0][a].max(v[1][a]).max(v[2][a]));
+                        let (mut lanes, _) = box_test.hit_boxes(min, max, search.t_max());
+                        lanes &= (1 << pack.len()) - 1;
                         stats.count_tests(
                             ShapeKind::Triangle,
-                            (pack.len() as u64) * u64::from(open.count_ones()),
+                            u64::from(lanes.count_ones()) * u64::from(open.count_ones()),
                         );
-                        for lane in 0..pack.len() {
+                        while lanes != 0 {
+                            let lane = lanes.trailing_zeros() as usize;
+                            lanes &= lanes - 1;
                             let open = rays & search.open();
                             let mut kept =
                                 triangle_candidates(pack, lane, k, open, soa, &search.nested);
@@ -413,7 +441,7 @@ mod x86 {
                 }
             } else {
                 let node = &nodes[child as usize];
-                let (mut mask, t) = packet.hit(node, search.t_max());
+                let (mut mask, t, everyone) = packet.hit(node, search.t_max(), search.t_min());
                 stats.node_visits += u64::from(Ray8::children(node));
                 let (children, counts) = (&node.child, &node.count);
                 // Each child the packet may enter goes on with the rays that do enter it.
@@ -422,7 +450,11 @@ mod x86 {
                 while mask != 0 {
                     let k = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
-                    let entering = rays_entering(&packet, node, k, rays, soa, &search.bound);
+                    let entering = if everyone >> k & 1 == 1 {
+                        rays
+                    } else {
+                        rays_entering(&packet, node, k, rays, soa, &search.bound)
+                    };
                     if entering == 0 {
                         continue;
                     }
