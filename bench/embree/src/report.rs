@@ -156,8 +156,8 @@ pub fn markdown(path: &Path) -> Result<String, String> {
     let w = &mut s;
 
     let _ = writeln!(w, "Ray throughput, 1 thread, Mrays/s by process CPU time (the median over process runs of each run's median); ratios are prism / Embree (above 1: prism faster).\n");
-    let _ = writeln!(w, "| mesh (triangles) | rays | Embree MEDIUM 1 / 8 / 16 | Embree HIGH 1 / 8 / 16 | prism | prism / M1 | prism / M16 | prism / H1 |");
-    let _ = writeln!(w, "|---|---|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(w, "| mesh (triangles) | rays | Embree MEDIUM 1 / 8 / 16 | Embree HIGH 1 / 8 / 16 | prism 1 / packets of 16 / 64 | prism / M1 | prism / M16 | prism 64 / M16 | prism / H1 |");
+    let _ = writeln!(w, "|---|---|---:|---:|---:|---:|---:|---:|---:|");
     for (mesh, tris) in &t.meshes {
         for rays in RAYS {
             let r = |m: &str| t.rate(mesh, rays, m, "1", "mrays_cpu");
@@ -171,13 +171,16 @@ pub fn markdown(path: &Path) -> Result<String, String> {
             };
             let _ = writeln!(
                 w,
-                "| {mesh} ({}) | {rays} | {} | {} | {} | {} | {} | {} |",
+                "| {mesh} ({}) | {rays} | {} | {} | {} | {} | {} | {} | {} |",
                 count(tris),
                 group("M"),
                 group("H"),
-                f(r("prism")),
+                ["prism", "prism-p16", "prism-p64"]
+                    .map(|m| f(r(m)))
+                    .join(" / "),
                 ratio(r("prism"), r("embree-M1")),
                 ratio(r("prism"), r("embree-M16")),
+                ratio(r("prism-p64"), r("embree-M16")),
                 ratio(r("prism"), r("embree-H1")),
             );
         }
@@ -189,13 +192,13 @@ pub fn markdown(path: &Path) -> Result<String, String> {
         "\nIn short, prism / Embree over the meshes (lowest to highest):\n"
     );
     for rays in RAYS {
-        let range = |method: &str| {
+        let range_of = |ours: &str, method: &str| {
             let ratios: Vec<f64> = t
                 .meshes
                 .iter()
                 .filter_map(|(mesh, _)| {
                     Some(
-                        t.rate(mesh, rays, "prism", "1", "mrays_cpu")?
+                        t.rate(mesh, rays, ours, "1", "mrays_cpu")?
                             / t.rate(mesh, rays, method, "1", "mrays_cpu")?,
                     )
                 })
@@ -208,11 +211,13 @@ pub fn markdown(path: &Path) -> Result<String, String> {
                 format!("{lo:.2}–{hi:.2}×")
             }
         };
+        let range = |method: &str| range_of("prism", method);
         let _ = writeln!(
             w,
-            "- {rays} rays: {} of Embree's single rays (MEDIUM), {} of its 16-ray packets",
+            "- {rays} rays: {} of Embree's single rays (MEDIUM), {} of its 16-ray packets; prism's 64-ray packets {} of Embree's 16-ray packets",
             range("embree-M1"),
-            range("embree-M16")
+            range("embree-M16"),
+            range_of("prism-p64", "embree-M16")
         );
     }
 

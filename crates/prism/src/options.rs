@@ -94,8 +94,10 @@ pub struct RenderOptions {
     /// Trace the camera rays of neighbouring pixels as packets (`PACKET_EDGE` ×
     /// `PACKET_EDGE` pixels, one packet per sample index) through the accelerator's packet
     /// query; every ray gets the answer its own query gives, so the image is the same
-    /// either way. Only the per-pixel samplers use packets; the node visits and tests of a
-    /// packet are shared evenly among its pixels in the cost view.
+    /// either way. The per-pixel samplers trace blocks of pixels, the `corners` pattern
+    /// (and the adaptive sampler's first lattice) runs of 64 corners along a row; the
+    /// adaptive sampler's refinement traces single rays. The node visits and tests of a
+    /// packet are shared evenly among its rays' pixels in the cost view.
     pub packets: bool,
 }
 

@@ -330,6 +330,8 @@ fn renders_are_identical_with_and_without_packets() {
                 o.filter = FilterKind::Gaussian;
             }),
         ),
+        ("corners", Box::new(|o| o.sampler = SamplerKind::Corners)),
+        ("adaptive", Box::new(|o| o.sampler = SamplerKind::Adaptive)),
         (
             "4-wide, tiles of 5",
             Box::new(|o| {

@@ -19,9 +19,11 @@
 //! the owner's rays, so the density view is the same as if every pixel traced its own.
 
 use super::memory::try_filled;
+use super::packet::trace_packet;
 use super::rays::{PixelRays, RayMark};
 use super::splat::{FilmSums, SplatBuffer};
 use super::{Film, Job, RenderError, TileDone, Traced};
+use crate::accel::PACKET_MAX;
 use crate::math::{Color, Vec2};
 use crate::sampling::adaptive::{
     Encoded, Point, PointSource, Refined, Refinement, Square, Verdict,
@@ -700,11 +702,29 @@ fn trace_corners(
             let mut stats = Stats::default();
             rays.clear();
             rays.resize(w as usize, PixelRays::default());
-            for (i, value) in (0..=w).zip(values) {
-                let mark = RayMark::of(&stats);
-                let (fx, fy) = position(i * steps, j * steps);
-                *value = job.trace(fx / s, fy / s, &mut stats);
-                rays[i.min(w - 1) as usize] += PixelRays::since(mark, &stats);
+            if job.packets {
+                // Runs of corners along the row, one packet each.
+                let mut at = [Vec2::ZERO; PACKET_MAX];
+                let mut work = [PixelRays::default(); PACKET_MAX];
+                for (run, chunk) in values.chunks_mut(PACKET_MAX).enumerate() {
+                    let first = (run * PACKET_MAX) as u32;
+                    for (k, p) in at[..chunk.len()].iter_mut().enumerate() {
+                        let (fx, fy) = position((first + k as u32) * steps, j * steps);
+                        *p = Vec2::new(fx / s, fy / s);
+                    }
+                    work.fill(PixelRays::default());
+                    trace_packet(job, &at[..chunk.len()], chunk, &mut work, &mut stats);
+                    for (k, r) in work[..chunk.len()].iter().enumerate() {
+                        rays[(first + k as u32).min(w - 1) as usize] += *r;
+                    }
+                }
+            } else {
+                for (i, value) in (0..=w).zip(values) {
+                    let mark = RayMark::of(&stats);
+                    let (fx, fy) = position(i * steps, j * steps);
+                    *value = job.trace(fx / s, fy / s, &mut stats);
+                    rays[i.min(w - 1) as usize] += PixelRays::since(mark, &stats);
+                }
             }
             (job.on_tile)(TileDone {
                 pixels: if j < h { w as u64 } else { 0 },
@@ -733,10 +753,27 @@ fn trace_centres(job: &Job, centres: &mut [Option<Color>], out: &mut Traced) {
             let mut stats = Stats::default();
             let mut values = Vec::with_capacity(w as usize);
             let mut rays = Vec::with_capacity(w as usize);
-            for x in 0..w {
-                let before = stats;
-                values.push(job.trace(x as f32 + 0.5, y as f32 + 0.5, &mut stats));
-                rays.push(PixelRays::between(&before, &stats));
+            if job.packets {
+                values.resize(w as usize, Color::ZERO);
+                rays.resize(w as usize, PixelRays::default());
+                let mut at = [Vec2::ZERO; PACKET_MAX];
+                for (run, (chunk, work)) in values
+                    .chunks_mut(PACKET_MAX)
+                    .zip(rays.chunks_mut(PACKET_MAX))
+                    .enumerate()
+                {
+                    let first = run * PACKET_MAX;
+                    for (k, p) in at[..chunk.len()].iter_mut().enumerate() {
+                        *p = Vec2::new((first + k) as f32 + 0.5, y as f32 + 0.5);
+                    }
+                    trace_packet(job, &at[..chunk.len()], chunk, work, &mut stats);
+                }
+            } else {
+                for x in 0..w {
+                    let before = stats;
+                    values.push(job.trace(x as f32 + 0.5, y as f32 + 0.5, &mut stats));
+                    rays.push(PixelRays::between(&before, &stats));
+                }
             }
             (job.on_tile)(TileDone {
                 pixels: w as u64,

@@ -9,6 +9,7 @@ mod film;
 mod filter;
 mod lattice;
 pub mod memory;
+mod packet;
 mod pixels;
 mod rays;
 mod splat;

@@ -10,12 +10,11 @@
 //! Tiles are whole blocks (`RenderOptions::effective_tile_size`), so the blocks, and the
 //! statistics, do not depend on the tile size.
 
+use super::packet::trace_packet;
 use super::rays::PixelRays;
 use super::splat::{FilmSums, SplatBuffer};
 use super::{tiles, Film, Job, RenderError, Tile, TileDone, Traced};
 use crate::accel::PACKET_MAX;
-use crate::integrator::Charge;
-use crate::math::Ray;
 use crate::math::{Color, Vec2};
 use crate::options::PACKET_EDGE;
 use crate::sampling::PixelPattern;
@@ -168,8 +167,6 @@ fn trace_packets(
     let mut block: Vec<(u32, u32)> = Vec::with_capacity(PACKET_MAX);
     let mut block_offsets: Vec<Vec2> = Vec::with_capacity(PACKET_MAX * count);
     let mut colors: Vec<Color> = vec![Color::ZERO; PACKET_MAX * count];
-    let mut camera_rays: Vec<Ray> = Vec::with_capacity(PACKET_MAX);
-    let mut hits = [None; PACKET_MAX];
     for by in (tile.y0..tile.y1).step_by(edge) {
         for bx in (tile.x0..tile.x1).step_by(edge) {
             block.clear();
@@ -184,44 +181,19 @@ fn trace_packets(
             }
             let n = block.len();
             let local = |x: u32, y: u32| (y - tile.y0) as usize * width + (x - tile.x0) as usize;
+            let mut at = [Vec2::ZERO; PACKET_MAX];
+            let mut shaded = [Color::ZERO; PACKET_MAX];
+            let mut work = [PixelRays::default(); PACKET_MAX];
             for s in 0..count {
-                camera_rays.clear();
-                camera_rays.extend(block.iter().enumerate().map(|(i, &(x, y))| {
+                for (i, &(x, y)) in block.iter().enumerate() {
                     let o = block_offsets[i * count + s];
-                    job.camera.ray(x as f32 + o.x, y as f32 + o.y)
-                }));
-                let before = *stats;
-                job.integrator
-                    .camera_hits(&camera_rays, &mut hits[..n], stats);
-                let mut shared = PixelRays::between(&before, stats);
-                let mut own = [PixelRays::default(); PACKET_MAX];
-                let mut shaded = [Color::ZERO; PACKET_MAX];
-                job.integrator.shade_camera_packet(
-                    &camera_rays,
-                    &hits[..n],
-                    &mut shaded[..n],
-                    stats,
-                    |step, before, after| {
-                        let mut work = PixelRays::between(before, after);
-                        match step {
-                            Charge::Ray(i) => own[i] += work,
-                            // Each shadow ray counts in its own pixel; only the traversal
-                            // is shared.
-                            Charge::ShadowPacket { owners } => {
-                                for &i in owners {
-                                    own[i].total += 1;
-                                }
-                                work.total -= owners.len() as u32;
-                                shared += work;
-                            }
-                        }
-                    },
-                );
+                    at[i] = Vec2::new(x as f32 + o.x, y as f32 + o.y);
+                }
+                work[..n].fill(PixelRays::default());
+                trace_packet(job, &at[..n], &mut shaded, &mut work, stats);
                 for (i, &(x, y)) in block.iter().enumerate() {
                     colors[i * count + s] = shaded[i];
-                    let r = &mut rays[local(x, y)];
-                    *r += shared.share(i, n);
-                    *r += own[i];
+                    rays[local(x, y)] += work[i];
                 }
             }
             // Each pixel's samples in sample order, as the single-ray path sums them.

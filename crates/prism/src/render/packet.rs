@@ -1,0 +1,59 @@
+//! Camera rays traced as packets: the rays through a run of neighbouring film positions
+//! find their first hits together (`Whitted::camera_hits`), their shadow rays to each
+//! light go as packets too, and each ray's tree is then shaded on its own
+//! (`Whitted::shade_camera_packet`). Every value is the one a single ray gives. The
+//! per-pixel samplers trace blocks of pixels this way (`pixels.rs`), the corner pattern
+//! runs of lattice points along a row (`lattice.rs`).
+
+use super::rays::PixelRays;
+use super::Job;
+use crate::accel::PACKET_MAX;
+use crate::integrator::Charge;
+use crate::math::{Color, Ray, Vec2};
+use crate::stats::Stats;
+use arrayvec::ArrayVec;
+
+/// Traces the camera rays through film positions `at` (at most `PACKET_MAX`) as one
+/// packet: `colors[i]` is ray i's radiance, and `rays[i]` gains its rays and work, each
+/// ray counted in its own slot and the packets' shared traversal split evenly.
+pub(super) fn trace_packet(
+    job: &Job,
+    at: &[Vec2],
+    colors: &mut [Color],
+    rays: &mut [PixelRays],
+    stats: &mut Stats,
+) {
+    let n = at.len();
+    let camera_rays: ArrayVec<Ray, PACKET_MAX> =
+        at.iter().map(|p| job.camera.ray(p.x, p.y)).collect();
+    let mut hits = [None; PACKET_MAX];
+    let before = *stats;
+    job.integrator
+        .camera_hits(&camera_rays, &mut hits[..n], stats);
+    let mut shared = PixelRays::between(&before, stats);
+    let mut own = [PixelRays::default(); PACKET_MAX];
+    job.integrator.shade_camera_packet(
+        &camera_rays,
+        &hits[..n],
+        &mut colors[..n],
+        stats,
+        |step, before, after| {
+            let mut work = PixelRays::between(before, after);
+            match step {
+                Charge::Ray(i) => own[i] += work,
+                // Each shadow ray counts in its own pixel; only the traversal is shared.
+                Charge::ShadowPacket { owners } => {
+                    for &i in owners {
+                        own[i].total += 1;
+                    }
+                    work.total -= owners.len() as u32;
+                    shared += work;
+                }
+            }
+        },
+    );
+    for (i, r) in rays[..n].iter_mut().enumerate() {
+        *r += shared.share(i, n);
+        *r += own[i];
+    }
+}
