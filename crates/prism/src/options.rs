@@ -2,6 +2,7 @@
 //! API all fill this struct; anything they leave out keeps the default documented here.
 
 use crate::accel::AccelSpec;
+use crate::integrator::Strategy;
 use crate::render::FilterKind;
 use crate::sampling::{adaptive, AdaptiveRule, SamplerKind};
 use crate::transfer::Transfer;
@@ -26,6 +27,24 @@ pub const MAX_THREADS: usize = 1024;
 pub const MAX_SAMPLES_PER_AXIS: u32 = 64;
 /// Largest accepted filter radius, in pixels.
 pub const MAX_FILTER_RADIUS: f32 = 8.0;
+
+/// Which integrator renders (`--integrator`, the scene file's `integrator`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum IntegratorKind {
+    /// Whitted's recursive ray tracer: point lights, mirror and refracted rays.
+    #[default]
+    Whitted,
+    /// A path tracer with area lights, next-event estimation and MIS.
+    Path,
+}
+
+named_kinds! {
+    IntegratorKind, "integrator" {
+        Whitted => "whitted",
+        Path => "path",
+    }
+}
 
 /// Every setting of a render, in one place: filled from defaults, then the scene file, then the
 /// command line.
@@ -67,7 +86,8 @@ pub struct RenderOptions {
     /// What the pixel values mean: linear light shown through the sRGB curve (`srgb`), or
     /// display values written as they are (`display`, the default of NFF scenes).
     pub transfer: Transfer,
-    /// Maximum ray-tree depth; the eye ray has depth 1, so 5 allows four bounces.
+    /// Maximum ray-tree depth; the eye ray has depth 1, so 5 allows four bounces. For the
+    /// path tracer, the most segments a path has (1 sees emitters, 2 adds direct light).
     pub max_depth: u32,
     /// Adaptive depth control: a reflected or refracted ray whose weight in the pixel (the
     /// product of reflection and transmission weights from the eye) is below this is not
@@ -90,6 +110,12 @@ pub struct RenderOptions {
     pub shadows: crate::integrator::ShadowSpec,
     /// Edge length of the square tiles handed to worker threads.
     pub tile_size: u32,
+    /// Which integrator renders: `whitted` (the default) or `path` (docs/path-tracing.md).
+    pub integrator: IntegratorKind,
+    /// The path tracer's estimator of area light: MIS (the default) or one strategy alone.
+    /// A switch for tests and experiments; scene files and the CLI do not set it.
+    #[serde(skip)]
+    pub path_strategy: Strategy,
 }
 
 impl Default for RenderOptions {
@@ -115,6 +141,8 @@ impl Default for RenderOptions {
             accel: AccelSpec::default(),
             shadows: Default::default(),
             tile_size: 16,
+            integrator: IntegratorKind::Whitted,
+            path_strategy: Strategy::Mis,
         }
     }
 }

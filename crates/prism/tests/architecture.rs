@@ -149,7 +149,7 @@ fn the_concept_table_points_at_files_that_exist() {
         checked += 1;
     }
     assert!(checked >= 15, "only {checked} concepts point at files");
-    for concept in ["ray packets", "beam tracing", "path tracing"] {
+    for concept in ["ray packets", "beam tracing"] {
         assert!(
             table
                 .lines()

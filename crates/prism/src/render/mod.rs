@@ -19,7 +19,8 @@ pub use memory::{estimate as memory_estimate, MemoryEstimate};
 pub use rays::{PixelRays, RayCounts};
 
 use crate::camera::{CameraError, CameraRays};
-use crate::integrator::Whitted;
+use crate::integrator::Integrator;
+use crate::math::hash::Stream;
 use crate::math::Color;
 use crate::options::RenderOptions;
 use crate::sampling::Sampler;
@@ -157,18 +158,22 @@ pub(crate) struct Job<'a> {
     width: u32,
     height: u32,
     camera: CameraRays,
-    integrator: Whitted<'a>,
+    integrator: Integrator<'a>,
+    seed: u64,
     filter: Filter,
     on_tile: &'a (dyn Fn(TileDone) + Sync),
     cancel: &'a AtomicBool,
 }
 
 impl Job<'_> {
-    /// Radiance through film position (x, y), in pixels from the top-left corner.
+    /// Radiance through film position (x, y), in pixels from the top-left corner. A path
+    /// draws its random numbers from a stream keyed by the position itself, which every
+    /// sampler gives each sample its own of, whoever traces it.
     #[inline]
     fn trace(&self, x: f32, y: f32, stats: &mut Stats) -> Color {
+        let stream = Stream::new(x.to_bits(), y.to_bits(), 0, self.seed);
         self.integrator
-            .trace_camera_ray(&self.camera.ray(x, y), stats)
+            .trace_camera_ray(&self.camera.ray(x, y), &stream, stats)
     }
 
     fn cancelled(&self) -> bool {
@@ -218,7 +223,8 @@ pub fn render(
         width: options.width,
         height: options.height,
         camera: scene.scene.camera.setup(options.width, options.height)?,
-        integrator: Whitted::new(scene, options),
+        integrator: Integrator::new(scene, options),
+        seed: options.seed,
         filter: Filter::new(options.filter, options.filter_radius),
         on_tile,
         cancel,
@@ -239,7 +245,10 @@ pub fn render(
         Sampler::Adaptive(rule) => lattice::render_adaptive(&job, &rule),
     })?;
     let render_time = start.elapsed();
-    let shadows = job.integrator.shadows();
+    let (light_buffers, light_buffer_notes) = match job.integrator.shadows() {
+        Some(shadows) => (shadows.buffer_info(), shadows.unbuilt.clone()),
+        None => (Vec::new(), Vec::new()),
+    };
     let mut film = traced.film;
     film.transfer = options.transfer;
     Ok(RenderResult {
@@ -248,8 +257,8 @@ pub fn render(
         complete: traced.complete,
         render_time,
         rays: traced.rays,
-        light_buffers: shadows.buffer_info(),
-        light_buffer_notes: shadows.unbuilt.clone(),
+        light_buffers,
+        light_buffer_notes,
     })
 }
 
