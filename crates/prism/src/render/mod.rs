@@ -10,12 +10,14 @@ mod filter;
 mod lattice;
 pub mod memory;
 mod pixels;
+mod progressive;
 mod rays;
 mod splat;
 
 pub use film::Film;
 pub use filter::{Filter, FilterKind};
 pub use memory::{estimate as memory_estimate, MemoryEstimate};
+pub use progressive::{Progressive, MAX_PROGRESSIVE_SAMPLES};
 pub use rays::{PixelRays, RayCounts};
 
 use crate::camera::{CameraError, CameraRays};
