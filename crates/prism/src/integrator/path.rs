@@ -274,7 +274,7 @@ impl<'a> PathTracer<'a> {
         let target = offset_ray_origin(e.p, e.p_error, e.n, -wi);
         let span = target - origin;
         let distance = span.length();
-        if !(distance > 0.0) || span.dot(wi) <= 0.0 {
+        if distance.is_nan() || distance <= 0.0 || span.dot(wi) <= 0.0 {
             return sum;
         }
         let dir = span / distance;
