@@ -17,6 +17,11 @@ Usage (Mitsuba in a venv; its llvm variants need Debian's libllvm19):
     /tmp/mi/bin/python bench/mitsuba-cornell.py [--spp 256] [--threads 2]
         [--variant llvm_ad_rgb] [--size 512] [--depth 6] [--out DIR]
 Run it from the repository root after `cargo build --release -p prism-cli`.
+
+    /tmp/mi/bin/python bench/mitsuba-cornell.py --write-reference crates/prism/tests/data \
+        --size 64 --spp 16384
+writes Mitsuba's images alone (NAME-mitsuba.exr), the references that
+crates/prism/tests/path_tracing.rs holds prism's path tracer to.
 """
 
 import argparse
@@ -151,6 +156,8 @@ def main():
     ap.add_argument("--out", default="/tmp/prism-mitsuba")
     ap.add_argument("--prism", default="target/release/prism")
     ap.add_argument("--scenes", default="cornell-light,cornell-light-glass")
+    ap.add_argument("--write-reference", metavar="DIR",
+                    help="only render Mitsuba's images into DIR")
     args = ap.parse_args()
     n = int(round(args.spp ** 0.5))
     if n * n != args.spp:
@@ -162,6 +169,14 @@ def main():
     mi.set_variant(args.variant)
     dr.set_thread_count(args.threads)
     os.makedirs(args.out, exist_ok=True)
+    if args.write_reference:
+        for name in args.scenes.split(","):
+            scene = mi.load_dict(mitsuba_scene(mi, name, args.out, args.size, args.spp,
+                                               args.depth))
+            path = os.path.join(args.write_reference, f"{name}-mitsuba.exr")
+            mi.Bitmap(mi.render(scene, spp=args.spp)).write(path)
+            print("wrote", path)
+        return
     paths = args.size * args.size * args.spp
     print(f"# {args.size}², {args.spp} paths per pixel, max depth {args.depth}, "
           f"{args.threads} threads; Mitsuba {mi.__version__} {args.variant}")

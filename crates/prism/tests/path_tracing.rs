@@ -552,3 +552,55 @@ fn the_cornell_box_renders_the_same_at_a_thousandth_and_a_thousand_times_its_siz
         }
     }
 }
+
+/// Mitsuba 3's path tracer on the same Cornell boxes (64², 16384 paths per pixel, max depth
+/// 6: `bench/mitsuba-cornell.py --write-reference`), against prism's progressive render
+/// of 256 paths per pixel. Both place samples uniformly in the pixel with a box filter, so
+/// every pixel has the same expectation in both.
+#[test]
+fn the_cornell_boxes_agree_with_mitsuba() {
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    for (name, max_flip) in [("cornell-light", 0.04), ("cornell-light-glass", 0.08)] {
+        let reference =
+            prism_io::output::read_image(&data.join(format!("{name}-mitsuba.exr"))).unwrap();
+        let scene = builtin::find(name).unwrap();
+        let options = RenderOptions {
+            width: reference.width,
+            height: reference.height,
+            threads: 2,
+            ..scene.options.clone()
+        };
+        let film = progressive(&scene, &options, 256);
+        // The light itself (radiance 17) and its outline, where the cameras' rounding
+        // differs, would dominate: the comparison keeps the pixels both see below 1.
+        let lit: Vec<bool> = (film.pixels.iter().zip(&reference.pixels))
+            .map(|(a, b)| a.max_element() < 1.0 && b.max_element() < 1.0)
+            .collect();
+        let masked = |f: &Film| Film {
+            pixels: (f.pixels.iter().zip(&lit))
+                .filter(|(_, &keep)| keep)
+                .map(|(c, _)| *c)
+                .collect(),
+            ..f.clone()
+        };
+        let (ours, theirs) = (masked(&film), masked(&reference));
+        let z = difference_z(&ours, &theirs);
+        assert!(
+            z.abs() < 4.0,
+            "{name}: prism − Mitsuba = {z} standard errors"
+        );
+        let brighter = Film {
+            pixels: ours.pixels.iter().map(|c| *c * 1.03).collect(),
+            ..ours.clone()
+        };
+        assert!(
+            difference_z(&brighter, &theirs).abs() > 4.0,
+            "{name}: the test cannot see 3 %"
+        );
+        let flip = prism_lab::metrics::compare(&reference, &film, None, 67.0)
+            .unwrap()
+            .flip;
+        assert!(flip < max_flip, "{name}: mean FLIP {flip}");
+        eprintln!("{name}: z = {z:.2}, FLIP {flip:.4}");
+    }
+}
