@@ -102,8 +102,8 @@ impl<'a> PathTracer<'a> {
         FIRST_VERTEX_DIM + (depth - 1) * DIMS_PER_VERTEX + k
     }
 
-    /// Whether a shadow ray from `p` (error `p_error`, leaving the side of `ng` that `dir`
-    /// points to) is blocked before `distance`.
+    /// Whether a shadow ray from `origin` (already offset off its surface) along `dir` is
+    /// blocked before `distance`; counted as a shadow ray with its tests and visits.
     fn blocked(&self, origin: Vec3, dir: Vec3, distance: f32, stats: &mut Stats) -> bool {
         stats.shadow_rays += 1;
         let (tests, nodes) = (stats.primitive_tests, stats.node_visits);

@@ -63,9 +63,9 @@ pub struct BsdfSample {
     pub transmitted: bool,
 }
 
-/// The phong exponent a highlight's `shininess` stands for: Blinn–Phong's (N·H)ⁿ is close to
-/// Phong's (R·V)^(n/4) (the half-angle is half the mirror angle, and cos is squared-ish
-/// near 1).
+/// The Phong exponent a highlight's `shininess` stands for: near the peak the half vector's
+/// angle to N is half the mirror direction's angle to V, so (N·H)ⁿ ≈ (R·V)^(n/4)
+/// (cos(θ/2)ⁿ ≈ e^(−nθ²/8) = cos(θ)^(n/4) for small θ).
 fn phong_exponent(material: &Material) -> f32 {
     let n = material.shininess.max(0.0);
     match material.highlight {
@@ -134,11 +134,6 @@ impl Bsdf {
     /// Whether some lobe is not a delta: only then can a light sample find a direction.
     pub fn has_smooth_lobe(&self) -> bool {
         self.p_diffuse + self.p_glossy > 0.0
-    }
-
-    /// Whether it scatters at all.
-    pub fn is_black(&self) -> bool {
-        self.p_diffuse + self.p_glossy + self.p_reflect <= 0.0 && self.transmit == Color::ZERO
     }
 
     /// The cosine of the rendering equation for `wi`, at the shading normal (0 below it).
