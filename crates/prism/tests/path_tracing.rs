@@ -604,3 +604,83 @@ fn the_cornell_boxes_agree_with_mitsuba() {
         eprintln!("{name}: z = {z:.2}, FLIP {flip:.4}");
     }
 }
+
+#[test]
+fn point_spot_and_directional_lights_give_the_path_tracer_whitteds_direct_light() {
+    // A Whitted light's colour is the irradiance it gives a surface facing it; the path
+    // tracer takes it as π × that, so on a Lambertian surface direct light (max depth 2)
+    // is Whitted's kd·C·cos θ·colour exactly, shadows included.
+    let mut scene = Scene {
+        camera: Camera {
+            eye: Vec3::new(0.0, 3.0, -5.0),
+            look_at: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_degrees: 60.0,
+            projection: Projection::Perspective,
+        },
+        ambient: Color::ZERO,
+        ..Scene::default()
+    };
+    let matte = scene.add_material(Material {
+        name: "matte".into(),
+        color: Texture::Solid(Color::new(0.6, 0.5, 0.4)),
+        ambient: 0.0,
+        diffuse: 0.9,
+        ..Material::default()
+    });
+    let v = Vec3::new;
+    scene.geometry.add_mesh(
+        generate::quad(
+            v(-4., 0., -4.),
+            v(-4., 0., 4.),
+            v(4., 0., 4.),
+            v(4., 0., -4.),
+            1.,
+            1.,
+        ),
+        matte,
+    );
+    scene
+        .geometry
+        .add(Shape::Sphere(Sphere::new(v(0.5, 0.7, 0.0), 0.7)), matte);
+    scene.lights = vec![
+        prism::light::Light::Point {
+            position: v(-2.0, 4.0, -1.0),
+            color: Color::new(0.5, 0.4, 0.3),
+        },
+        prism::light::Light::Directional {
+            direction: v(1.0, -2.0, 0.5).normalize(),
+            color: Color::splat(0.3),
+        },
+        prism::light::Light::Spot {
+            position: v(2.0, 3.0, -2.0),
+            direction: v(-0.5, -1.0, 0.5).normalize(),
+            color: Color::splat(0.6),
+            cos_inner: 0.95,
+            cos_outer: 0.8,
+        },
+    ];
+    let whitted = RenderOptions {
+        width: 48,
+        height: 32,
+        max_depth: 2,
+        threads: 2,
+        ..RenderOptions::default()
+    };
+    let path = RenderOptions {
+        integrator: IntegratorKind::Path,
+        ..whitted.clone()
+    };
+    let prepared = scene.prepare(&whitted.accel);
+    let cancel = AtomicBool::new(false);
+    let a = render(&prepared, &whitted, &|_| {}, &cancel).unwrap().film;
+    let b = render(&prepared, &path, &|_| {}, &cancel).unwrap().film;
+    let lit = a.pixels.iter().filter(|c| c.max_element() > 0.05).count();
+    assert!(lit > a.pixels.len() / 2, "the scene is lit: {lit} pixels");
+    for (i, (x, y)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+        assert!(
+            (*x - *y).abs().max_element() <= 1e-4 * (1.0 + x.max_element()),
+            "pixel {i}: Whitted {x}, path {y}"
+        );
+    }
+}
