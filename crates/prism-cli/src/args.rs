@@ -165,7 +165,8 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "NAME")]
     pub transfer: Option<prism::transfer::Transfer>,
 
-    /// Maximum ray-tree depth, counting the eye ray as 1 (1 to 256) [default: 5].
+    /// Maximum ray-tree depth, counting the eye ray as 1 (1 to 256) [default: 5]; for the
+    /// path tracer, the most segments of a path.
     #[arg(short, long, value_name = "N")]
     pub depth: Option<u32>,
 
@@ -195,6 +196,12 @@ pub(crate) struct RenderArgs {
     /// pixels. The image is the same either way; this measures what packets buy.
     #[arg(long)]
     pub no_packets: bool,
+
+    /// The integrator: whitted (Whitted's recursive ray tracer, the default) or path (a
+    /// path tracer with area lights, next-event estimation and MIS; each sample of the
+    /// sampler is one path, so --samples 8 traces 64 paths per pixel; docs/path-tracing.md).
+    #[arg(long, value_name = "NAME")]
+    pub integrator: Option<prism::options::IntegratorKind>,
 
     /// Apply a published procedure: `spd` = Haines' SPD rules (corner rays, depth 5, a
     /// reflection ray at every reflective or transmitting surface); `pov` = POV-Ray's
@@ -345,6 +352,9 @@ impl RenderArgs {
         }
         if self.no_packets {
             o.packets = false;
+        }
+        if let Some(v) = self.integrator {
+            o.integrator = v;
         }
         Ok(o)
     }

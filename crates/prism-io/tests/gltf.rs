@@ -858,3 +858,15 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn emissive_factor_makes_an_area_light() {
+    let mut doc = quad_document(Some(&quad_buffer_uri()));
+    doc["materials"][0]["emissiveFactor"] = json!([1.0, 0.5, 0.25]);
+    let scene = load_doc("emissive", &doc).unwrap_or_else(|e| panic!("{e}"));
+    let lamp = scene.materials.iter().find(|m| m.name == "red").unwrap();
+    assert_eq!(lamp.emission, Color::new(1.0, 0.5, 0.25));
+    let mut dark = quad_document(Some(&quad_buffer_uri()));
+    dark["materials"][0]["emissiveFactor"] = json!([-1.0, 0.0, 0.0]);
+    assert!(load_doc("emissive-negative", &dark).is_err());
+}

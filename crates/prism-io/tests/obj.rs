@@ -748,3 +748,20 @@ proptest! {
         check_result(result, 1)?;
     }
 }
+
+#[test]
+fn mtl_ke_makes_an_area_light() {
+    let mtl = "newmtl lamp\nKd 0.5\nKe 4 2 1\nnewmtl plain\nKd 0.5\n";
+    let obj = format!("mtllib m.mtl\n{TRIANGLE}usemtl lamp\nf 1 2 3\nusemtl plain\nf 1 3 2\n");
+    let file = load_files("ke", &[("m.obj", &obj), ("m.mtl", mtl)], "m.obj")
+        .unwrap_or_else(|e| panic!("{e}"));
+    let m = |name: &str| file.materials.iter().find(|m| m.name == name).unwrap();
+    assert_eq!(m("lamp").emission, Color::new(4.0, 2.0, 1.0));
+    assert_eq!(m("plain").emission, Color::ZERO);
+    let bad = load_files(
+        "ke-bad",
+        &[("m.obj", &obj), ("m.mtl", "newmtl lamp\nKe 1 x 2\n")],
+        "m.obj",
+    );
+    assert!(bad.is_err());
+}

@@ -916,3 +916,22 @@ fn an_orthographic_camera_reads_its_window_and_refuses_an_empty_one() {
     assert!(err.contains(":4:"), "{err}");
     assert!(err.contains("expected orthographic ="), "{err}");
 }
+
+#[test]
+fn a_material_may_emit() {
+    let scene = parse(
+        "[render]\nintegrator = \"path\"\n\
+         [materials.lamp]\nemission = [4, 2, 1]\n[materials.grey]\ncolor = 0.5\n\
+         [[objects]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"lamp\"\n",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        scene.options.integrator,
+        prism::options::IntegratorKind::Path
+    );
+    let m = |name: &str| scene.materials.iter().find(|m| m.name == name).unwrap();
+    assert_eq!(m("lamp").emission, Color::new(4.0, 2.0, 1.0));
+    assert_eq!(m("grey").emission, Color::ZERO);
+    assert!(parse("[materials.lamp]\nemission = [-1, 0, 0]\n").is_err());
+    assert!(parse("[render]\nintegrator = \"photon\"\n").is_err());
+}

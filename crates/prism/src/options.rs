@@ -2,6 +2,7 @@
 //! API all fill this struct; anything they leave out keeps the default documented here.
 
 use crate::accel::AccelSpec;
+use crate::integrator::Strategy;
 use crate::render::FilterKind;
 use crate::sampling::{adaptive, AdaptiveRule, SamplerKind};
 use crate::transfer::Transfer;
@@ -26,6 +27,24 @@ pub const MAX_THREADS: usize = 1024;
 pub const MAX_SAMPLES_PER_AXIS: u32 = 64;
 /// Largest accepted filter radius, in pixels.
 pub const MAX_FILTER_RADIUS: f32 = 8.0;
+
+/// Which integrator renders (`--integrator`, the scene file's `integrator`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum IntegratorKind {
+    /// Whitted's recursive ray tracer: point lights, mirror and refracted rays.
+    #[default]
+    Whitted,
+    /// A path tracer with area lights, next-event estimation and MIS.
+    Path,
+}
+
+named_kinds! {
+    IntegratorKind, "integrator" {
+        Whitted => "whitted",
+        Path => "path",
+    }
+}
 
 /// Every setting of a render, in one place: filled from defaults, then the scene file, then the
 /// command line.
@@ -67,7 +86,8 @@ pub struct RenderOptions {
     /// What the pixel values mean: linear light shown through the sRGB curve (`srgb`), or
     /// display values written as they are (`display`, the default of NFF scenes).
     pub transfer: Transfer,
-    /// Maximum ray-tree depth; the eye ray has depth 1, so 5 allows four bounces.
+    /// Maximum ray-tree depth; the eye ray has depth 1, so 5 allows four bounces. For the
+    /// path tracer, the most segments a path has (1 sees emitters, 2 adds direct light).
     pub max_depth: u32,
     /// Adaptive depth control: a reflected or refracted ray whose weight in the pixel (the
     /// product of reflection and transmission weights from the eye) is below this is not
@@ -99,6 +119,12 @@ pub struct RenderOptions {
     /// adaptive sampler's refinement traces single rays. The node visits and tests of a
     /// packet are shared evenly among its rays' pixels in the cost view.
     pub packets: bool,
+    /// Which integrator renders: `whitted` (the default) or `path` (docs/path-tracing.md).
+    pub integrator: IntegratorKind,
+    /// The path tracer's estimator of area light: MIS (the default) or one strategy alone.
+    /// A switch for tests and experiments; scene files and the CLI do not set it.
+    #[serde(skip)]
+    pub path_strategy: Strategy,
 }
 
 /// Pixels along each side of a camera-ray packet: 8 × 8 rays at one sample per pixel
@@ -129,6 +155,8 @@ impl Default for RenderOptions {
             shadows: Default::default(),
             tile_size: 16,
             packets: true,
+            integrator: IntegratorKind::Whitted,
+            path_strategy: Strategy::Mis,
         }
     }
 }
@@ -233,12 +261,18 @@ impl RenderOptions {
         Ok(())
     }
 
+    /// Whether the render traces camera rays in packets: `packets`, with the Whitted
+    /// integrator (the path tracer traces single rays).
+    pub fn uses_packets(&self) -> bool {
+        self.packets && self.integrator == IntegratorKind::Whitted
+    }
+
     /// The edge of the tiles a render hands out: `tile_size`, rounded up to whole packets
     /// when packets are on, so that packets are the same blocks of pixels whatever the
     /// tile size (and with them the statistics).
     pub fn effective_tile_size(&self) -> u32 {
         let size = self.tile_size.max(1);
-        if self.packets {
+        if self.uses_packets() {
             size.div_ceil(PACKET_EDGE).saturating_mul(PACKET_EDGE)
         } else {
             size

@@ -1,10 +1,67 @@
 //! Integrators turn a camera ray into radiance. Whitted's recursive ray tracer is the one
-//! prism is built around.
+//! prism is built around; the path tracer (`path.rs`) solves the rendering equation with
+//! area lights (`emitters.rs`) and the lobes of `shading::Bsdf`.
 
+mod emitters;
 mod light_buffer;
+mod path;
 mod shadow;
 mod whitted;
 
+pub use emitters::{EmitterSample, Emitters};
 pub use light_buffer::{BufferParams, LightBuffer, LightBufferInfo};
+pub use path::{PathTracer, Strategy, RR_DEPTH};
 pub use shadow::{begin_piece, ShadowMethod, ShadowSpec, Shadows};
 pub use whitted::{Charge, Whitted};
+
+use crate::math::hash::Stream;
+use crate::math::{Color, Ray};
+use crate::options::{IntegratorKind, RenderOptions};
+use crate::scene::PreparedScene;
+use crate::stats::Stats;
+
+/// The integrator of one render, chosen by `RenderOptions::integrator`.
+pub enum Integrator<'a> {
+    /// Whitted ray tracing.
+    Whitted(Whitted<'a>),
+    /// Path tracing.
+    Path(PathTracer<'a>),
+}
+
+impl<'a> Integrator<'a> {
+    /// The integrator `options` ask for, over `scene`.
+    pub fn new(scene: &'a PreparedScene<'a>, options: &RenderOptions) -> Self {
+        match options.integrator {
+            IntegratorKind::Whitted => Integrator::Whitted(Whitted::new(scene, options)),
+            IntegratorKind::Path => Integrator::Path(PathTracer::new(scene, options)),
+        }
+    }
+
+    /// Radiance along a camera ray. `stream` holds the sample's random numbers, which
+    /// only the path tracer draws.
+    #[inline]
+    pub fn trace_camera_ray(&self, ray: &Ray, stream: &Stream, stats: &mut Stats) -> Color {
+        match self {
+            Integrator::Whitted(w) => w.trace_camera_ray(ray, stats),
+            Integrator::Path(p) => p.trace_camera_ray(ray, stream, stats),
+        }
+    }
+
+    /// The Whitted integrator, which can trace camera rays as packets; None for the path
+    /// tracer.
+    pub fn whitted(&self) -> Option<&Whitted<'a>> {
+        match self {
+            Integrator::Whitted(w) => Some(w),
+            Integrator::Path(_) => None,
+        }
+    }
+
+    /// The shadow-ray machinery of the Whitted integrator (light buffers and why some
+    /// lights have none), for reports; None for the path tracer.
+    pub fn shadows(&self) -> Option<&Shadows<'a>> {
+        match self {
+            Integrator::Whitted(w) => Some(w.shadows()),
+            Integrator::Path(_) => None,
+        }
+    }
+}

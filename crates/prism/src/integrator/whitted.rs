@@ -3,7 +3,7 @@
 //! TraceRay(R, depth): find the nearest hit; on a miss return the background. For every
 //! light, cast a shadow ray and keep only lights it reaches; add the local illumination
 //! from those. If depth < max depth, trace the reflected and the refracted ray. Result:
-//! I = Ia·ka·C + Σ (Id + Is) + wr·I_R + wt·I_T, with (wr, wt) from the material
+//! I = Le + Ia·ka·C + Σ (Id + Is) + wr·I_R + wt·I_T, with (wr, wt) from the material
 //! (constant, or split by Fresnel reflectance). Shadow rays are `shadow.rs`: those that
 //! meet a transparent surface continue through it, filtered by its kt (a colour), as
 //! POV-Ray does. Weights are colours too: red glass passes red light only.
@@ -257,9 +257,15 @@ impl<'a> Whitted<'a> {
             color,
             ns,
             to_eye,
+            entering,
             ..
         } = *surface;
         let mut radiance = material.ambient * color * scene.ambient;
+        // An area light shows its own radiance; Whitted's shadow rays do not sample it
+        // (the path tracer does).
+        if entering && material.is_emissive() {
+            radiance += material.emission;
+        }
         for (index, light) in scene.lights.iter().enumerate() {
             let Some(ls) = self.light_sample(surface, light) else {
                 continue;

@@ -9,6 +9,7 @@ mod frame;
 pub mod hash;
 mod ray;
 pub mod robust;
+pub mod warp;
 
 pub use aabb::Aabb;
 pub use frame::Frame;

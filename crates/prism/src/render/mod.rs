@@ -11,16 +11,19 @@ mod lattice;
 pub mod memory;
 mod packet;
 mod pixels;
+mod progressive;
 mod rays;
 mod splat;
 
 pub use film::Film;
 pub use filter::{Filter, FilterKind};
 pub use memory::{estimate as memory_estimate, MemoryEstimate};
+pub use progressive::{Progressive, MAX_PROGRESSIVE_SAMPLES};
 pub use rays::{PixelRays, RayCounts};
 
 use crate::camera::{CameraError, CameraRays};
-use crate::integrator::Whitted;
+use crate::integrator::Integrator;
+use crate::math::hash::Stream;
 use crate::math::Color;
 use crate::options::RenderOptions;
 use crate::sampling::Sampler;
@@ -158,7 +161,8 @@ pub(crate) struct Job<'a> {
     width: u32,
     height: u32,
     camera: CameraRays,
-    integrator: Whitted<'a>,
+    integrator: Integrator<'a>,
+    seed: u64,
     filter: Filter,
     /// Trace camera rays in packets (`RenderOptions::packets`).
     packets: bool,
@@ -167,11 +171,14 @@ pub(crate) struct Job<'a> {
 }
 
 impl Job<'_> {
-    /// Radiance through film position (x, y), in pixels from the top-left corner.
+    /// Radiance through film position (x, y), in pixels from the top-left corner. A path
+    /// draws its random numbers from a stream keyed by the position itself, which every
+    /// sampler gives each sample its own of, whoever traces it.
     #[inline]
     fn trace(&self, x: f32, y: f32, stats: &mut Stats) -> Color {
+        let stream = Stream::new(x.to_bits(), y.to_bits(), 0, self.seed);
         self.integrator
-            .trace_camera_ray(&self.camera.ray(x, y), stats)
+            .trace_camera_ray(&self.camera.ray(x, y), &stream, stats)
     }
 
     fn cancelled(&self) -> bool {
@@ -221,9 +228,10 @@ pub fn render(
         width: options.width,
         height: options.height,
         camera: scene.scene.camera.setup(options.width, options.height)?,
-        integrator: Whitted::new(scene, options),
+        integrator: Integrator::new(scene, options),
+        seed: options.seed,
         filter: Filter::new(options.filter, options.filter_radius),
-        packets: options.packets,
+        packets: options.uses_packets(),
         on_tile,
         cancel,
     };
@@ -243,7 +251,10 @@ pub fn render(
         Sampler::Adaptive(rule) => lattice::render_adaptive(&job, &rule),
     })?;
     let render_time = start.elapsed();
-    let shadows = job.integrator.shadows();
+    let (light_buffers, light_buffer_notes) = match job.integrator.shadows() {
+        Some(shadows) => (shadows.buffer_info(), shadows.unbuilt.clone()),
+        None => (Vec::new(), Vec::new()),
+    };
     let mut film = traced.film;
     film.transfer = options.transfer;
     Ok(RenderResult {
@@ -252,8 +263,8 @@ pub fn render(
         complete: traced.complete,
         render_time,
         rays: traced.rays,
-        light_buffers: shadows.buffer_info(),
-        light_buffer_notes: shadows.unbuilt.clone(),
+        light_buffers,
+        light_buffer_notes,
     })
 }
 

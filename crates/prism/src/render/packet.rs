@@ -24,15 +24,23 @@ pub(super) fn trace_packet(
     stats: &mut Stats,
 ) {
     let n = at.len();
+    // `Job::packets` is set only for the Whitted integrator.
+    let Some(whitted) = job.integrator.whitted() else {
+        for ((p, c), r) in at.iter().zip(colors.iter_mut()).zip(rays.iter_mut()) {
+            let before = *stats;
+            *c = job.trace(p.x, p.y, stats);
+            *r += PixelRays::between(&before, stats);
+        }
+        return;
+    };
     let camera_rays: ArrayVec<Ray, PACKET_MAX> =
         at.iter().map(|p| job.camera.ray(p.x, p.y)).collect();
     let mut hits = [None; PACKET_MAX];
     let before = *stats;
-    job.integrator
-        .camera_hits(&camera_rays, &mut hits[..n], stats);
+    whitted.camera_hits(&camera_rays, &mut hits[..n], stats);
     let mut shared = PixelRays::between(&before, stats);
     let mut own = [PixelRays::default(); PACKET_MAX];
-    job.integrator.shade_camera_packet(
+    whitted.shade_camera_packet(
         &camera_rays,
         &hits[..n],
         &mut colors[..n],

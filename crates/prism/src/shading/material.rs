@@ -49,6 +49,9 @@ pub struct Material {
     pub ior: f32,
     /// How the reflected and transmitted weights vary with the angle.
     pub fresnel: FresnelMode,
+    /// Radiance the surface emits from its front side (the side its geometric normal
+    /// faces): an area light. Zero for every surface that is not a light.
+    pub emission: Color,
 }
 
 impl Default for Material {
@@ -65,6 +68,7 @@ impl Default for Material {
             transmit: Color::ZERO,
             ior: 1.5,
             fresnel: FresnelMode::Off,
+            emission: Color::ZERO,
         }
     }
 }
@@ -81,6 +85,11 @@ pub struct SpecularWeights {
 }
 
 impl Material {
+    /// Whether the surface is a light (emits from its front side).
+    pub fn is_emissive(&self) -> bool {
+        self.emission.max_element() > 0.0
+    }
+
     /// Whether any light passes through it (so shadow rays must look through it).
     pub fn is_transmissive(&self) -> bool {
         self.transmit.max_element() > 0.0

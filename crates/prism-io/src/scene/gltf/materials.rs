@@ -28,6 +28,8 @@ pub(super) struct Pbr {
     /// KHR_materials_ior's ior (1.5 without the extension; 0 is the extension's
     /// "reflect everything" value).
     pub ior: f32,
+    /// emissiveFactor, times the mean of emissiveTexture where there is one.
+    pub emission: Color,
 }
 
 impl Default for Pbr {
@@ -39,6 +41,7 @@ impl Default for Pbr {
             roughness: 1.0,
             transmission: 0.0,
             ior: 1.5,
+            emission: Color::ZERO,
         }
     }
 }
@@ -86,6 +89,7 @@ pub(super) fn whitted(name: String, pbr: &Pbr, color: Texture) -> Material {
         } else {
             FresnelMode::Off
         },
+        emission: pbr.emission,
     }
 }
 
@@ -152,6 +156,30 @@ pub(super) fn material(
         });
         pbr.roughness *= (g / n) as f32;
         pbr.metallic *= (b / n) as f32;
+    }
+    // Emission is one colour per material: an emissiveTexture contributes its mean
+    // (decoded from sRGB), so a textured light keeps its power but not its pattern.
+    pbr.emission = Color::from_array(json.emissive_factor.0);
+    if !pbr.emission.is_finite() || pbr.emission.min_element() < 0.0 {
+        return Err(context(
+            "expected an emissiveFactor of finite numbers ≥ 0".into(),
+        ));
+    }
+    if let Some(info) = &json.emissive_texture {
+        let img = images.texture(info.index.value()).map_err(context)?;
+        let rgb = img.to_rgb8();
+        let n = (rgb.width() as f64 * rgb.height() as f64).max(1.0);
+        let mut sum = [0.0f64; 3];
+        for p in rgb.pixels() {
+            for (s, &v) in sum.iter_mut().zip(p.0.iter()) {
+                *s += prism::transfer::srgb_decode(v as f32 / 255.0) as f64;
+            }
+        }
+        pbr.emission *= Color::new(
+            (sum[0] / n) as f32,
+            (sum[1] / n) as f32,
+            (sum[2] / n) as f32,
+        );
     }
     let color = match &pbr_json.base_color_texture {
         Some(info) => {

@@ -16,6 +16,8 @@ pub(super) struct Extras {
     pub tf: Option<Color>,
     /// `Tr`: transparency, 1 − d.
     pub tr: Option<f32>,
+    /// `Ke`: the emitted radiance (an area light).
+    pub ke: Option<Color>,
 }
 
 fn mean(c: [f32; 3]) -> f32 {
@@ -78,6 +80,7 @@ pub(super) fn whitted(m: &tobj::Material, extras: &Extras) -> Material {
         transmit,
         ior,
         fresnel,
+        emission: extras.ke.unwrap_or(Color::ZERO),
     }
 }
 

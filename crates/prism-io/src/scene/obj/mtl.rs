@@ -144,22 +144,9 @@ impl Checker<'_> {
             self.extras.push(Extras::default());
             return Ok(());
         }
-        if keyword == "Ke"
-            && words.words[1..]
-                .iter()
-                .any(|&(_, w)| w.parse::<f32>() != Ok(0.0))
-        {
-            // Whitted shading has no emitters: say so rather than render it dark silently.
-            self.warnings.push(format!(
-                "{}:{}: the emission colour Ke is read but not rendered (prism's lights are \
-                 point and directional lights)",
-                self.path.display(),
-                self.line_number
-            ));
-        }
         let known = matches!(
             keyword,
-            "Ka" | "Kd" | "Ks" | "Tf" | "Ns" | "Ni" | "d" | "Tr" | "illum" | "map_Kd"
+            "Ka" | "Kd" | "Ks" | "Ke" | "Tf" | "Ns" | "Ni" | "d" | "Tr" | "illum" | "map_Kd"
         );
         if known && self.extras.is_empty() {
             return Err(self.error(
@@ -176,6 +163,10 @@ impl Checker<'_> {
             "Tf" => {
                 let c = self.color(w)?;
                 self.current().tf = Some(c);
+            }
+            "Ke" => {
+                let c = self.color(w)?;
+                self.current().ke = Some(c);
             }
             "Ns" => {
                 let v = self.single(w, "the highlight exponent Ns", 0.0..=f32::MAX)?;

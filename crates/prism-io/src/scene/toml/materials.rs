@@ -33,6 +33,7 @@ pub(super) fn material(name: &str, def: MaterialDef, base_dir: &Path) -> Result<
         transmit: def.transmit.map_or(d.transmit, |c| c.0),
         ior: def.ior.map_or(d.ior, |v| v.0),
         fresnel: def.fresnel.unwrap_or(d.fresnel),
+        emission: def.emission.map_or(d.emission, |c| c.0),
     })
 }
 

@@ -61,6 +61,8 @@ pub(super) struct MaterialDef {
     pub transmit: Option<Rgb>,
     pub ior: Option<Positive>,
     pub fresnel: Option<FresnelMode>,
+    /// Radiance emitted from the front side: an area light.
+    pub emission: Option<Rgb>,
 }
 
 pub(super) const TEXTURE_TYPES: &[&str] = &["solid", "checker", "image"];

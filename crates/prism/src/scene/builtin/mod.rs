@@ -2,6 +2,7 @@
 
 mod checkerboard;
 mod cornell;
+mod cornell_light;
 mod pearls;
 mod random;
 mod shards;
@@ -44,6 +45,17 @@ pub const BUILTINS: &[Builtin] = &[
         name: "cornell",
         description: "Cornell box with a point light, a mirror sphere and a glass sphere",
         build: cornell::cornell,
+    },
+    Builtin {
+        name: "cornell-light",
+        description: "the measured Cornell box lit by its ceiling area light (path tracer)",
+        build: || cornell_light::cornell_light(cornell_light::Variant::Diffuse),
+    },
+    Builtin {
+        name: "cornell-light-glass",
+        description:
+            "cornell-light with a mirror sphere and a glass sphere for blocks (path tracer)",
+        build: || cornell_light::cornell_light(cornell_light::Variant::Glass),
     },
     Builtin {
         name: "sphereflake",

@@ -1,0 +1,175 @@
+//! Area lights: the primitives whose material emits, sampled by area for next-event
+//! estimation. An emitter is chosen in proportion to its power (area × mean radiance), then
+//! a point uniformly over its area, so the density of a point is
+//! P(emitter) / area, the same everywhere on one emitter, which is what MIS asks of a hit
+//! that BSDF sampling found.
+//!
+//! Triangles (so quads and whole meshes) and spheres are sampled. Planes, boxes and cones
+//! that emit still shine when a path hits them, but light samples never aim at them.
+
+use crate::geometry::{Geometry, Shape, ShapeHit};
+use crate::math::robust::gamma;
+use crate::math::warp::{uniform_sphere, uniform_triangle};
+use crate::math::{Color, Vec3};
+use crate::scene::Scene;
+
+/// Marks a primitive that light samples never choose.
+const NOT_SAMPLED: u32 = u32::MAX;
+
+#[derive(Clone, Copy, Debug)]
+struct Emitter {
+    prim: u32,
+    area: f32,
+}
+
+/// The scene's sampled area lights and the choice between them.
+#[derive(Clone, Debug, Default)]
+pub struct Emitters {
+    list: Vec<Emitter>,
+    /// Cumulative probability of choosing emitters 0..=i; the last is 1.
+    cdf: Vec<f32>,
+    /// Per primitive, its index in `list` (or `NOT_SAMPLED`); empty without emitters.
+    by_prim: Vec<u32>,
+}
+
+/// A point on an area light.
+#[derive(Clone, Copy, Debug)]
+pub struct EmitterSample {
+    /// The point.
+    pub p: Vec3,
+    /// Per-axis bound on the error of `p`.
+    pub p_error: Vec3,
+    /// The light's geometric normal there: it emits towards this side.
+    pub n: Vec3,
+    /// Radiance it emits.
+    pub radiance: Color,
+    /// Density of the point per unit area, the choice of the emitter included.
+    pub pdf_area: f32,
+}
+
+impl Emitters {
+    /// The emitting primitives of `scene` that light samples can aim at.
+    pub fn new(scene: &Scene) -> Emitters {
+        let geometry = &scene.geometry;
+        let mut list = Vec::new();
+        let mut power = Vec::new();
+        for (prim, p) in geometry.primitives.iter().enumerate() {
+            let radiance = scene.materials[p.material as usize].emission;
+            if radiance.max_element() <= 0.0 {
+                continue;
+            }
+            let Some(area) = area(geometry, &p.shape) else {
+                continue;
+            };
+            if !(area > 0.0 && area.is_finite()) {
+                continue;
+            }
+            list.push(Emitter {
+                prim: prim as u32,
+                area,
+            });
+            // f64: a million small triangles' areas sum without losing the last ones.
+            power.push(area as f64 * (radiance.x + radiance.y + radiance.z) as f64);
+        }
+        if list.is_empty() {
+            return Emitters::default();
+        }
+        let total: f64 = power.iter().sum();
+        let mut running = 0.0f64;
+        let mut cdf: Vec<f32> = power
+            .iter()
+            .map(|w| {
+                running += w;
+                (running / total) as f32
+            })
+            .collect();
+        *cdf.last_mut().expect("not empty") = 1.0;
+        let mut by_prim = vec![NOT_SAMPLED; geometry.primitives.len()];
+        for (i, e) in list.iter().enumerate() {
+            by_prim[e.prim as usize] = i as u32;
+        }
+        Emitters { list, cdf, by_prim }
+    }
+
+    /// Whether there is any area light to sample.
+    pub fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    fn probability(&self, i: usize) -> f32 {
+        let below = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        self.cdf[i] - below
+    }
+
+    /// The density per unit area with which `sample` picks a point on primitive `prim`;
+    /// 0 for primitives it never picks.
+    pub fn pdf_area(&self, prim: u32) -> f32 {
+        match self.by_prim.get(prim as usize) {
+            Some(&i) if i != NOT_SAMPLED => {
+                let i = i as usize;
+                self.probability(i) / self.list[i].area
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// A point on an area light: `u` chooses the light, `(u1, u2)` the point on it.
+    pub fn sample(&self, scene: &Scene, u: f32, u1: f32, u2: f32) -> Option<EmitterSample> {
+        if self.list.is_empty() {
+            return None;
+        }
+        let i = self
+            .cdf
+            .partition_point(|&c| c <= u)
+            .min(self.list.len() - 1);
+        let emitter = self.list[i];
+        let pdf_area = self.probability(i) / emitter.area;
+        if pdf_area <= 0.0 {
+            return None;
+        }
+        let prim = &scene.geometry.primitives[emitter.prim as usize];
+        let radiance = scene.materials[prim.material as usize].emission;
+        let (p, p_error, n) = match &prim.shape {
+            Shape::Triangle { mesh, index } => {
+                let (b1, b2) = uniform_triangle(u1, u2);
+                // The mesh's own surface rule: the same point, error bound and front
+                // side (vertex normals decide it) as a ray hitting there would get.
+                let sp = scene.geometry.meshes[*mesh as usize].surface(
+                    *index,
+                    &ShapeHit {
+                        t: 0.0,
+                        u: b1,
+                        v: b2,
+                    },
+                );
+                (sp.p, sp.p_error, sp.ng)
+            }
+            Shape::Sphere(s) => {
+                let d = uniform_sphere(u1, u2);
+                let p = s.center + s.radius * d;
+                let p_error = gamma(5) * (s.center.abs() + (s.radius * d).abs());
+                (p, p_error, if s.inside_out { -d } else { d })
+            }
+            _ => return None,
+        };
+        Some(EmitterSample {
+            p,
+            p_error,
+            n,
+            radiance,
+            pdf_area,
+        })
+    }
+}
+
+/// The area of a shape light samples can aim at; `None` for the others.
+fn area(geometry: &Geometry, shape: &Shape) -> Option<f32> {
+    match shape {
+        Shape::Triangle { mesh, index } => {
+            let [a, b, c] = geometry.meshes[*mesh as usize].vertices(*index);
+            Some(0.5 * (b - a).cross(c - a).length())
+        }
+        Shape::Sphere(s) => Some(4.0 * std::f32::consts::PI * s.radius * s.radius),
+        _ => None,
+    }
+}

@@ -1,0 +1,241 @@
+//! The path tracer's view of a material: four lobes, evaluated, sampled and with their
+//! density, built from the Whitted coefficients at one hit (docs/path-tracing.md).
+//!
+//! - Lambert diffuse, albedo kd·C (f = kd·C/π);
+//! - a glossy lobe, normalised Phong (Lafortune and Willems 1994) about the mirror
+//!   direction: f = ks·(n + 2)/(2π)·cosⁿα, whose albedo is at most ks, reached at normal
+//!   incidence; the Blinn–Phong exponent n maps to the Phong exponent n/4;
+//! - a perfect mirror and a smooth dielectric, weighted exactly as Whitted's reflected and
+//!   refracted rays (`Material::specular_weights`): with exact Fresnel and kt = 1 the
+//!   interface reflects R and transmits 1 − R.
+//!
+//! Whitted's weights may add up to more than one (kd + ks + kr + kt), which a path tracer
+//! would turn into light from nowhere. The mirror and dielectric keep their weights unless
+//! kr + max(kt) exceeds one (then both shrink to fit); diffuse and glossy share what is
+//! left, shrunk together when max(kd·C) + ks would pass it. Ambient (ka) has no lobe: the
+//! path tracer computes the light it stood for.
+//!
+//! Directions all point away from the surface: `wo` towards the viewer, `wi` towards the
+//! light. The normals given to `Bsdf::new` face `wo`'s side.
+
+use super::material::{Highlight, Material};
+use super::optics::{reflect, refract};
+use crate::math::warp::{cosine_hemisphere, cosine_hemisphere_pdf, cosine_power, cosine_power_pdf};
+use crate::math::{Color, Frame, Vec3};
+use std::f32::consts::FRAC_1_PI;
+
+/// One hit's scattering: the lobes' weights and the probabilities of sampling each.
+#[derive(Clone, Copy, Debug)]
+pub struct Bsdf {
+    /// Shading normal, on `wo`'s side.
+    ns: Vec3,
+    /// Geometric normal, on `wo`'s side: reflected light stays on this side.
+    ng: Vec3,
+    wo: Vec3,
+    diffuse: Color,
+    glossy: f32,
+    exponent: f32,
+    /// `wo` mirrored about `ns`: the glossy lobe's axis and the mirror's direction.
+    mirrored: Vec3,
+    reflect: f32,
+    transmit: Color,
+    /// η_incident / η_transmitted for the refracted direction.
+    eta: f32,
+    /// Probabilities of sampling diffuse, glossy, mirror; the rest is transmission.
+    p_diffuse: f32,
+    p_glossy: f32,
+    p_reflect: f32,
+}
+
+/// A direction drawn from a `Bsdf`.
+#[derive(Clone, Copy, Debug)]
+pub struct BsdfSample {
+    /// Unit direction the light arrives from (away from the surface).
+    pub wi: Vec3,
+    /// f·|cos θi| / pdf: what the sample's radiance is multiplied by.
+    pub weight: Color,
+    /// The density the direction was drawn with over the non-delta lobes (solid angle);
+    /// meaningless for a delta sample.
+    pub pdf: f32,
+    /// Drawn from the mirror or the dielectric: no light sample could have found it.
+    pub delta: bool,
+    /// It went through the surface (refraction).
+    pub transmitted: bool,
+}
+
+/// The Phong exponent a highlight's `shininess` stands for: near the peak the half vector's
+/// angle to N is half the mirror direction's angle to V, so (N·H)ⁿ ≈ (R·V)^(n/4)
+/// (cos(θ/2)ⁿ ≈ e^(−nθ²/8) = cos(θ)^(n/4) for small θ).
+fn phong_exponent(material: &Material) -> f32 {
+    let n = material.shininess.max(0.0);
+    match material.highlight {
+        Highlight::Phong => n,
+        Highlight::BlinnPhong => n / 4.0,
+    }
+}
+
+impl Bsdf {
+    /// The lobes of `material` with diffuse colour `color` at a hit seen from `wo`, with
+    /// normals `ns` and `ng` facing `wo`; `entering` says the ray arrived from the front
+    /// (outside) of the surface, which decides the refraction's η.
+    pub fn new(
+        material: &Material,
+        color: Color,
+        wo: Vec3,
+        ns: Vec3,
+        ng: Vec3,
+        entering: bool,
+    ) -> Bsdf {
+        let eta = if entering {
+            1.0 / material.ior
+        } else {
+            material.ior
+        };
+        // Whitted's upper bound of reflect + transmit over all angles.
+        let specular_total = material.reflect + material.interface_share();
+        let specular_scale = if specular_total > 1.0 {
+            1.0 / specular_total
+        } else {
+            1.0
+        };
+        let room = (1.0 - specular_total * specular_scale).max(0.0);
+        let diffuse = material.diffuse * color;
+        let local = diffuse.max_element().max(0.0) + material.specular.max(0.0);
+        let local_scale = if local > room { room / local } else { 1.0 };
+
+        let cos_o = wo.dot(ns).clamp(0.0, 1.0);
+        let w = material.specular_weights(cos_o, eta);
+        let reflect = w.reflect * specular_scale;
+        let transmit = w.transmit * specular_scale;
+        let diffuse = diffuse.max(Color::ZERO) * local_scale;
+        let glossy = material.specular.max(0.0) * local_scale;
+
+        // Lobes are chosen in proportion to their mean weight.
+        let weights = [mean(diffuse), glossy, reflect, mean(transmit)];
+        let total: f32 = weights.iter().sum();
+        let p = |w: f32| if total > 0.0 { w / total } else { 0.0 };
+        Bsdf {
+            ns,
+            ng,
+            wo,
+            diffuse,
+            glossy,
+            exponent: phong_exponent(material),
+            mirrored: reflect_about(wo, ns),
+            reflect,
+            transmit,
+            eta,
+            p_diffuse: p(weights[0]),
+            p_glossy: p(weights[1]),
+            p_reflect: p(weights[2]),
+        }
+    }
+
+    /// Whether some lobe is not a delta: only then can a light sample find a direction.
+    pub fn has_smooth_lobe(&self) -> bool {
+        self.p_diffuse + self.p_glossy > 0.0
+    }
+
+    /// The cosine of the rendering equation for `wi`, at the shading normal (0 below it).
+    #[inline]
+    pub fn cos(&self, wi: Vec3) -> f32 {
+        wi.dot(self.ns).max(0.0)
+    }
+
+    /// f(wo, wi) of the diffuse and glossy lobes (the delta lobes are zero for any given
+    /// direction).
+    pub fn eval(&self, wi: Vec3) -> Color {
+        let cos_i = wi.dot(self.ns);
+        if cos_i <= 0.0 || wi.dot(self.ng) <= 0.0 {
+            return Color::ZERO;
+        }
+        let mut f = self.diffuse * FRAC_1_PI;
+        if self.glossy > 0.0 {
+            let cos_a = self.mirrored.dot(wi);
+            if cos_a > 0.0 {
+                let n = self.exponent;
+                f += Color::splat(self.glossy * (n + 2.0) * (0.5 * FRAC_1_PI) * cos_a.powf(n));
+            }
+        }
+        f
+    }
+
+    /// The density `sample` draws `wi` with from the diffuse and glossy lobes (solid angle).
+    pub fn pdf(&self, wi: Vec3) -> f32 {
+        let cos_i = wi.dot(self.ns);
+        if cos_i <= 0.0 || wi.dot(self.ng) <= 0.0 {
+            return 0.0;
+        }
+        let mut pdf = self.p_diffuse * cosine_hemisphere_pdf(cos_i);
+        if self.p_glossy > 0.0 {
+            pdf += self.p_glossy * cosine_power_pdf(self.mirrored.dot(wi), self.exponent);
+        }
+        pdf
+    }
+
+    /// Draws a direction from three uniform numbers: `u_lobe` picks the lobe, `(u1, u2)` the
+    /// direction in it. `None` when the drawn direction carries no light (a glossy
+    /// direction below the surface, or nothing to scatter).
+    pub fn sample(&self, u_lobe: f32, u1: f32, u2: f32) -> Option<BsdfSample> {
+        let smooth = self.p_diffuse + self.p_glossy;
+        if u_lobe < smooth {
+            let local = if u_lobe < self.p_diffuse {
+                Frame::from_z(self.ns).to_world(cosine_hemisphere(u1, u2))
+            } else {
+                Frame::from_z(self.mirrored).to_world(cosine_power(u1, u2, self.exponent))
+            };
+            let wi = local.normalize();
+            let pdf = self.pdf(wi);
+            if pdf <= 0.0 {
+                return None;
+            }
+            let f = self.eval(wi);
+            return Some(BsdfSample {
+                wi,
+                weight: f * (wi.dot(self.ns) / pdf),
+                pdf,
+                delta: false,
+                transmitted: false,
+            });
+        }
+        if u_lobe < smooth + self.p_reflect {
+            let mut wi = self.mirrored;
+            // An interpolated normal can mirror below the true surface; the geometric
+            // normal's mirror stays above it.
+            if wi.dot(self.ng) <= 0.0 {
+                wi = reflect_about(self.wo, self.ng);
+            }
+            return Some(BsdfSample {
+                wi,
+                weight: Color::splat(self.reflect / self.p_reflect),
+                pdf: 0.0,
+                delta: true,
+                transmitted: false,
+            });
+        }
+        let p_transmit = 1.0 - smooth - self.p_reflect;
+        if p_transmit <= 0.0 || self.transmit == Color::ZERO {
+            return None;
+        }
+        let wi = refract(-self.wo, self.ns, self.eta)?;
+        if wi.dot(self.ng) >= 0.0 {
+            return None;
+        }
+        Some(BsdfSample {
+            wi,
+            weight: self.transmit / p_transmit,
+            pdf: 0.0,
+            delta: true,
+            transmitted: true,
+        })
+    }
+}
+
+/// `w` (pointing away from the surface) mirrored about `n`.
+fn reflect_about(w: Vec3, n: Vec3) -> Vec3 {
+    reflect(-w, n)
+}
+
+fn mean(c: Color) -> f32 {
+    (c.x + c.y + c.z) / 3.0
+}
