@@ -12,7 +12,7 @@ pub use emitters::{EmitterSample, Emitters};
 pub use light_buffer::{BufferParams, LightBuffer, LightBufferInfo};
 pub use path::{PathTracer, Strategy, RR_DEPTH};
 pub use shadow::{begin_piece, ShadowMethod, ShadowSpec, Shadows};
-pub use whitted::{Charge, Whitted};
+pub use whitted::Whitted;
 
 use crate::math::hash::Stream;
 use crate::math::{Color, Ray};

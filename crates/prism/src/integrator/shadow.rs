@@ -306,9 +306,13 @@ impl<'a> Shadows<'a> {
 
     /// Whether the shadow rays of the scene's `index`-th light may be answered as packets:
     /// when the accelerator answers them (no cache, whose state follows the order of
-    /// rays, and no light buffer).
+    /// rays, and no light buffer) and one hit settles the answer (no transparent surfaces,
+    /// which a blocked ray would have to trace again through them: on SPD gears that made
+    /// the render 20 % slower).
     pub(super) fn answers_packets(&self, index: usize) -> bool {
-        !self.spec.method.uses_cache() && self.buffers.get(index).is_none_or(Option::is_none)
+        !self.scene.has_transmissive
+            && !self.spec.method.uses_cache()
+            && self.buffers.get(index).is_none_or(Option::is_none)
     }
 
     /// Whether each of a packet of shadow rays (at most `PACKET_MAX`) towards one light

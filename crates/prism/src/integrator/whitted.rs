@@ -92,37 +92,56 @@ impl<'a> Whitted<'a> {
         self.shade(ray, hit, 1, Color::ONE, stats)
     }
 
-    /// `shade_camera_hit` for a packet of camera rays and their first hits, with the
-    /// shadow rays from the packet's hits to each light traced as packets too (where the
-    /// shadow method lets the accelerator answer them); `colors[i]` is exactly what
-    /// `shade_camera_hit` gives ray i. `charge(step, before, after)` is told the
-    /// statistics of each step (see `Charge`).
+    /// Radiance along a packet of camera rays (at most `accel::PACKET_MAX`) whose first
+    /// hits `camera_hits` found: `colors[i]` is exactly what `shade_camera_hit` gives ray
+    /// i. The ray tree is traced breadth first, a packet per depth: the shadow rays of a
+    /// packet's hits to each light go as one packet (where the shadow method lets the
+    /// accelerator answer them), and so do its reflected rays and its refracted rays.
+    /// `rays_of[i]` gains the rays of ray i's tree after the camera ray itself.
     pub fn shade_camera_packet(
         &self,
         rays: &[Ray],
         hits: &[Option<Hit>],
         colors: &mut [Color],
+        rays_of: &mut [u32; PACKET_MAX],
         stats: &mut Stats,
-        mut charge: impl FnMut(Charge, &Stats, &Stats),
+    ) {
+        let n = rays.len();
+        let owners: ArrayVec<usize, PACKET_MAX> = (0..n).collect();
+        let weights = [Color::ONE; PACKET_MAX];
+        let tree = Tree {
+            owners: &owners,
+            rays_of,
+        };
+        self.shade_packet(rays, hits, 1, &weights[..n], tree, colors, stats);
+    }
+
+    /// `shade` for a packet of rays at `depth`, each with its weight in the pixel.
+    fn shade_packet(
+        &self,
+        rays: &[Ray],
+        hits: &[Option<Hit>],
+        depth: u32,
+        weights: &[Color],
+        tree: Tree,
+        colors: &mut [Color],
+        stats: &mut Stats,
     ) {
         let scene = self.scene.scene;
+        let Tree { owners, rays_of } = tree;
         let mut surfaces: ArrayVec<Option<Surface>, PACKET_MAX> = ArrayVec::new();
         for (ray, hit) in rays.iter().zip(hits) {
-            surfaces.push(hit.map(|h| self.surface(ray, h, 1, stats)));
+            surfaces.push(hit.map(|h| self.surface(ray, h, depth, stats)));
         }
         // Per light answered as packets, whether each ray's shadow ray is blocked.
         let mut blocked: Vec<Option<[bool; PACKET_MAX]>> = vec![None; scene.lights.len()];
-        let mut shadow_rays: ArrayVec<Ray, PACKET_MAX> = ArrayVec::new();
-        let mut distances: ArrayVec<f32, PACKET_MAX> = ArrayVec::new();
-        let mut owners: ArrayVec<usize, PACKET_MAX> = ArrayVec::new();
+        let mut batch = Batch::new();
         let mut answers = [false; PACKET_MAX];
         for (index, light) in scene.lights.iter().enumerate() {
             if !self.shadows.answers_packets(index) {
                 continue;
             }
-            shadow_rays.clear();
-            distances.clear();
-            owners.clear();
+            batch.clear();
             for (i, surface) in surfaces.iter().enumerate() {
                 let Some(surface) = surface else { continue };
                 let Some(ls) = self.light_sample(surface, light) else {
@@ -131,46 +150,185 @@ impl<'a> Whitted<'a> {
                 // The ray `Shadows::visibility` casts.
                 let origin =
                     offset_ray_origin(surface.sp.p, surface.sp.p_error, surface.ng, ls.to_light);
-                shadow_rays.push(Ray::new(origin, ls.to_light));
-                distances.push(ls.distance);
-                owners.push(i);
+                batch.push(i, Ray::new(origin, ls.to_light), ls.distance);
+                rays_of[owners[i]] += 1;
             }
-            let before = *stats;
-            let m = shadow_rays.len();
+            let m = batch.rays.len();
             self.shadows
-                .blocked_packet(&shadow_rays, &distances, &mut answers[..m], stats);
-            charge(Charge::ShadowPacket { owners: &owners }, &before, stats);
+                .blocked_packet(&batch.rays, &batch.t_max, &mut answers[..m], stats);
             let mut of_ray = [false; PACKET_MAX];
-            for (k, &i) in owners.iter().enumerate() {
+            for (k, &i) in batch.from.iter().enumerate() {
                 of_ray[i] = answers[k];
             }
             blocked[index] = Some(of_ray);
         }
         for (i, surface) in surfaces.iter().enumerate() {
-            let before = *stats;
+            let before = stats.total_rays();
             colors[i] = match surface {
                 None => scene.background,
                 Some(surface) => {
-                    let radiance =
-                        self.local(surface, stats, |index, ls, stats| match &blocked[index] {
-                            Some(of_ray) if !of_ray[i] => Color::ONE,
-                            Some(_) => {
-                                self.shadows
-                                    .blocked_visibility(&surface.sp, surface.ng, ls, stats)
-                            }
-                            None => self.shadows.visibility(
-                                index,
-                                1,
-                                &surface.sp,
-                                surface.ng,
-                                ls,
-                                stats,
-                            ),
-                        });
-                    self.recurse(&rays[i], surface, radiance, 1, Color::ONE, stats)
+                    self.local(surface, stats, |index, ls, stats| match &blocked[index] {
+                        Some(of_ray) if !of_ray[i] => Color::ONE,
+                        Some(_) => {
+                            self.shadows
+                                .blocked_visibility(&surface.sp, surface.ng, ls, stats)
+                        }
+                        None => self.shadows.visibility(
+                            index,
+                            depth,
+                            &surface.sp,
+                            surface.ng,
+                            ls,
+                            stats,
+                        ),
+                    })
                 }
             };
-            charge(Charge::Ray(i), &before, stats);
+            rays_of[owners[i]] += (stats.total_rays() - before) as u32;
+        }
+        if depth >= self.max_depth {
+            return;
+        }
+
+        // The recursive terms, as `recurse` decides them, reflected rays first.
+        let mut split: ArrayVec<Option<(crate::shading::SpecularWeights, f32)>, PACKET_MAX> =
+            ArrayVec::new();
+        batch.clear();
+        let mut next_weights: ArrayVec<Color, PACKET_MAX> = ArrayVec::new();
+        for (i, surface) in surfaces.iter().enumerate() {
+            let Some(s) = surface else {
+                split.push(None);
+                continue;
+            };
+            let eta = if s.entering {
+                1.0 / s.material.ior
+            } else {
+                s.material.ior
+            };
+            let cos_i = s.to_eye.dot(s.ns).clamp(0.0, 1.0);
+            let w = s.material.specular_weights(cos_i, eta);
+            if w.total_internal_reflection {
+                stats.total_internal_reflections += 1;
+            }
+            let has_specular = s.material.reflect > 0.0 || s.material.is_transmissive();
+            let w_reflect = Color::splat(w.reflect);
+            if self.spawns(has_specular, w_reflect, weights[i], stats) {
+                let dir = self.reflected_dir(&rays[i], s);
+                let origin = offset_ray_origin(s.sp.p, s.sp.p_error, s.ng, dir);
+                stats.reflected_rays += 1;
+                rays_of[owners[i]] += 1;
+                batch.push(i, Ray::new(origin, dir), f32::INFINITY);
+                next_weights.push(weights[i] * w_reflect);
+            }
+            split.push(Some((w, eta)));
+        }
+        self.trace_batch(
+            &batch,
+            depth,
+            &next_weights,
+            owners,
+            rays_of,
+            colors,
+            stats,
+            |i| split[i].map_or(Color::ZERO, |(w, _)| Color::splat(w.reflect)),
+        );
+
+        batch.clear();
+        next_weights.clear();
+        for (i, surface) in surfaces.iter().enumerate() {
+            let (Some(s), Some((w, eta))) = (surface, split[i]) else {
+                continue;
+            };
+            let transmissive = s.material.is_transmissive();
+            if !w.total_internal_reflection
+                && self.spawns(transmissive, w.transmit, weights[i], stats)
+            {
+                if let Some(dir) = refract(rays[i].dir, s.ns, eta) {
+                    let origin = offset_ray_origin(s.sp.p, s.sp.p_error, s.ng, dir);
+                    stats.refracted_rays += 1;
+                    rays_of[owners[i]] += 1;
+                    batch.push(i, Ray::new(origin, dir), f32::INFINITY);
+                    next_weights.push(weights[i] * w.transmit);
+                }
+            }
+        }
+        self.trace_batch(
+            &batch,
+            depth,
+            &next_weights,
+            owners,
+            rays_of,
+            colors,
+            stats,
+            |i| split[i].map_or(Color::ZERO, |(w, _)| w.transmit),
+        );
+    }
+
+    /// Traces `batch`'s secondary rays (spawned at `depth`) as a packet and adds each
+    /// one's radiance, times `factor(i)`, to `colors[i]` of the ray it came from. Deep
+    /// trees go on ray by ray (`PACKET_DEPTH`), so the stack stays small.
+    #[allow(clippy::too_many_arguments)]
+    fn trace_batch(
+        &self,
+        batch: &Batch,
+        depth: u32,
+        weights: &[Color],
+        owners: &[usize],
+        rays_of: &mut [u32; PACKET_MAX],
+        colors: &mut [Color],
+        stats: &mut Stats,
+        factor: impl Fn(usize) -> Color,
+    ) {
+        let m = batch.rays.len();
+        if m == 0 {
+            return;
+        }
+        let mut radiance = [Color::ZERO; PACKET_MAX];
+        if depth + 1 <= PACKET_DEPTH {
+            let mut hits = [None; PACKET_MAX];
+            let s = self.scene;
+            s.intersector.intersect_packet(
+                &s.scene.geometry,
+                &batch.rays,
+                f32::INFINITY,
+                &mut hits[..m],
+                stats,
+            );
+            let sub_owners: ArrayVec<usize, PACKET_MAX> =
+                batch.from.iter().map(|&i| owners[i]).collect();
+            let tree = Tree {
+                owners: &sub_owners,
+                rays_of,
+            };
+            self.shade_packet(
+                &batch.rays,
+                &hits[..m],
+                depth + 1,
+                weights,
+                tree,
+                &mut radiance[..m],
+                stats,
+            );
+        } else {
+            for k in 0..m {
+                let before = stats.total_rays();
+                radiance[k] = self.trace(&batch.rays[k], depth + 1, weights[k], stats);
+                rays_of[owners[batch.from[k]]] += (stats.total_rays() - before) as u32;
+            }
+        }
+        for (k, &i) in batch.from.iter().enumerate() {
+            colors[i] += factor(i) * radiance[k];
+        }
+    }
+
+    /// The mirror direction at `s` for `ray`: about the shading normal, or about the
+    /// geometric one where an interpolated normal would send it below the true surface.
+    fn reflected_dir(&self, ray: &Ray, s: &Surface) -> Vec3 {
+        let dir = reflect(ray.dir, s.ns);
+        if dir.dot(s.ng) <= 0.0 {
+            reflect(ray.dir, s.ng)
+        } else {
+            dir
         }
     }
 
@@ -319,12 +477,7 @@ impl<'a> Whitted<'a> {
         let has_specular = material.reflect > 0.0 || transmissive;
         let w_reflect = Color::splat(w.reflect);
         if self.spawns(has_specular, w_reflect, weight, stats) {
-            let mut dir = reflect(ray.dir, ns);
-            // An interpolated normal can mirror the ray below the true surface; use the
-            // geometric normal there instead.
-            if dir.dot(ng) <= 0.0 {
-                dir = reflect(ray.dir, ng);
-            }
+            let dir = self.reflected_dir(ray, surface);
             let origin = offset_ray_origin(sp.p, sp.p_error, ng, dir);
             stats.reflected_rays += 1;
             let r = self.trace(&Ray::new(origin, dir), depth + 1, weight * w_reflect, stats);
@@ -362,15 +515,42 @@ struct Surface<'a> {
     to_eye: Vec3,
 }
 
-/// A step of `Whitted::shade_camera_packet`, for charging its work to pixels.
-#[derive(Clone, Copy, Debug)]
-pub enum Charge<'o> {
-    /// A packet of shadow rays, one from each of the `owners` rays' hits (indices into
-    /// the packet): its traversal is shared by the packet.
-    ShadowPacket {
-        /// Whose hit each shadow ray starts from.
-        owners: &'o [usize],
-    },
-    /// Everything else of ray i's tree: its own work.
-    Ray(usize),
+/// Where the rays of a packet's trees are counted: ray i of the packet belongs to camera
+/// ray `owners[i]`, whose slot in `rays_of` counts them.
+struct Tree<'t> {
+    owners: &'t [usize],
+    rays_of: &'t mut [u32; PACKET_MAX],
 }
+
+/// Rays gathered from a packet's hits: each with its bound and the ray it came from.
+struct Batch {
+    rays: ArrayVec<Ray, PACKET_MAX>,
+    t_max: ArrayVec<f32, PACKET_MAX>,
+    from: ArrayVec<usize, PACKET_MAX>,
+}
+
+impl Batch {
+    fn new() -> Batch {
+        Batch {
+            rays: ArrayVec::new(),
+            t_max: ArrayVec::new(),
+            from: ArrayVec::new(),
+        }
+    }
+
+    fn clear(&mut self) {
+        self.rays.clear();
+        self.t_max.clear();
+        self.from.clear();
+    }
+
+    fn push(&mut self, from: usize, ray: Ray, t_max: f32) {
+        self.rays.push(ray);
+        self.t_max.push(t_max);
+        self.from.push(from);
+    }
+}
+
+/// The deepest level of the ray tree traced as packets; deeper rays go on one by one,
+/// since every level of packets keeps a few kilobytes on the stack.
+const PACKET_DEPTH: u32 = 8;

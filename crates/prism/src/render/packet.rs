@@ -8,7 +8,6 @@
 use super::rays::PixelRays;
 use super::Job;
 use crate::accel::PACKET_MAX;
-use crate::integrator::Charge;
 use crate::math::{Color, Ray, Vec2};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
@@ -38,30 +37,19 @@ pub(super) fn trace_packet(
     let mut hits = [None; PACKET_MAX];
     let before = *stats;
     whitted.camera_hits(&camera_rays, &mut hits[..n], stats);
-    let mut shared = PixelRays::between(&before, stats);
-    let mut own = [PixelRays::default(); PACKET_MAX];
+    let mut rays_of = [0u32; PACKET_MAX];
     whitted.shade_camera_packet(
         &camera_rays,
         &hits[..n],
         &mut colors[..n],
+        &mut rays_of,
         stats,
-        |step, before, after| {
-            let mut work = PixelRays::between(before, after);
-            match step {
-                Charge::Ray(i) => own[i] += work,
-                // Each shadow ray counts in its own pixel; only the traversal is shared.
-                Charge::ShadowPacket { owners } => {
-                    for &i in owners {
-                        own[i].total += 1;
-                    }
-                    work.total -= owners.len() as u32;
-                    shared += work;
-                }
-            }
-        },
     );
+    // Each ray counts in its own pixel; the traversal work is shared by the packet.
+    let shared = PixelRays::between(&before, stats);
     for (i, r) in rays[..n].iter_mut().enumerate() {
-        *r += shared.share(i, n);
-        *r += own[i];
+        let mut work = shared.share(i, n);
+        work.total = 1 + rays_of[i];
+        *r += work;
     }
 }
