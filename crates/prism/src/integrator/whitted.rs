@@ -117,6 +117,7 @@ impl<'a> Whitted<'a> {
     }
 
     /// `shade` for a packet of rays at `depth`, each with its weight in the pixel.
+    #[allow(clippy::too_many_arguments)]
     fn shade_packet(
         &self,
         rays: &[Ray],
@@ -284,7 +285,7 @@ impl<'a> Whitted<'a> {
             return;
         }
         let mut radiance = [Color::ZERO; PACKET_MAX];
-        if depth + 1 <= PACKET_DEPTH {
+        if depth < PACKET_DEPTH {
             let mut hits = [None; PACKET_MAX];
             let s = self.scene;
             s.intersector.intersect_packet(
