@@ -1,0 +1,146 @@
+//! One page's WebSocket: it sends the page the hello, the state and every frame, and turns
+//! the page's messages into checked commands for the render thread. A message that cannot
+//! be used (not JSON, unknown type or field, a number out of range, a camera that cannot
+//! render, a binary message, one above the size limit) is answered with an error message
+//! and the connection goes on. A page that is slow to read gets the newest frame when it
+//! is ready, never a queue of old ones.
+
+use crate::controls;
+use crate::engine::{Command, Link};
+use crate::protocol::{self, ClientMessage, ServerMessage};
+use crate::steer::{self, Motion};
+use axum::extract::ws::{Message, WebSocket};
+use prism::camera::{Camera, Projection};
+use prism::math::Vec3;
+use std::sync::atomic::Ordering;
+use tokio::sync::{broadcast, oneshot};
+
+/// Tells the render thread the page has gone, however the connection ended.
+struct Leave(std::sync::mpsc::Sender<Command>);
+
+impl Drop for Leave {
+    fn drop(&mut self) {
+        let _ = self.0.send(Command::Leave);
+        // A frame in flight for nobody is stopped; a page still there gets the next one.
+        // (The render thread clears the flag before its next frame.)
+    }
+}
+
+/// Serves one page until it closes or the connection fails.
+pub(crate) async fn run(mut socket: WebSocket, link: Link) {
+    if link.commands.send(Command::Join).is_err() {
+        return;
+    }
+    let _leave = Leave(link.commands.clone());
+    let mut frames = link.frames.clone();
+    let mut state = link.state.clone();
+    let mut events = link.events.subscribe();
+    let hello = Message::Text(link.hello.as_ref().into());
+    let first_state = Message::Text(state.borrow_and_update().as_str().into());
+    if socket.send(hello).await.is_err() || socket.send(first_state).await.is_err() {
+        return;
+    }
+    loop {
+        tokio::select! {
+            incoming = socket.recv() => {
+                let reply = match incoming {
+                    None | Some(Err(_)) | Some(Ok(Message::Close(_))) => return,
+                    Some(Ok(Message::Text(text))) => handle(text.as_str(), &link).await,
+                    Some(Ok(Message::Binary(_))) => Err(
+                        "binary messages are not read: send JSON text (docs/viewer.md)".to_string()
+                    ),
+                    // The library answers pings itself.
+                    Some(Ok(Message::Ping(_) | Message::Pong(_))) => Ok(None),
+                };
+                let out = match reply {
+                    Ok(Some(bytes)) => Message::Binary(bytes),
+                    Ok(None) => continue,
+                    Err(message) => Message::Text(ServerMessage::Error { message }.to_json().into()),
+                };
+                if socket.send(out).await.is_err() {
+                    return;
+                }
+            }
+            changed = frames.changed() => {
+                if changed.is_err() {
+                    return;
+                }
+                let frame = frames.borrow_and_update().clone();
+                if let Some(bytes) = frame {
+                    if socket.send(Message::Binary(bytes)).await.is_err() {
+                        return;
+                    }
+                }
+            }
+            changed = state.changed() => {
+                if changed.is_err() {
+                    return;
+                }
+                let text = state.borrow_and_update().clone();
+                if socket.send(Message::Text(text.into())).await.is_err() {
+                    return;
+                }
+            }
+            event = events.recv() => match event {
+                Ok(text) => {
+                    if socket.send(Message::Text(text.into())).await.is_err() {
+                        return;
+                    }
+                }
+                Err(broadcast::error::RecvError::Lagged(_)) => {}
+                Err(broadcast::error::RecvError::Closed) => return,
+            },
+        }
+    }
+}
+
+/// Acts on one text message: Ok(Some) is a binary reply for this page alone (a saved
+/// image), Ok(None) no reply, Err an error message.
+async fn handle(text: &str, link: &Link) -> Result<Option<axum::body::Bytes>, String> {
+    let command = match protocol::parse(text)? {
+        ClientMessage::Move { orbit, pan, zoom } => {
+            let motion = Motion { orbit, pan, zoom };
+            // Range checks here, so the sender hears of them; the render thread checks
+            // that the moved camera renders.
+            motion.check().map_err(|e| e.to_string())?;
+            Command::Move(motion)
+        }
+        ClientMessage::Camera {
+            eye,
+            look_at,
+            up,
+            fov,
+        } => {
+            let camera = Camera {
+                eye: Vec3::from(eye),
+                look_at: Vec3::from(look_at),
+                up: Vec3::from(up),
+                fov_degrees: fov,
+                projection: Projection::Perspective,
+            };
+            steer::check_camera(&camera).map_err(|e| e.to_string())?;
+            Command::Camera(camera)
+        }
+        ClientMessage::ResetCamera => Command::ResetCamera,
+        ClientMessage::Set { control, value } => Command::Set(controls::parse(&control, &value)?),
+        ClientMessage::Save => {
+            let (tx, rx) = oneshot::channel();
+            send(link, Command::Save(tx))?;
+            return rx
+                .await
+                .map_err(|_| "the render thread has stopped".to_string())?
+                .map(Some)
+                .map_err(|e| format!("cannot save the image: {e}"));
+        }
+    };
+    send(link, command)?;
+    // The frame in flight shows the old state: stop it.
+    link.shared.cancel.store(true, Ordering::SeqCst);
+    Ok(None)
+}
+
+fn send(link: &Link, command: Command) -> Result<(), String> {
+    link.commands
+        .send(command)
+        .map_err(|_| "the render thread has stopped".to_string())
+}
