@@ -103,12 +103,12 @@ pub fn apply(camera: &Camera, home: &Camera, motion: &Motion) -> Result<Camera, 
     let turned = glam::Quat::from_axis_angle(up, -yaw) * offset;
     let from_up = turned.normalize().dot(up).clamp(-1.0, 1.0).acos();
     let limit = 1.0f32.to_radians();
-    let tilt = (from_up - pitch).clamp(limit, std::f32::consts::PI - limit) - from_up;
-    let side = up.cross(turned).normalize_or_zero();
-    let offset = if side == Vec3::ZERO {
+    let new_from_up = (from_up - pitch).clamp(limit, std::f32::consts::PI - limit);
+    let horizontal = (turned - up * turned.dot(up)).normalize_or_zero();
+    let offset = if horizontal == Vec3::ZERO {
         turned
     } else {
-        glam::Quat::from_axis_angle(side, -tilt) * turned
+        (up * new_from_up.cos() + horizontal * new_from_up.sin()) * distance
     };
 
     // Zoom: the eye slides along the view line (perspective) or the window shrinks
