@@ -44,9 +44,7 @@ pub(crate) enum Command {
     Save(oneshot::Sender<Result<Bytes, String>>),
 }
 
-/// Counters and flags the render thread shares with the pages and the [`Server`] handle.
-///
-/// [`Server`]: crate::Server
+/// Counters and flags the render thread shares with the pages and the server's handle.
 #[derive(Default)]
 pub(crate) struct Shared {
     /// Stops the frame in flight.
