@@ -76,12 +76,24 @@ function binary(buffer) {
   }
 }
 
+// A preview is smaller than the picture: drawn through a scratch canvas, scaled up smoothly.
+const scratch = document.createElement("canvas");
 function draw(header, pixels) {
-  if (canvas.width !== header.width || canvas.height !== header.height) {
-    canvas.width = header.width;
-    canvas.height = header.height;
+  const [width, height] = header.display;
+  if (canvas.width !== width || canvas.height !== height) {
+    canvas.width = width;
+    canvas.height = height;
   }
-  ctx.putImageData(new ImageData(pixels, header.width, header.height), 0, 0);
+  const image = new ImageData(pixels, header.width, header.height);
+  if (header.width === width && header.height === height) {
+    ctx.putImageData(image, 0, 0);
+  } else {
+    scratch.width = header.width;
+    scratch.height = header.height;
+    scratch.getContext("2d").putImageData(image, 0, 0);
+    ctx.imageSmoothingEnabled = true;
+    ctx.drawImage(scratch, 0, 0, width, height);
+  }
   viewer.frames += 1;
   viewer.header = header;
   const now = performance.now();
@@ -91,7 +103,7 @@ function draw(header, pixels) {
   $("fps").textContent = fpsTimes.length > 1 ? fpsTimes.length : "–";
   $("frame-ms").textContent = header.frame_ms.toFixed(1);
   $("rays").textContent = (header.rays_per_s / 1e6).toFixed(1);
-  status(header.converged ? "converged" : "rendering");
+  status(header.converged ? "converged" : header.preview ? "preview" : "rendering");
   if (inFlight && header.generation > inFlight.generation) {
     viewer.latencyMs = now - inFlight.sent;
     $("latency").textContent = viewer.latencyMs.toFixed(0);

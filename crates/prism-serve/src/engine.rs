@@ -12,7 +12,7 @@ use crate::controls::{self, Setting, View};
 use crate::limits::{MAX_MESSAGE_BYTES, MAX_PIXELS, MAX_SAMPLES, MAX_SIDE};
 use crate::picture::{self, Encoder};
 use crate::protocol::{self, CameraInfo, FrameHeader, LimitsInfo, SaveHeader, ServerMessage};
-use crate::source::{Accumulator, FrameSource};
+use crate::source::{Accumulator, Advance, FrameSource};
 use crate::steer::{self, Motion};
 use axum::body::Bytes;
 use prism::accel::SceneIntersector;
@@ -133,6 +133,10 @@ struct Engine {
     clients: usize,
     /// The last frame's figures: render time and rays per second.
     last: (Duration, f64),
+    /// Render time of the last full-resolution frame, which sizes the previews.
+    last_full: Duration,
+    /// The next frame is the first after a change: a preview if full frames are slow.
+    preview_due: bool,
     /// The render failed with these settings; wait for a change.
     failed: bool,
     frames_tx: watch::Sender<Option<Bytes>>,
@@ -165,6 +169,8 @@ impl Engine {
             generation: 0,
             clients: 0,
             last: (Duration::ZERO, 0.0),
+            last_full: Duration::ZERO,
+            preview_due: false,
             failed: false,
             frames_tx,
             state_tx: None,
@@ -208,8 +214,46 @@ impl Engine {
         }
     }
 
-    /// Renders one frame and publishes it.
+    /// Renders one frame and publishes it: a preview after a change when full frames are
+    /// slow, otherwise one more sample per pixel.
     fn frame(&mut self) {
+        if std::mem::take(&mut self.preview_due) {
+            if let Some(scale) = preview_scale(self.last_full) {
+                self.preview(scale);
+                return;
+            }
+        }
+        let mut source = std::mem::replace(&mut self.source, Box::new(Accumulator::new()));
+        let options = self.options.clone();
+        let result = self.render(&mut *source, &options);
+        self.source = source;
+        if let Some(advance) = result {
+            self.last_full = advance.time;
+            let (width, height, rgba) = picture::rgba(&*self.source, self.view, &mut self.encoder);
+            self.publish(advance, width, height, &rgba, false);
+        }
+    }
+
+    /// The first frame after a change, at `scale` of the resolution each way: a fraction of
+    /// a full frame's rays, so the page shows the new view at once; the browser scales it
+    /// up. Its samples are not kept: the accumulation starts with the next full frame.
+    fn preview(&mut self, scale: f64) {
+        let side = |n: u32| ((n as f64 * scale).round() as u32).clamp(8, n);
+        let options = RenderOptions {
+            width: side(self.options.width),
+            height: side(self.options.height),
+            ..self.options.clone()
+        };
+        let mut small = Accumulator::new();
+        if let Some(advance) = self.render(&mut small, &options) {
+            let (width, height, rgba) = picture::rgba(&small, self.view, &mut self.encoder);
+            self.publish(advance, width, height, &rgba, true);
+        }
+    }
+
+    /// One frame of `source` with `options` and the scene's accelerator; None when
+    /// cancelled or failed (the pages are told of a failure).
+    fn render(&mut self, source: &mut dyn FrameSource, options: &RenderOptions) -> Option<Advance> {
         let prepared = PreparedScene {
             scene: &self.scene,
             intersector: self
@@ -219,34 +263,31 @@ impl Engine {
             build_time: Duration::ZERO,
             has_transmissive: self.has_transmissive,
         };
-        let result = self
-            .source
-            .advance(&prepared, &self.options, &self.shared.cancel);
+        let result = source.advance(&prepared, options, &self.shared.cancel);
         self.intersector = Some(prepared.intersector);
         match result {
-            Ok(Some(advance)) => {
-                let seconds = advance.time.as_secs_f64().max(1e-9);
-                self.last = (advance.time, advance.rays as f64 / seconds);
-                self.publish();
-            }
-            Ok(None) => {}
+            Ok(advance) => advance,
             Err(e) => {
                 self.failed = true;
                 self.event(format!(
                     "the render failed: {e}; change a setting to try again"
                 ));
+                None
             }
         }
     }
 
-    /// Sends the current image (in the current view) to every page.
-    fn publish(&mut self) {
-        let (width, height, rgba) = picture::rgba(&*self.source, self.view, &mut self.encoder);
+    /// Sends a frame to every page; `advance` is what its render did.
+    fn publish(&mut self, advance: Advance, width: u32, height: u32, rgba: &[u8], preview: bool) {
+        let seconds = advance.time.as_secs_f64().max(1e-9);
+        self.last = (advance.time, advance.rays as f64 / seconds);
         let header = FrameHeader {
             kind: "frame".into(),
             width,
             height,
-            spp: self.source.samples(),
+            display: [self.options.width, self.options.height],
+            preview,
+            spp: if preview { 0 } else { self.source.samples() },
             generation: self.generation,
             frame_ms: self.last.0.as_secs_f64() * 1e3,
             rays_per_s: self.last.1,
@@ -254,8 +295,18 @@ impl Engine {
             converged: self.source.samples() >= MAX_SAMPLES,
         };
         self.frames_tx
-            .send_replace(Some(protocol::binary(&header, &rgba).into()));
+            .send_replace(Some(protocol::binary(&header, rgba).into()));
         self.shared.frames.fetch_add(1, Ordering::SeqCst);
+    }
+
+    /// The current accumulation again, as it is (after a change of view).
+    fn republish(&mut self) {
+        let (width, height, rgba) = picture::rgba(&*self.source, self.view, &mut self.encoder);
+        let advance = Advance {
+            rays: (self.last.1 * self.last.0.as_secs_f64()) as u64,
+            time: self.last.0,
+        };
+        self.publish(advance, width, height, &rgba, false);
     }
 
     fn event(&self, message: String) {
@@ -316,7 +367,7 @@ impl Engine {
         self.changed(restart);
         if !restart && self.source.samples() > 0 {
             // Same samples, another picture of them: show it now, even when converged.
-            self.publish();
+            self.republish();
         }
     }
 
@@ -327,6 +378,7 @@ impl Engine {
         self.failed = false;
         if restart {
             self.source.reset();
+            self.preview_due = true;
         }
         let state = self.state();
         if let Some(tx) = &self.state_tx {
@@ -364,6 +416,19 @@ impl Engine {
     }
 }
 
+/// How long a preview may take: a frame within it shows a move at once, at 60 Hz of
+/// mouse events.
+const PREVIEW_TIME: Duration = Duration::from_millis(25);
+
+/// The scale of a preview after a change, each way, from the last full frame's render
+/// time: rays are in proportion to pixels, so √(PREVIEW_TIME / last) renders in about
+/// PREVIEW_TIME; between 1/8 (fewer pixels show nothing) and 1/2 (more saves too little to
+/// be worth a frame that is thrown away). None when full frames are fast enough already.
+fn preview_scale(last_full: Duration) -> Option<f64> {
+    let ratio = PREVIEW_TIME.as_secs_f64() / last_full.as_secs_f64().max(1e-9);
+    (ratio < 0.5).then(|| ratio.sqrt().clamp(0.125, 0.5))
+}
+
 /// A scene name as a safe file name part: `builtin:whitted` → `whitted`, a path → its stem.
 fn file_stem(name: &str) -> String {
     let last = name.rsplit(['/', '\\', ':']).next().unwrap_or(name);
@@ -377,5 +442,22 @@ fn file_stem(name: &str) -> String {
         "scene".into()
     } else {
         safe
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn previews_come_only_for_slow_frames_and_take_about_their_budget() {
+        assert_eq!(preview_scale(Duration::from_millis(20)), None);
+        assert_eq!(preview_scale(Duration::from_millis(50)), None);
+        assert_eq!(preview_scale(Duration::from_millis(60)), Some(0.5));
+        let s = preview_scale(Duration::from_millis(400)).unwrap();
+        assert!((s - 0.25).abs() < 1e-9, "{s}");
+        assert_eq!(preview_scale(Duration::from_secs(100)), Some(0.125));
+        // Before the first full frame nothing is known: no preview.
+        assert_eq!(preview_scale(Duration::ZERO), None);
     }
 }

@@ -123,16 +123,22 @@ impl ServerMessage {
     }
 }
 
-/// The header of a binary frame message; the payload is width × height RGBA bytes.
+/// The header of a binary frame message; the payload is width × height RGBA bytes, shown
+/// scaled to `display`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FrameHeader {
     /// Always "frame".
     pub kind: String,
-    /// Pixels per row.
+    /// Pixels per row of the payload.
     pub width: u32,
-    /// Rows.
+    /// Rows of the payload.
     pub height: u32,
-    /// Samples per pixel accumulated in the image.
+    /// The image's size on the page: the payload's, or larger for a preview.
+    pub display: [u32; 2],
+    /// A preview: the first frame after a change, rendered at a fraction of the resolution
+    /// (when full frames are slow) and not part of the accumulation.
+    pub preview: bool,
+    /// Samples per pixel accumulated in the image (0 for a preview).
     pub spp: u32,
     /// The settings' generation the frame shows (see `ServerMessage::State`).
     pub generation: u64,

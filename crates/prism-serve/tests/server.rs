@@ -198,7 +198,7 @@ fn a_camera_move_restarts_the_accumulation_and_changes_the_picture() {
     c.send(r#"{"type":"move","orbit":[40,10]}"#);
     let state = c.text("state");
     assert!(state["generation"].as_u64().unwrap() > before.generation);
-    let (after, new) = c.frame_where(|h| h.generation > before.generation);
+    let (after, new) = c.frame_where(|h| h.generation > before.generation && !h.preview);
     assert!(
         after.spp < before.spp,
         "restarted: {} then {}",
@@ -214,17 +214,36 @@ fn a_camera_move_restarts_the_accumulation_and_changes_the_picture() {
     assert!(d < 3.0, "reset differs by {d}");
 }
 
+/// Full frames of 960×540 take far longer than a preview's 25 ms budget on any machine
+/// this runs on, so the first frame after a move is a smaller preview.
+#[test]
+fn after_a_move_a_slow_render_shows_a_preview_first() {
+    let s = server(960, 540);
+    let mut c = Client::connect(&s);
+    let (full, _) = c.frame();
+    assert!(!full.preview && full.width == 960);
+    c.send(r#"{"type":"move","zoom":0.5}"#);
+    let (preview, pixels) = c.frame_where(|h| h.generation > full.generation);
+    assert!(preview.preview, "{preview:?}");
+    assert_eq!(preview.display, [960, 540]);
+    assert!(preview.width < 960 && preview.height < 540 && preview.width >= 8);
+    assert_eq!(pixels.len(), (preview.width * preview.height * 4) as usize);
+    assert_eq!(preview.spp, 0);
+    let (next, _) = c.frame_where(|h| h.generation == preview.generation && !h.preview);
+    assert_eq!((next.width, next.spp), (960, 1));
+}
+
 #[test]
 fn controls_change_the_picture_and_save_sends_a_png() {
     let s = server(96, 54);
     let mut c = Client::connect(&s);
     let (image, pixels) = c.frame_where(|h| h.spp >= 2);
     c.send(r#"{"type":"set","control":"view","value":"cost"}"#);
-    let (cost, heat) = c.frame_where(|h| h.view == "cost");
+    let (cost, heat) = c.frame_where(|h| h.view == "cost" && !h.preview);
     assert!(cost.generation > image.generation);
     assert!(difference(&pixels, &heat) > 10.0);
     c.send(r#"{"type":"set","control":"resolution","value":"80x40"}"#);
-    let (small, p) = c.frame_where(|h| h.width == 80);
+    let (small, p) = c.frame_where(|h| h.width == 80 && !h.preview);
     assert_eq!((small.height, p.len()), (40, 80 * 40 * 4));
     c.send(r#"{"type":"set","control":"accel","value":"kdtree"}"#);
     assert_eq!(c.text("state")["values"]["accel"], "kdtree");
