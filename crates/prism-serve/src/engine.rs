@@ -51,6 +51,8 @@ pub(crate) struct Shared {
     pub(crate) cancel: AtomicBool,
     /// Frames published since the start.
     pub(crate) frames: AtomicU64,
+    /// Pages connected now.
+    pub(crate) clients: std::sync::atomic::AtomicUsize,
 }
 
 /// The render thread as the pages see it: where to send commands, and where frames, state

@@ -31,3 +31,11 @@ pub const MAX_SAMPLES: u32 = 4096;
 /// The largest camera coordinate accepted, in world units: far beyond any scene, small
 /// enough that differences of coordinates stay finite in f32.
 pub const MAX_COORDINATE: f32 = 1.0e7;
+
+/// The most pages connected at once; one more is refused (503) until one closes. Each holds
+/// up to a frame in its socket's buffers.
+pub const MAX_CLIENTS: usize = 32;
+
+/// Seconds a page may take to accept one message before the server drops it: a page that
+/// stopped reading would otherwise keep the render running for nobody.
+pub const SEND_TIMEOUT_SECONDS: u64 = 30;

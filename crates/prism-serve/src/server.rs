@@ -40,7 +40,7 @@ impl Default for ServerConfig {
 #[derive(Debug, thiserror::Error)]
 pub enum ServeError {
     /// The address could not be bound (in use, not this machine's, no permission).
-    #[error("cannot listen on {addr}: {source}")]
+    #[error("cannot listen on {addr}: {source} (--port 0 takes any free port)")]
     Bind {
         /// The address asked for.
         addr: SocketAddr,

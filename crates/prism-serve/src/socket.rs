@@ -7,13 +7,24 @@
 
 use crate::controls;
 use crate::engine::{Command, Link};
+use crate::limits::{MAX_CLIENTS, SEND_TIMEOUT_SECONDS};
 use crate::protocol::{self, ClientMessage, ServerMessage};
 use crate::steer::{self, Motion};
 use axum::extract::ws::{Message, WebSocket};
 use prism::camera::{Camera, Projection};
 use prism::math::Vec3;
 use std::sync::atomic::Ordering;
+use std::time::Duration;
 use tokio::sync::{broadcast, oneshot};
+
+/// A page's place among the [`MAX_CLIENTS`], freed however the connection ends.
+struct Place(std::sync::Arc<crate::engine::Shared>);
+
+impl Drop for Place {
+    fn drop(&mut self) {
+        self.0.clients.fetch_sub(1, Ordering::SeqCst);
+    }
+}
 
 /// Tells the render thread the page has gone, however the connection ended.
 struct Leave(std::sync::mpsc::Sender<Command>);
@@ -21,13 +32,33 @@ struct Leave(std::sync::mpsc::Sender<Command>);
 impl Drop for Leave {
     fn drop(&mut self) {
         let _ = self.0.send(Command::Leave);
-        // A frame in flight for nobody is stopped; a page still there gets the next one.
-        // (The render thread clears the flag before its next frame.)
+    }
+}
+
+/// Sends one message, or fails when the page takes longer than
+/// [`SEND_TIMEOUT_SECONDS`] to accept it.
+async fn send_to(socket: &mut WebSocket, message: Message) -> Result<(), ()> {
+    let limit = Duration::from_secs(SEND_TIMEOUT_SECONDS);
+    match tokio::time::timeout(limit, socket.send(message)).await {
+        Ok(Ok(())) => Ok(()),
+        _ => Err(()),
     }
 }
 
 /// Serves one page until it closes or the connection fails.
 pub(crate) async fn run(mut socket: WebSocket, link: Link) {
+    let before = link.shared.clients.fetch_add(1, Ordering::SeqCst);
+    let _place = Place(link.shared.clone());
+    if before >= MAX_CLIENTS {
+        let message = format!("too many pages: the viewer serves at most {MAX_CLIENTS} at once");
+        let _ = send_to(
+            &mut socket,
+            Message::Text(ServerMessage::Error { message }.to_json().into()),
+        )
+        .await;
+        let _ = socket.send(Message::Close(None)).await;
+        return;
+    }
     if link.commands.send(Command::Join).is_err() {
         return;
     }
@@ -37,7 +68,9 @@ pub(crate) async fn run(mut socket: WebSocket, link: Link) {
     let mut events = link.events.subscribe();
     let hello = Message::Text(link.hello.as_ref().into());
     let first_state = Message::Text(state.borrow_and_update().as_str().into());
-    if socket.send(hello).await.is_err() || socket.send(first_state).await.is_err() {
+    if send_to(&mut socket, hello).await.is_err()
+        || send_to(&mut socket, first_state).await.is_err()
+    {
         return;
     }
     loop {
@@ -57,7 +90,7 @@ pub(crate) async fn run(mut socket: WebSocket, link: Link) {
                     Ok(None) => continue,
                     Err(message) => Message::Text(ServerMessage::Error { message }.to_json().into()),
                 };
-                if socket.send(out).await.is_err() {
+                if send_to(&mut socket, out).await.is_err() {
                     return;
                 }
             }
@@ -67,7 +100,7 @@ pub(crate) async fn run(mut socket: WebSocket, link: Link) {
                 }
                 let frame = frames.borrow_and_update().clone();
                 if let Some(bytes) = frame {
-                    if socket.send(Message::Binary(bytes)).await.is_err() {
+                    if send_to(&mut socket, Message::Binary(bytes)).await.is_err() {
                         return;
                     }
                 }
@@ -77,13 +110,13 @@ pub(crate) async fn run(mut socket: WebSocket, link: Link) {
                     return;
                 }
                 let text = state.borrow_and_update().clone();
-                if socket.send(Message::Text(text.into())).await.is_err() {
+                if send_to(&mut socket, Message::Text(text.into())).await.is_err() {
                     return;
                 }
             }
             event = events.recv() => match event {
                 Ok(text) => {
-                    if socket.send(Message::Text(text.into())).await.is_err() {
+                    if send_to(&mut socket, Message::Text(text.into())).await.is_err() {
                         return;
                     }
                 }

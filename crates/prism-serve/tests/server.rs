@@ -327,3 +327,29 @@ fn rendering_stops_while_no_tab_is_open() {
     c.frame_where(|h| h.spp > last.spp);
     assert!(s.frames_rendered() > count);
 }
+
+#[test]
+fn pages_past_the_limit_are_told_and_turned_away() {
+    let s = server(32, 18);
+    let mut pages: Vec<Client> = (0..prism_serve::limits::MAX_CLIENTS)
+        .map(|_| Client::connect(&s))
+        .collect();
+    for p in &mut pages {
+        p.text("hello");
+    }
+    let mut extra = Client::connect(&s);
+    let error = extra.text("error");
+    assert!(error["message"].as_str().unwrap().contains("too many"));
+    assert!(matches!(extra.receive(), Received::Closed));
+    // A place comes free when a page closes.
+    pages.pop().unwrap().ws.close(None).unwrap();
+    let deadline = Instant::now() + PATIENCE;
+    loop {
+        let mut again = Client::connect(&s);
+        match again.receive() {
+            Received::Text(v) if v["type"] == "hello" => break,
+            _ => assert!(Instant::now() < deadline, "no place came free"),
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
