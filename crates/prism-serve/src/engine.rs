@@ -135,8 +135,9 @@ struct Engine {
     clients: usize,
     /// The last frame's figures: render time and rays per second.
     last: (Duration, f64),
-    /// Render time of the last full-resolution frame, which sizes the previews.
-    last_full: Duration,
+    /// Render time per pixel of the last full-resolution frame, which sizes the previews
+    /// (per pixel, so that a change of resolution scales it).
+    last_full_per_pixel: f64,
     /// The next frame is the first after a change: a preview if full frames are slow.
     preview_due: bool,
     /// The render failed with these settings; wait for a change.
@@ -171,7 +172,7 @@ impl Engine {
             generation: 0,
             clients: 0,
             last: (Duration::ZERO, 0.0),
-            last_full: Duration::ZERO,
+            last_full_per_pixel: 0.0,
             preview_due: false,
             failed: false,
             frames_tx,
@@ -220,7 +221,9 @@ impl Engine {
     /// slow, otherwise one more sample per pixel.
     fn frame(&mut self) {
         if std::mem::take(&mut self.preview_due) {
-            if let Some(scale) = preview_scale(self.last_full) {
+            let pixels = self.options.width as f64 * self.options.height as f64;
+            let expected = Duration::from_secs_f64(self.last_full_per_pixel * pixels);
+            if let Some(scale) = preview_scale(expected) {
                 self.preview(scale);
                 return;
             }
@@ -230,7 +233,8 @@ impl Engine {
         let result = self.render(&mut *source, &options);
         self.source = source;
         if let Some(advance) = result {
-            self.last_full = advance.time;
+            let pixels = options.width as f64 * options.height as f64;
+            self.last_full_per_pixel = advance.time.as_secs_f64() / pixels;
             let (width, height, rgba) = picture::rgba(&*self.source, self.view, &mut self.encoder);
             self.publish(advance, width, height, &rgba, false);
         }

@@ -5,7 +5,7 @@
 //! and the connection goes on. A page that is slow to read gets the newest frame when it
 //! is ready, never a queue of old ones.
 
-use crate::controls;
+use crate::controls::{self, Setting};
 use crate::engine::{Command, Link};
 use crate::limits::{MAX_CLIENTS, SEND_TIMEOUT_SECONDS};
 use crate::protocol::{self, ClientMessage, ServerMessage};
@@ -166,9 +166,12 @@ async fn handle(text: &str, link: &Link) -> Result<Option<axum::body::Bytes>, St
                 .map_err(|e| format!("cannot save the image: {e}"));
         }
     };
+    // A new view shows the same samples; anything else makes the frame in flight stale.
+    let restart = !matches!(command, Command::Set(Setting::View(_)));
     send(link, command)?;
-    // The frame in flight shows the old state: stop it.
-    link.shared.cancel.store(true, Ordering::SeqCst);
+    if restart {
+        link.shared.cancel.store(true, Ordering::SeqCst);
+    }
     Ok(None)
 }
 
