@@ -84,7 +84,7 @@ impl Server {
             .enable_all()
             .build()?;
         let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
-        let app = router(link.clone());
+        let app = router(link.clone(), addr.ip().is_loopback());
         let network = std::thread::Builder::new()
             .name("prism-serve network".into())
             .spawn(move || {
@@ -166,11 +166,45 @@ impl Drop for Server {
     }
 }
 
-fn router(link: Link) -> Router {
+/// The routes; `loopback` says the server listens on a loopback address only, where
+/// requests must name this machine (`check_host`).
+fn router(link: Link, loopback: bool) -> Router {
     Router::new()
         .route("/ws", get(websocket))
         .fallback(asset)
+        .layer(axum::middleware::from_fn_with_state(loopback, check_host))
         .with_state(link)
+}
+
+/// On a loopback address, refuses a request whose Host is not this machine's name: a
+/// site whose name an attacker made resolve to 127.0.0.1 (DNS rebinding) would otherwise
+/// be same-origin with the viewer in the user's browser.
+async fn check_host(
+    State(loopback): State<bool>,
+    request: axum::extract::Request,
+    next: axum::middleware::Next,
+) -> Response {
+    if loopback && !local_host(request.headers()) {
+        return (
+            StatusCode::FORBIDDEN,
+            "the viewer answers only requests for localhost or a loopback address\n",
+        )
+            .into_response();
+    }
+    next.run(request).await
+}
+
+/// A Host header naming `localhost`, an IPv4 loopback address or `[::1]`, with any port.
+fn local_host(headers: &HeaderMap) -> bool {
+    let Some(host) = headers.get(header::HOST).and_then(|h| h.to_str().ok()) else {
+        return false;
+    };
+    let name = match host.strip_prefix('[') {
+        Some(v6) => v6.split(']').next().unwrap_or(""),
+        None => host.split(':').next().unwrap_or(""),
+    };
+    name.eq_ignore_ascii_case("localhost")
+        || name.parse::<IpAddr>().is_ok_and(|ip| ip.is_loopback())
 }
 
 /// The embedded file at exactly the request's path, or 404. The path is compared as

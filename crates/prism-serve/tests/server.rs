@@ -277,6 +277,63 @@ fn several_tabs_watch_one_render_and_steer_it_together() {
     assert!(fa2.generation > fa.generation);
 }
 
+/// A site whose name was made to resolve to 127.0.0.1 (DNS rebinding) sends its own name
+/// as Host: refused, for the page and the WebSocket alike.
+#[test]
+fn requests_for_another_host_name_are_refused() {
+    let s = server(32, 18);
+    for host in [
+        "evil.example",
+        "evil.example:8000",
+        "127.0.0.1.evil.example",
+        "",
+        "[::2]:80",
+    ] {
+        let mut stream = std::net::TcpStream::connect(s.addr()).unwrap();
+        use std::io::{Read, Write};
+        write!(
+            stream,
+            "GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"
+        )
+        .unwrap();
+        let mut reply = String::new();
+        let _ = stream.read_to_string(&mut reply);
+        assert!(
+            reply.starts_with("HTTP/1.1 403") || reply.starts_with("HTTP/1.1 400"),
+            "{host}: {reply}"
+        );
+        assert!(!reply.contains("<canvas"), "{host}");
+    }
+    for host in [
+        "localhost",
+        "LOCALHOST:1234",
+        "127.0.0.1",
+        "127.0.0.2:80",
+        "[::1]:8000",
+    ] {
+        let mut stream = std::net::TcpStream::connect(s.addr()).unwrap();
+        use std::io::{Read, Write};
+        write!(
+            stream,
+            "GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"
+        )
+        .unwrap();
+        let mut reply = String::new();
+        let _ = stream.read_to_string(&mut reply);
+        assert!(reply.starts_with("HTTP/1.1 200"), "{host}: {reply}");
+    }
+    let mut request = format!("ws://{}/ws", s.addr())
+        .into_client_request()
+        .unwrap();
+    request
+        .headers_mut()
+        .insert("Host", "evil.example".parse().unwrap());
+    request
+        .headers_mut()
+        .insert("Origin", "http://evil.example".parse().unwrap());
+    assert!(tungstenite::connect(request).is_err());
+}
+
 #[test]
 fn a_page_of_another_site_cannot_open_the_websocket() {
     let s = server(64, 36);
