@@ -17,6 +17,7 @@ use crate::steer::{self, Motion};
 use axum::body::Bytes;
 use prism::accel::SceneIntersector;
 use prism::camera::Camera;
+use prism::sampling::SamplerKind;
 use prism::scene::PreparedScene;
 use prism::{RenderOptions, Scene};
 use std::collections::BTreeMap;
@@ -194,7 +195,7 @@ impl Engine {
 
     fn run(mut self, rx: Receiver<Command>) {
         loop {
-            let idle = self.clients == 0 || self.failed || self.source.samples() >= MAX_SAMPLES;
+            let idle = self.clients == 0 || self.failed || self.converged();
             if idle {
                 // Nothing to do until a page says something: sleep on the channel.
                 match rx.recv() {
@@ -210,11 +211,21 @@ impl Engine {
                     Err(TryRecvError::Disconnected) => return,
                 }
             }
-            if self.clients == 0 || self.failed || self.source.samples() >= MAX_SAMPLES {
+            if self.clients == 0 || self.failed || self.converged() {
                 continue;
             }
             self.frame();
         }
+    }
+
+    /// Whether more frames would not change the image: the sample limit, or one frame of
+    /// the centre sampler, whose every frame traces the same rays.
+    fn converged(&self) -> bool {
+        let limit = match self.options.sampler {
+            SamplerKind::Centre => 1,
+            _ => MAX_SAMPLES,
+        };
+        self.source.samples() >= limit
     }
 
     /// Renders one frame and publishes it: a preview after a change when full frames are
@@ -298,7 +309,7 @@ impl Engine {
             frame_ms: self.last.0.as_secs_f64() * 1e3,
             rays_per_s: self.last.1,
             view: self.view.name().into(),
-            converged: self.source.samples() >= MAX_SAMPLES,
+            converged: self.converged(),
         };
         self.frames_tx
             .send_replace(Some(protocol::binary(&header, rgba).into()));

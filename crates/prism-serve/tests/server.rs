@@ -263,6 +263,22 @@ fn controls_change_the_picture_and_save_sends_a_png() {
     }
 }
 
+/// The centre sampler traces the same rays every frame: one frame, then nothing more.
+#[test]
+fn the_centre_sampler_converges_after_one_frame() {
+    let s = server(64, 36);
+    let mut c = Client::connect(&s);
+    c.frame();
+    c.send(r#"{"type":"set","control":"sampler","value":"centre"}"#);
+    let (done, _) = c.frame_where(|h| h.converged);
+    assert_eq!(done.spp, 1);
+    let count = s.frames_rendered();
+    std::thread::sleep(Duration::from_millis(1000));
+    assert_eq!(s.frames_rendered(), count, "rendered past convergence");
+    c.send(r#"{"type":"set","control":"sampler","value":"jittered"}"#);
+    c.frame_where(|h| !h.converged && h.spp >= 2);
+}
+
 #[test]
 fn several_tabs_watch_one_render_and_steer_it_together() {
     let s = server(64, 36);
