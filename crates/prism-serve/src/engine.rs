@@ -343,6 +343,11 @@ impl Engine {
             Command::ResetCamera => self.set_camera(self.home),
             Command::Set(setting) => self.set(setting),
             Command::Save(reply) => {
+                if self.source.samples() == 0 {
+                    let why = "no full frame since the last change yet; try again in a moment";
+                    let _ = reply.send(Err(why.to_string()));
+                    return;
+                }
                 let message = picture::png(&*self.source, self.view).map(|png| {
                     let header = SaveHeader {
                         kind: "png".into(),
