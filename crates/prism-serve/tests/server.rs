@@ -219,11 +219,11 @@ fn a_camera_move_restarts_the_accumulation_and_changes_the_picture() {
     assert!(d < 2.0, "reset differs by {d}");
 }
 
-/// Full frames of 960×540 take far longer than a preview's 25 ms budget on any machine
-/// this runs on, so the first frame after a move is a smaller preview.
+/// Full frames of 960×540 on one thread take far longer than a preview's 25 ms budget on
+/// any machine this runs on, so the first frame after a move is a smaller preview.
 #[test]
 fn after_a_move_a_slow_render_shows_a_preview_first() {
-    let s = server(960, 540);
+    let s = common::server_with_threads(960, 540, 1);
     let mut c = Client::connect(&s);
     let (full, _) = c.frame();
     assert!(!full.preview && full.width == 960);
@@ -415,7 +415,7 @@ fn rendering_stops_while_no_tab_is_open() {
     let settle = Instant::now() + PATIENCE;
     let mut count = s.frames_rendered();
     loop {
-        std::thread::sleep(Duration::from_millis(500));
+        std::thread::sleep(Duration::from_millis(1000));
         let now = s.frames_rendered();
         if now == count {
             break;

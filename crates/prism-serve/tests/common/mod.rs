@@ -18,12 +18,18 @@ pub(crate) const PATIENCE: Duration = Duration::from_secs(60);
 
 /// The built-in Whitted scene served at `width` × `height` on an ephemeral port.
 pub(crate) fn server(width: u32, height: u32) -> Server {
+    server_with_threads(width, height, 0)
+}
+
+/// The same with `threads` render threads (0: every core).
+pub(crate) fn server_with_threads(width: u32, height: u32, threads: usize) -> Server {
     let scene = prism::scene::builtin::find("whitted").expect("the built-in scene");
     let options = prism::RenderOptions {
         width,
         height,
         samples: 1,
         sampler: prism::sampling::SamplerKind::Jittered,
+        threads,
         ..scene.options.clone()
     };
     let config = ServerConfig {
