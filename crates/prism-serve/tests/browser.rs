@@ -1,7 +1,8 @@
 //! The viewer in a real browser: headless Chromium driven through chromedriver (WebDriver).
 //! The page loads and draws frames, the image refines (consecutive frames differ less and
 //! less), a mouse drag moves the view, a control changes the picture, and a screenshot is
-//! kept in target/viewer-screenshot.png. Where Chromium or chromedriver is not installed
+//! kept in target/viewer-screenshot.png; a key zooms, and **Save PNG** hands the browser a
+//! PNG file to download. Where Chromium or chromedriver is not installed
 //! (Debian: `apt-get install chromium chromium-driver`) the test prints why it skips;
 //! under CI, whose script installs them, it fails instead.
 
@@ -253,6 +254,47 @@ async fn the_page_refines_follows_the_mouse_and_the_controls() {
     let cost = frame_where(&client, "the cost view", |f| f.view == "cost").await;
     let changed = difference(&after, &cost);
     assert!(changed > 10.0, "the cost view differs by only {changed:.3}");
+    // A key: `+` zooms in, a new generation.
+    let before_key = next_frame(&client).await;
+    let canvas = client.find(Locator::Id("view")).await.unwrap();
+    canvas.send_keys("+").await.expect("a key press");
+    frame_where(&client, "a frame after the key", |f| {
+        f.generation > before_key.generation
+    })
+    .await;
+
+    // Save: the page turns the server's PNG into a download. The blob and the anchor's
+    // click are recorded instead of followed: the file's name and first bytes.
+    client
+        .execute(
+            r#"const make = URL.createObjectURL;
+               URL.createObjectURL = (blob) => { window.savedBlob = blob; return make(blob); };
+               HTMLAnchorElement.prototype.click = function () {
+                   const name = this.download;
+                   window.savedBlob.arrayBuffer().then((b) => {
+                       window.saved = { name, head: Array.from(new Uint8Array(b, 0, 8)) };
+                   });
+               };"#,
+            vec![],
+        )
+        .await
+        .unwrap();
+    frame_where(&client, "a full frame to save", |f| f.spp >= 1).await;
+    client
+        .find(Locator::Id("save"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+    let saved = poll(&client, "the saved image", "return window.saved || null").await;
+    assert!(saved["name"].as_str().unwrap().ends_with(".png"), "{saved}");
+    assert_eq!(
+        saved["head"],
+        json!([137, 80, 78, 71, 13, 10, 26, 10]),
+        "a PNG signature"
+    );
+
     let errors = client
         .execute("return window.prismViewer.errors", vec![])
         .await
