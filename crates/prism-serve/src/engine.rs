@@ -17,6 +17,7 @@ use crate::steer::{self, Motion};
 use axum::body::Bytes;
 use prism::accel::SceneIntersector;
 use prism::camera::Camera;
+use prism::render::RenderError;
 use prism::sampling::SamplerKind;
 use prism::scene::PreparedScene;
 use prism::{RenderOptions, Scene};
@@ -118,15 +119,39 @@ pub(crate) fn start(
     Ok((link, thread))
 }
 
-struct Engine {
+/// The scene and its accelerator. The accelerator is lent to a `PreparedScene` for each
+/// frame, so that a camera move (a change of `scene`) needs no rebuild.
+struct Stage {
     scene: Scene,
+    intersector: Option<SceneIntersector>,
+    has_transmissive: bool,
+}
+
+impl Stage {
+    /// One frame of `source` with `options`.
+    fn advance(
+        &mut self,
+        source: &mut dyn FrameSource,
+        options: &RenderOptions,
+        cancel: &AtomicBool,
+    ) -> Result<Option<Advance>, RenderError> {
+        let prepared = PreparedScene {
+            scene: &self.scene,
+            intersector: (self.intersector.take()).expect("the accelerator is home between frames"),
+            build_time: Duration::ZERO,
+            has_transmissive: self.has_transmissive,
+        };
+        let result = source.advance(&prepared, options, cancel);
+        self.intersector = Some(prepared.intersector);
+        result
+    }
+}
+
+struct Engine {
+    stage: Stage,
     name: String,
     /// The scene's own camera, for reset and the zoom range.
     home: Camera,
-    /// The accelerator, lent to a `PreparedScene` for each frame so that a camera move
-    /// (a change of `scene`) needs no rebuild.
-    intersector: Option<SceneIntersector>,
-    has_transmissive: bool,
     options: RenderOptions,
     integrator: String,
     view: View,
@@ -160,10 +185,12 @@ impl Engine {
     ) -> Self {
         let mut engine = Engine {
             home: scene.camera,
-            scene,
+            stage: Stage {
+                scene,
+                intersector: None,
+                has_transmissive: false,
+            },
             name: name.to_string(),
-            intersector: None,
-            has_transmissive: false,
             integrator: controls::INTEGRATORS[0].to_string(),
             view: View::Image,
             // The seam of source.rs: `Progressive` goes here once the engine has it.
@@ -187,10 +214,11 @@ impl Engine {
 
     /// Builds the accelerator the options name.
     fn rebuild(&mut self) {
-        self.intersector = None;
-        let prepared = self.scene.prepare(&self.options.accel);
-        self.has_transmissive = prepared.has_transmissive;
-        self.intersector = Some(prepared.intersector);
+        let stage = &mut self.stage;
+        stage.intersector = None;
+        let prepared = stage.scene.prepare(&self.options.accel);
+        stage.has_transmissive = prepared.has_transmissive;
+        stage.intersector = Some(prepared.intersector);
     }
 
     fn run(mut self, rx: Receiver<Command>) {
@@ -239,12 +267,9 @@ impl Engine {
                 return;
             }
         }
-        let mut source = std::mem::replace(&mut self.source, Box::new(Accumulator::new()));
-        let options = self.options.clone();
-        let result = self.render(&mut *source, &options);
-        self.source = source;
-        if let Some(advance) = result {
-            let pixels = options.width as f64 * options.height as f64;
+        let result = (self.stage).advance(&mut *self.source, &self.options, &self.shared.cancel);
+        if let Some(advance) = self.settle(result) {
+            let pixels = self.options.width as f64 * self.options.height as f64;
             self.last_full_per_pixel = advance.time.as_secs_f64() / pixels;
             let (width, height, rgba) = picture::rgba(&*self.source, self.view, &mut self.encoder);
             self.publish(advance, width, height, &rgba, false);
@@ -262,36 +287,25 @@ impl Engine {
             ..self.options.clone()
         };
         let mut small = Accumulator::new();
-        if let Some(advance) = self.render(&mut small, &options) {
+        let result = self
+            .stage
+            .advance(&mut small, &options, &self.shared.cancel);
+        if let Some(advance) = self.settle(result) {
             let (width, height, rgba) = picture::rgba(&small, self.view, &mut self.encoder);
             self.publish(advance, width, height, &rgba, true);
         }
     }
 
-    /// One frame of `source` with `options` and the scene's accelerator; None when
-    /// cancelled or failed (the pages are told of a failure).
-    fn render(&mut self, source: &mut dyn FrameSource, options: &RenderOptions) -> Option<Advance> {
-        let prepared = PreparedScene {
-            scene: &self.scene,
-            intersector: self
-                .intersector
-                .take()
-                .expect("the accelerator is home between frames"),
-            build_time: Duration::ZERO,
-            has_transmissive: self.has_transmissive,
-        };
-        let result = source.advance(&prepared, options, &self.shared.cancel);
-        self.intersector = Some(prepared.intersector);
-        match result {
-            Ok(advance) => advance,
-            Err(e) => {
-                self.failed = true;
-                self.event(format!(
-                    "the render failed: {e}; change a setting to try again"
-                ));
-                None
-            }
-        }
+    /// The frame a render made; None when it was cancelled or failed (the pages are told
+    /// of a failure, and rendering waits for a change).
+    fn settle(&mut self, result: Result<Option<Advance>, RenderError>) -> Option<Advance> {
+        result.unwrap_or_else(|e| {
+            self.failed = true;
+            self.event(format!(
+                "the render failed: {e}; change a setting to try again"
+            ));
+            None
+        })
     }
 
     /// Sends a frame to every page; `advance` is what its render did.
@@ -335,10 +349,12 @@ impl Engine {
         match command {
             Command::Join => self.clients += 1,
             Command::Leave => self.clients = self.clients.saturating_sub(1),
-            Command::Move(motion) => match steer::apply(&self.scene.camera, &self.home, &motion) {
-                Ok(camera) => self.set_camera(camera),
-                Err(e) => self.event(format!("camera not moved: {e}")),
-            },
+            Command::Move(motion) => {
+                match steer::apply(&self.stage.scene.camera, &self.home, &motion) {
+                    Ok(camera) => self.set_camera(camera),
+                    Err(e) => self.event(format!("camera not moved: {e}")),
+                }
+            }
             Command::Camera(camera) => self.set_camera(camera),
             Command::ResetCamera => self.set_camera(self.home),
             Command::Set(setting) => self.set(setting),
@@ -366,7 +382,7 @@ impl Engine {
     }
 
     fn set_camera(&mut self, camera: Camera) {
-        self.scene.camera = camera;
+        self.stage.scene.camera = camera;
         self.changed(true);
     }
 
@@ -423,7 +439,7 @@ impl Engine {
         .into_iter()
         .map(|(k, v)| (k.to_string(), v))
         .collect();
-        let c = &self.scene.camera;
+        let c = &self.stage.scene.camera;
         ServerMessage::State {
             values,
             camera: CameraInfo {
