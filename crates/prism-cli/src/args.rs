@@ -45,6 +45,9 @@ pub(crate) enum Command {
     Sweep(crate::sweep::SweepArgs),
     /// Draw each sampling pattern's points (SVG).
     Patterns(crate::patterns::PatternsArgs),
+    /// Start the live viewer: a local web page that shows the render refining and lets
+    /// the mouse and keys move the camera (docs/viewer.md).
+    Serve(crate::serve::ServeArgs),
 }
 
 #[derive(Args, Debug)]

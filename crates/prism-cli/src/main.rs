@@ -16,6 +16,7 @@ mod plot;
 mod progress;
 mod reference;
 mod report;
+mod serve;
 mod signals;
 mod sweep;
 mod warnings;
@@ -46,6 +47,7 @@ fn main() -> ExitCode {
         Command::Reference(args) => reference::run(&args),
         Command::Sweep(args) => sweep::run(&args),
         Command::Patterns(args) => patterns::run(&args),
+        Command::Serve(args) => serve::run(&args),
         Command::List => {
             list();
             Ok(ExitCode::SUCCESS)

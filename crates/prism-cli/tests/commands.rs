@@ -1,5 +1,6 @@
 //! The sampling side of the command line: --spp and --sampler checks, the density view,
-//! `prism compare`, `prism reference`, `prism sweep` and `prism patterns`.
+//! `prism compare`, `prism reference`, `prism sweep` and `prism patterns`; and `prism serve`
+//! (the viewer itself has its suites in crates/prism-serve/tests).
 
 mod common;
 
@@ -261,4 +262,75 @@ fn patterns_draws_every_sampler() {
     ] {
         assert!(svg.contains(&format!("{name}:")), "{name} missing");
     }
+}
+
+/// `prism serve` prints the page's address and serves it; the process is ended here by its
+/// own handle.
+#[test]
+fn serve_prints_its_address_and_serves_the_page() {
+    use std::io::{BufRead, BufReader, Read, Write};
+    /// Ends the server however the test ends.
+    struct Running(std::process::Child);
+    impl Drop for Running {
+        fn drop(&mut self) {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+    let dir = work_dir("serve");
+    let mut child = Running(
+        std::process::Command::new(common::bin())
+            .args([
+                "serve", "-b", "cornell", "--port", "0", "-W", "64", "-H", "36",
+            ])
+            .current_dir(&dir)
+            .stdout(std::process::Stdio::piped())
+            .spawn()
+            .expect("prism serve starts"),
+    );
+    let mut line = String::new();
+    BufReader::new(child.0.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let url = line.split_whitespace().last().unwrap_or("").to_string();
+    let addr = url
+        .strip_prefix("http://")
+        .and_then(|a| a.strip_suffix('/'))
+        .unwrap_or_else(|| panic!("no address in {line:?}"));
+    assert!(
+        line.contains("builtin:cornell") && addr.starts_with("127.0.0.1:"),
+        "{line}"
+    );
+    let mut stream = std::net::TcpStream::connect(addr).unwrap();
+    write!(
+        stream,
+        "GET / HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
+    )
+    .unwrap();
+    let mut page = String::new();
+    stream.read_to_string(&mut page).unwrap();
+    drop(child);
+    assert!(
+        page.starts_with("HTTP/1.1 200") && page.contains("prism viewer"),
+        "{page}"
+    );
+}
+
+#[test]
+fn serve_refuses_bad_settings_before_listening() {
+    let dir = work_dir("serve-bad");
+    let (_, err) = run(&dir, &["serve", "--port", "0", "-W", "100000"], 1);
+    assert!(err.contains("resolution"), "{err}");
+    let (_, err) = run(&dir, &["serve", "--port", "0", "--sampler", "adaptive"], 1);
+    assert!(err.contains("--sampler"), "{err}");
+    let (_, err) = run(&dir, &["serve", "--bind", "localhost"], 2);
+    assert!(err.contains("--bind"), "{err}");
+    // A port that is taken names the way out.
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = taken.local_addr().unwrap().port().to_string();
+    let (_, err) = run(&dir, &["serve", "--port", &port], 1);
+    assert!(
+        err.contains("cannot listen") && err.contains("--port 0"),
+        "{err}"
+    );
 }

@@ -41,7 +41,7 @@ fn named(doc: &str, stem: &str) -> bool {
 
 /// The crates of the workspace, in their dependency order; each has a section of
 /// ARCHITECTURE.md whose heading names its `crates/NAME/src`.
-const CRATES: [&str; 4] = ["prism", "prism-io", "prism-lab", "prism-cli"];
+const CRATES: [&str; 5] = ["prism", "prism-io", "prism-lab", "prism-serve", "prism-cli"];
 
 /// The section of ARCHITECTURE.md whose `## ` heading contains `marker`.
 fn section(doc: &str, marker: &str) -> String {
@@ -226,7 +226,7 @@ fn modules_import_only_what_the_order_puts_before_them() {
     // reads, and the macros every module may use.
     let free = ["options", "preset", "kinds"];
     let mut wrong = Vec::new();
-    for name in ["prism", "prism-io", "prism-lab"] {
+    for name in ["prism", "prism-io", "prism-lab", "prism-serve"] {
         let order = documented_order(name);
         let src = Path::new("..").join(name).join("src");
         let level = |m: &str| order.iter().position(|l| l.iter().any(|x| x == m));
@@ -290,8 +290,8 @@ fn crates_depend_only_on_crates_before_them() {
         }
     }
     assert!(
-        crate_dependencies("prism-cli").len() == 3,
-        "the CLI should build on all three libraries"
+        crate_dependencies("prism-cli").len() == 4,
+        "the CLI should build on all four libraries"
     );
     assert!(
         wrong.is_empty(),

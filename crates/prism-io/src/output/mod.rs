@@ -112,6 +112,12 @@ pub fn write_png_rgb8(path: &Path, image: &heatmap::Rgb8) -> Result<(), OutputEr
     write_atomic(path, &bytes)
 }
 
+/// The PNG file of an 8-bit RGB image (rows from the top), in memory: what a viewer hands
+/// a browser to save, where no file is written.
+pub fn png_rgb8_bytes(data: &[u8], width: u32, height: u32) -> Result<Vec<u8>, String> {
+    encode::png_rgb8(data, width, height)
+}
+
 /// Writes `bytes` to a temporary name beside `path` and renames it into place.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     let err = |message: String| OutputError::Write {

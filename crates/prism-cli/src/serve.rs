@@ -1,0 +1,112 @@
+//! `prism serve`: the live viewer (crate prism-serve). Loads the scene as `render` does,
+//! starts the server, prints the page's address and serves until Ctrl-C.
+
+use crate::args::RenderArgs;
+use anyhow::{Context, Result};
+use clap::Args;
+use prism::sampling::SamplerKind;
+use std::net::IpAddr;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Args, Debug)]
+pub(crate) struct ServeArgs {
+    /// Scene file to show (.toml, .nff, .gltf, .glb, .obj, .ply); the built-in `whitted`
+    /// scene without it (and without --builtin).
+    pub scene: Option<PathBuf>,
+
+    /// Built-in scene to show instead of a file (see `prism list`).
+    #[arg(short, long, value_name = "NAME", conflicts_with = "scene")]
+    pub builtin: Option<String>,
+
+    /// Address to listen on. The default answers this machine only; 0.0.0.0 opens the
+    /// viewer (and the CPU it steers) to the network.
+    #[arg(long, value_name = "ADDR", default_value = "127.0.0.1")]
+    pub bind: IpAddr,
+
+    /// Port to listen on; 0 lets the system choose a free one (the address is printed).
+    #[arg(long, value_name = "N", default_value_t = 8000)]
+    pub port: u16,
+
+    /// Image width in pixels at the start (the page can change it).
+    #[arg(short = 'W', long, value_name = "PIXELS", default_value_t = 640)]
+    pub width: u32,
+
+    /// Image height in pixels at the start.
+    #[arg(short = 'H', long, value_name = "PIXELS", default_value_t = 360)]
+    pub height: u32,
+
+    /// Acceleration structure at the start, as `render --accel` takes it [default: the
+    /// scene's].
+    #[arg(long, value_name = "SPEC")]
+    pub accel: Option<prism::accel::AccelSpec>,
+
+    /// Shadow-ray method at the start, as `render --shadows` takes it [default: the
+    /// scene's].
+    #[arg(long, value_name = "SPEC")]
+    pub shadows: Option<prism::integrator::ShadowSpec>,
+
+    /// Maximum ray-tree depth at the start [default: the scene's].
+    #[arg(short, long, value_name = "N")]
+    pub depth: Option<u32>,
+
+    /// Where each frame's one sample per pixel goes: jittered, random or centre.
+    #[arg(long, value_name = "NAME", default_value = "jittered")]
+    pub sampler: SamplerKind,
+
+    /// Worker threads; 0 uses every core.
+    #[arg(short, long, value_name = "N", default_value_t = 0)]
+    pub threads: usize,
+}
+
+pub(crate) fn run(args: &ServeArgs) -> Result<ExitCode> {
+    let render = RenderArgs {
+        scene: args.scene.clone(),
+        builtin: args.builtin.clone(),
+        width: Some(args.width),
+        height: Some(args.height),
+        accel: args.accel.clone(),
+        shadows: args.shadows,
+        depth: args.depth,
+        threads: Some(args.threads),
+        ..RenderArgs::default()
+    };
+    let (mut scene, name) = render.load_scene()?;
+    for warning in std::mem::take(&mut scene.warnings) {
+        eprintln!("prism: warning: {warning}");
+    }
+    scene.validate().context("the scene is not valid")?;
+    let options = render.options(&scene.options)?;
+    // The page's controls take the same values; checking here names the option.
+    let resolution = format!("{}x{}", options.width, options.height);
+    for (control, value) in [
+        ("sampler", args.sampler.to_string()),
+        ("resolution", resolution),
+    ] {
+        prism_serve::controls::parse(control, &value)
+            .map_err(|e| anyhow::anyhow!("--{control}: {e}"))?;
+    }
+    let options = prism::RenderOptions {
+        sampler: args.sampler,
+        samples: 1,
+        ..options
+    };
+    let config = prism_serve::ServerConfig {
+        bind: args.bind,
+        port: args.port,
+    };
+    let server = prism_serve::Server::start(scene, &name, options, &config)?;
+    // The one line a script waits for (the port is the system's choice with --port 0).
+    println!("prism: viewing {name} at {}", server.url());
+    if !args.bind.is_loopback() {
+        eprintln!(
+            "prism: note: listening on {}: anyone who can reach this address can steer the \
+             render",
+            args.bind
+        );
+    }
+    use std::io::Write;
+    std::io::stdout().flush()?;
+    server.wait();
+    Ok(ExitCode::SUCCESS)
+}
