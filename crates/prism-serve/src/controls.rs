@@ -9,9 +9,8 @@ use prism::integrator::{ShadowMethod, ShadowSpec};
 use prism::sampling::SamplerKind;
 use serde::Serialize;
 
-/// The integrators the viewer offers. When the engine gains `RenderOptions::integrator`,
-/// `path` joins this list and `Setting::Integrator` reaches the options (engine.rs).
-pub const INTEGRATORS: &[&str] = &["whitted"];
+/// The integrators the viewer offers, by their `RenderOptions::integrator` names.
+pub const INTEGRATORS: &[&str] = &["whitted", "path"];
 
 /// Suggested accelerator specs; the control takes any `--accel` spec.
 pub const ACCELERATORS: &[&str] = &["bvh", "bvh:width=4", "kdtree", "grid", "octree"];
@@ -263,7 +262,7 @@ mod tests {
             ("depth", "99999999999999999999"),
             ("accel", "nonsense"),
             ("sampler", "adaptive"),
-            ("integrator", "path"),
+            ("integrator", "beam"),
             ("volume", "11"),
         ] {
             let e = parse(name, value).unwrap_err();

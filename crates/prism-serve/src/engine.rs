@@ -193,7 +193,9 @@ impl Engine {
             name: name.to_string(),
             integrator: controls::INTEGRATORS[0].to_string(),
             view: View::Image,
-            // The seam of source.rs: `Progressive` goes here once the engine has it.
+            // Frames of one sample per pixel with a new seed each, for both integrators
+            // (source.rs); a source on `prism::render::Progressive`, continuing one sample
+            // sequence, would go here.
             source: Box::new(Accumulator::new()),
             encoder: Encoder::new(options.transfer),
             options,
@@ -389,7 +391,13 @@ impl Engine {
     fn set(&mut self, setting: Setting) {
         let restart = !matches!(setting, Setting::View(_));
         match setting {
-            Setting::Integrator(name) => self.integrator = name,
+            Setting::Integrator(name) => {
+                // `controls` accepts only the names in INTEGRATORS, which all parse.
+                if let Ok(kind) = name.parse() {
+                    self.options.integrator = kind;
+                }
+                self.integrator = name;
+            }
             Setting::Accel(spec) => {
                 if spec != self.options.accel {
                     self.options.accel = spec;

@@ -3,10 +3,11 @@
 //! pixel per frame with `prism::render::render` (the seed is the frame's index, so each
 //! frame's random or jittered positions are new) and averages the frames here.
 //!
-//! The seam: when the engine has `prism::render::Progressive` (new / advance(scene,
-//! options, spp, cancel) / samples / film / reset, with `RenderOptions::integrator`), a
-//! second `FrameSource` wraps it and `engine.rs` makes that one instead; nothing else in
-//! this crate changes.
+//! The seam: the engine's `prism::render::Progressive` (new / advance(scene, options, spp,
+//! cancel) / samples / film / reset) continues one sample sequence frame after frame; a
+//! second `FrameSource` wrapping it would be made in `engine.rs` instead, and nothing else
+//! in this crate would change. The `Accumulator` stays the viewer's source because it
+//! renders through `prism::render::render`, with its packets for the Whitted integrator.
 
 use prism::math::Color;
 use prism::render::{Film, RenderError};
