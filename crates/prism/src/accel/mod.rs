@@ -154,19 +154,32 @@ impl SceneIntersector {
         answers: &mut [Option<Hit>],
         stats: &mut Stats,
     ) {
+        let bounds = [t_max; PACKET_MAX];
+        self.intersect_packet_within(geometry, rays, &bounds[..rays.len()], answers, stats);
+    }
+
+    /// `intersect_packet` with a bound per ray: `answers[i]` is exactly
+    /// `intersect(rays[i], t_max[i])`.
+    pub fn intersect_packet_within(
+        &self,
+        geometry: &Geometry,
+        rays: &[Ray],
+        t_max: &[f32],
+        answers: &mut [Option<Hit>],
+        stats: &mut Stats,
+    ) {
         let traced: arrayvec::ArrayVec<TraceRay, PACKET_MAX> =
             rays.iter().map(|r| TraceRay::new(*r)).collect();
-        let bounds = [t_max; PACKET_MAX];
         let n = traced.len();
         self.accel.query_packet(
             geometry,
             &traced,
-            &bounds[..n],
+            &t_max[..n],
             QueryMode::Nearest,
             &mut answers[..n],
             stats,
         );
-        for (tr, answer) in traced.iter().zip(answers.iter_mut()) {
+        for ((tr, answer), &t_max) in traced.iter().zip(answers.iter_mut()).zip(t_max) {
             let mut search = HitSearch::new(t_max, QueryMode::Nearest);
             if let Some(hit) = *answer {
                 search.offer(hit);

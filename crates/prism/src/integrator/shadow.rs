@@ -306,13 +306,72 @@ impl<'a> Shadows<'a> {
 
     /// Whether the shadow rays of the scene's `index`-th light may be answered as packets:
     /// when the accelerator answers them (no cache, whose state follows the order of
-    /// rays, and no light buffer) and one hit settles the answer (no transparent surfaces,
-    /// which a blocked ray would have to trace again through them: on SPD gears that made
-    /// the render 20 % slower).
+    /// rays, and no light buffer). In a scene with transparent surfaces the packet finds
+    /// each ray's first surface (`first_surfaces_packet`), otherwise whether it is blocked
+    /// (`blocked_packet`); an any-hit packet there would have to be traced again through
+    /// the transparent surfaces (on SPD gears that made the render 20 % slower).
     pub(super) fn answers_packets(&self, index: usize) -> bool {
-        !self.scene.has_transmissive
-            && !self.spec.method.uses_cache()
-            && self.buffers.get(index).is_none_or(Option::is_none)
+        !self.spec.method.uses_cache() && self.buffers.get(index).is_none_or(Option::is_none)
+    }
+
+    /// For a packet of shadow rays towards one light that `answers_packets`, in a scene with
+    /// transparent surfaces: each ray's first surface before the light (`distances[i]`
+    /// away), as the first step of `visibility`'s walk through transparent surfaces finds
+    /// it; one nearest-hit packet query, counted as the shadow rays. `visibility_after`
+    /// goes on from there.
+    pub(super) fn first_surfaces_packet(
+        &self,
+        rays: &[Ray],
+        distances: &[f32],
+        first: &mut [Option<Hit>],
+        stats: &mut Stats,
+    ) {
+        let scene = self.scene;
+        stats.shadow_rays += rays.len() as u64;
+        let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
+        scene.intersector.intersect_packet_within(
+            &scene.scene.geometry,
+            rays,
+            distances,
+            first,
+            stats,
+        );
+        stats.shadow_tests += stats.primitive_tests - tests;
+        stats.shadow_node_visits += stats.node_visits - nodes;
+    }
+
+    /// `visibility` of a light from `sp` whose shadow ray's first surface
+    /// `first_surfaces_packet` found (None: the light is seen): the rest of the walk
+    /// through transparent surfaces, exactly as `visibility` takes it.
+    pub(super) fn visibility_after(
+        &self,
+        sp: &SurfacePoint,
+        ng: Vec3,
+        light: &LightSample,
+        first: Option<Hit>,
+        stats: &mut Stats,
+    ) -> Color {
+        if first.is_none() {
+            return Color::ONE;
+        }
+        let scene = self.scene;
+        let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
+        let origin = offset_ray_origin(sp.p, sp.p_error, ng, light.to_light);
+        let query = Query {
+            scene,
+            buffer: None,
+        };
+        let v = walk_transparent(
+            &query,
+            origin,
+            light.to_light,
+            light.distance,
+            Some(first),
+            stats,
+        );
+        stats.shadow_tests += stats.primitive_tests - tests;
+        stats.shadow_node_visits += stats.node_visits - nodes;
+        v
     }
 
     /// Whether each of a packet of shadow rays (at most `PACKET_MAX`) towards one light
@@ -516,6 +575,19 @@ fn transmittance(
     distance: f32,
     stats: &mut Stats,
 ) -> Color {
+    walk_transparent(query, origin, dir, distance, None, stats)
+}
+
+/// `transmittance`, whose first segment's nearest hit is `first` when it is already known
+/// (a packet query found it).
+fn walk_transparent(
+    query: &Query,
+    origin: Vec3,
+    dir: Vec3,
+    distance: f32,
+    mut first: Option<Option<Hit>>,
+    stats: &mut Stats,
+) -> Color {
     let scene = query.scene.scene;
     let geometry = &scene.geometry;
     let mut atten = Color::ONE;
@@ -526,7 +598,11 @@ fn transmittance(
             stats.shadow_continuations += 1;
         }
         let ray = Ray::new(origin, dir);
-        let Some(hit) = query.nearest(&ray, remaining, stats) else {
+        let hit = match first.take() {
+            Some(known) => known,
+            None => query.nearest(&ray, remaining, stats),
+        };
+        let Some(hit) = hit else {
             return atten;
         };
         let prim = &geometry.primitives[hit.prim as usize];

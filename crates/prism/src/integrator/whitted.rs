@@ -134,10 +134,11 @@ impl<'a> Whitted<'a> {
         for (ray, hit) in rays.iter().zip(hits) {
             surfaces.push(hit.map(|h| self.surface(ray, h, depth, stats)));
         }
-        // Per light answered as packets, whether each ray's shadow ray is blocked.
-        let mut blocked: Vec<Option<[bool; PACKET_MAX]>> = vec![None; scene.lights.len()];
+        // Per light answered as packets, each ray's answer.
+        let mut answered: Vec<Option<ShadowAnswers>> = vec![None; scene.lights.len()];
         let mut batch = Batch::new();
-        let mut answers = [false; PACKET_MAX];
+        let mut blocked = [false; PACKET_MAX];
+        let mut first = [None; PACKET_MAX];
         for (index, light) in scene.lights.iter().enumerate() {
             if !self.shadows.answers_packets(index) {
                 continue;
@@ -155,36 +156,56 @@ impl<'a> Whitted<'a> {
                 rays_of[owners[i]] += 1;
             }
             let m = batch.rays.len();
-            self.shadows
-                .blocked_packet(&batch.rays, &batch.t_max, &mut answers[..m], stats);
-            let mut of_ray = [false; PACKET_MAX];
-            for (k, &i) in batch.from.iter().enumerate() {
-                of_ray[i] = answers[k];
-            }
-            blocked[index] = Some(of_ray);
+            // With transparent surfaces the first surface starts the walk through them;
+            // otherwise whether anything blocks the ray settles it.
+            answered[index] = Some(if self.scene.has_transmissive {
+                self.shadows.first_surfaces_packet(
+                    &batch.rays,
+                    &batch.t_max,
+                    &mut first[..m],
+                    stats,
+                );
+                let mut of_ray = [None; PACKET_MAX];
+                for (k, &i) in batch.from.iter().enumerate() {
+                    of_ray[i] = first[k];
+                }
+                ShadowAnswers::FirstSurface(of_ray)
+            } else {
+                self.shadows
+                    .blocked_packet(&batch.rays, &batch.t_max, &mut blocked[..m], stats);
+                let mut of_ray = [false; PACKET_MAX];
+                for (k, &i) in batch.from.iter().enumerate() {
+                    of_ray[i] = blocked[k];
+                }
+                ShadowAnswers::Blocked(of_ray)
+            });
         }
         for (i, surface) in surfaces.iter().enumerate() {
             let before = stats.total_rays();
-            colors[i] = match surface {
-                None => scene.background,
-                Some(surface) => {
-                    self.local(surface, stats, |index, ls, stats| match &blocked[index] {
-                        Some(of_ray) if !of_ray[i] => Color::ONE,
-                        Some(_) => {
-                            self.shadows
-                                .blocked_visibility(&surface.sp, surface.ng, ls, stats)
-                        }
-                        None => self.shadows.visibility(
-                            index,
-                            depth,
-                            &surface.sp,
-                            surface.ng,
-                            ls,
-                            stats,
-                        ),
-                    })
-                }
-            };
+            colors[i] =
+                match surface {
+                    None => scene.background,
+                    Some(surface) => {
+                        self.local(surface, stats, |index, ls, stats| match &answered[index] {
+                            Some(ShadowAnswers::Blocked(of_ray)) if !of_ray[i] => Color::ONE,
+                            Some(ShadowAnswers::Blocked(_)) => {
+                                self.shadows
+                                    .blocked_visibility(&surface.sp, surface.ng, ls, stats)
+                            }
+                            Some(ShadowAnswers::FirstSurface(of_ray)) => self
+                                .shadows
+                                .visibility_after(&surface.sp, surface.ng, ls, of_ray[i], stats),
+                            None => self.shadows.visibility(
+                                index,
+                                depth,
+                                &surface.sp,
+                                surface.ng,
+                                ls,
+                                stats,
+                            ),
+                        })
+                    }
+                };
             rays_of[owners[i]] += (stats.total_rays() - before) as u32;
         }
         if depth >= self.max_depth {
@@ -555,3 +576,11 @@ impl Batch {
 /// The deepest level of the ray tree traced as packets; deeper rays go on one by one,
 /// since every level of packets keeps a few kilobytes on the stack.
 const PACKET_DEPTH: u32 = 8;
+
+/// A light's shadow rays answered as a packet: in a scene without transparent surfaces
+/// whether each is blocked, otherwise the first surface each meets.
+#[derive(Clone, Copy)]
+enum ShadowAnswers {
+    Blocked([bool; PACKET_MAX]),
+    FirstSurface([Option<Hit>; PACKET_MAX]),
+}
