@@ -579,6 +579,9 @@ const PACKET_DEPTH: u32 = 8;
 
 /// A light's shadow rays answered as a packet: in a scene without transparent surfaces
 /// whether each is blocked, otherwise the first surface each meets.
+/// (Kept inline, not boxed: one per light in a packet's list, and the list is the only
+/// allocation of a depth.)
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy)]
 enum ShadowAnswers {
     Blocked([bool; PACKET_MAX]),
