@@ -377,8 +377,9 @@ impl<'a> Shadows<'a> {
     /// Whether each of a packet of shadow rays (at most `PACKET_MAX`) towards one light
     /// that `answers_packets` is blocked: ray i from its offset surface point towards the
     /// light, `distances[i]` away; one any-hit packet query, counted as the shadow rays.
-    /// A ray that is not blocked sees the light (`visibility` gives 1); for one that is,
-    /// `blocked_visibility` gives what `visibility` would.
+    /// For a scene without transparent surfaces (`first_surfaces_packet` serves the
+    /// others): a ray that is not blocked sees the light, one that is sees nothing, as
+    /// `visibility` says.
     pub(super) fn blocked_packet(
         &self,
         rays: &[Ray],
@@ -394,32 +395,6 @@ impl<'a> Shadows<'a> {
             .occluded_packet(&scene.scene.geometry, rays, distances, blocked, stats);
         stats.shadow_tests += stats.primitive_tests - tests;
         stats.shadow_node_visits += stats.node_visits - nodes;
-    }
-
-    /// `visibility` of a light whose shadow ray from `sp` `blocked_packet` found blocked:
-    /// nothing, or in a scene with transparent surfaces what passes through them
-    /// (the ray's own `transmittance`, not counted as another shadow ray).
-    pub(super) fn blocked_visibility(
-        &self,
-        sp: &SurfacePoint,
-        ng: Vec3,
-        light: &LightSample,
-        stats: &mut Stats,
-    ) -> Color {
-        let scene = self.scene;
-        if !scene.has_transmissive {
-            return Color::ZERO;
-        }
-        let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
-        let origin = offset_ray_origin(sp.p, sp.p_error, ng, light.to_light);
-        let query = Query {
-            scene,
-            buffer: None,
-        };
-        let v = transmittance(&query, origin, light.to_light, light.distance, stats);
-        stats.shadow_tests += stats.primitive_tests - tests;
-        stats.shadow_node_visits += stats.node_visits - nodes;
-        v
     }
 
     /// The fraction of light `light` (the scene's `index`-th) that reaches surface point

@@ -77,7 +77,7 @@ impl<'a> Whitted<'a> {
     }
 
     /// The first hits of a packet of camera rays (at most `accel::PACKET_MAX`), walked
-    /// together; `shade_camera_hit` continues each. Exactly the hits
+    /// together; `shade_camera_packet` continues them. Exactly the hits
     /// `trace_camera_ray` finds.
     pub fn camera_hits(&self, rays: &[Ray], hits: &mut [Option<Hit>], stats: &mut Stats) {
         stats.primary_rays += rays.len() as u64;
@@ -86,14 +86,8 @@ impl<'a> Whitted<'a> {
             .intersect_packet(&s.scene.geometry, rays, f32::INFINITY, hits, stats);
     }
 
-    /// Radiance along camera ray `ray` whose first hit `camera_hits` found: the rest of
-    /// `trace_camera_ray`, with the same result bit for bit.
-    pub fn shade_camera_hit(&self, ray: &Ray, hit: Option<Hit>, stats: &mut Stats) -> Color {
-        self.shade(ray, hit, 1, Color::ONE, stats)
-    }
-
     /// Radiance along a packet of camera rays (at most `accel::PACKET_MAX`) whose first
-    /// hits `camera_hits` found: `colors[i]` is exactly what `shade_camera_hit` gives ray
+    /// hits `camera_hits` found: `colors[i]` is exactly what `trace_camera_ray` gives ray
     /// i. The ray tree is traced breadth first, a packet per depth: the shadow rays of a
     /// packet's hits to each light go as one packet (where the shadow method lets the
     /// accelerator answer them), and so do its reflected rays and its refracted rays.
@@ -188,10 +182,8 @@ impl<'a> Whitted<'a> {
                     Some(surface) => {
                         self.local(surface, stats, |index, ls, stats| match &answered[index] {
                             Some(ShadowAnswers::Blocked(of_ray)) if !of_ray[i] => Color::ONE,
-                            Some(ShadowAnswers::Blocked(_)) => {
-                                self.shadows
-                                    .blocked_visibility(&surface.sp, surface.ng, ls, stats)
-                            }
+                            // Without transparent surfaces a blocked ray sees nothing.
+                            Some(ShadowAnswers::Blocked(_)) => Color::ZERO,
                             Some(ShadowAnswers::FirstSurface(of_ray)) => self
                                 .shadows
                                 .visibility_after(&surface.sp, surface.ng, ls, of_ray[i], stats),

@@ -46,6 +46,12 @@ impl PacketBounds {
     /// The bounds of the `n` rays of `soa`, or None when their directions disagree in
     /// sign on some axis or one has a zero (or NaN) component: such packets are not
     /// coherent enough to share a walk.
+    /// The bounds of `rays`, as `of` gives them (for tests of the box tests).
+    #[cfg(test)]
+    pub(super) fn of_rays(rays: &[TraceRay]) -> Option<PacketBounds> {
+        PacketBounds::of(&RaySoa::new(rays), rays.len())
+    }
+
     fn of(soa: &RaySoa, n: usize) -> Option<PacketBounds> {
         let mut b = PacketBounds {
             negative: [false; 3],

@@ -99,6 +99,14 @@ mod x86 {
     use crate::stats::Stats;
     use std::arch::x86_64::*;
 
+    /// Per axis, the row of `Wide8Node::bounds` holding a box's entry plane and the one
+    /// holding its exit plane, for rays running toward negative values on the axes marked.
+    fn plane_rows(negative: [bool; 3]) -> ([usize; 3], [usize; 3]) {
+        let near = [0, 1, 2].map(|a| if negative[a] { 3 + a } else { a });
+        let far = [0, 1, 2].map(|a| if negative[a] { a } else { 3 + a });
+        (near, far)
+    }
+
     /// A ray prepared for `Ray8::hit`: origin and inverse direction broadcast per axis, and
     /// per axis the row of `Wide8Node::bounds` holding the entry plane (the max for a ray
     /// running toward negative values) and the exit plane.
@@ -115,9 +123,7 @@ mod x86 {
         pub(super) fn new(ray: &TraceRay) -> Ray8 {
             let o = ray.ray.origin;
             let inv = ray.inv_dir;
-            let neg = [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0];
-            let near = [0, 1, 2].map(|a| if neg[a] { 3 + a } else { a });
-            let far = [0, 1, 2].map(|a| if neg[a] { a } else { 3 + a });
+            let (near, far) = plane_rows([inv.x < 0.0, inv.y < 0.0, inv.z < 0.0]);
             Ray8 {
                 origin: [o.x, o.y, o.z].map(|v| _mm256_set1_ps(v)),
                 inv_dir: [inv.x, inv.y, inv.z].map(|v| _mm256_set1_ps(v)),
@@ -184,8 +190,7 @@ mod x86 {
     impl Packet8 {
         #[target_feature(enable = "avx2,popcnt")]
         pub(super) fn new(b: &PacketBounds) -> Packet8 {
-            let near = [0, 1, 2].map(|a| if b.negative[a] { 3 + a } else { a });
-            let far = [0, 1, 2].map(|a| if b.negative[a] { a } else { 3 + a });
+            let (near, far) = plane_rows(b.negative);
             Packet8 {
                 origin_near: b.origin_near.map(|v| _mm256_set1_ps(v)),
                 origin_far: b.origin_far.map(|v| _mm256_set1_ps(v)),
@@ -201,7 +206,8 @@ mod x86 {
         /// of its rays), per child a lower bound of every ray's entry distance, and the
         /// children that every ray enters before `t_min` (the nearest bound), for which no
         /// ray needs its own test: `packet.rs`'s interval test, eight lanes at once, and the
-        /// same interval arithmetic from the other ends.
+        /// same interval arithmetic from the other ends (held to `Packet4` and to every ray's
+        /// own box test below).
         #[target_feature(enable = "avx2,popcnt")]
         #[inline]
         pub(super) fn hit(&self, node: &Wide8Node, t_max: f32, t_min: f32) -> (u32, [f32; 8], u32) {
@@ -531,6 +537,94 @@ mod x86 {
                 max,
                 count: 1,
             }
+        }
+
+        /// The packet test: its lanes and entry bounds are the 4-wide interval test's
+        /// (`Packet4::hit_boxes`), it lets through every child that one of the packet's
+        /// rays enters by its own box test, and a child it says every ray enters is entered
+        /// by every ray's own test.
+        #[test]
+        fn packet_test_bounds_every_rays_own_test() {
+            use crate::accel::bvh::packet::{Packet4, PacketBounds};
+            use crate::math::hash::uniform;
+            if !super::super::available() {
+                eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
+                return;
+            }
+            let u = |k: u64| uniform(k as u32, 0, 0, 0, 7);
+            let (mut some_seen, mut all_seen) = (0, 0);
+            for packet in 0..300u64 {
+                let k = packet * 1000;
+                // A bundle of rays from a small patch toward a common region, some bounded.
+                let eye = Vec3::new(u(k) * 4.0 - 2.0, u(k + 1) * 4.0 - 2.0, -6.0);
+                let rays: Vec<TraceRay> = (0..16)
+                    .map(|r| {
+                        let j = k + 10 + 4 * r;
+                        let o = eye + 0.3 * Vec3::new(u(j), u(j + 1), u(j + 2));
+                        let target = Vec3::new(u(j + 3) - 0.5, u(j + 3) * 0.7 - 0.3, 0.5);
+                        TraceRay::new(Ray::new(o, (target - o).normalize()))
+                    })
+                    .collect();
+                let Some(bounds) = PacketBounds::of_rays(&rays) else {
+                    continue;
+                };
+                let mut node = Wide8Node::EMPTY;
+                let mut boxes = Vec::new();
+                for lane in 0..7 {
+                    let j = k + 200 + 6 * lane;
+                    let lo = Vec3::new(u(j), u(j + 1), u(j + 2)) * 4.0 - 2.0;
+                    let b = Aabb::new(lo, lo + Vec3::new(u(j + 3), u(j + 4), u(j + 5)) * 3.0);
+                    node.set_box(lane as usize, &leaf(b.min, b.max));
+                    boxes.push(b);
+                }
+                let bound = |r: usize| {
+                    if r % 3 == 0 {
+                        20.0 + r as f32
+                    } else {
+                        f32::INFINITY
+                    }
+                };
+                let t_max = (0..16).map(bound).fold(0.0, f32::max);
+                let t_min = (0..16).map(bound).fold(f32::INFINITY, f32::min);
+                // SAFETY: AVX2 was detected above.
+                let (some, entries, all) =
+                    unsafe { Packet8::new(&bounds).hit(&node, t_max, t_min) };
+                let four = Packet4::new(bounds);
+                for (lane, b) in boxes.iter().enumerate() {
+                    let row = |f: fn(&Aabb) -> Vec3| {
+                        let v = f(b);
+                        [v.x, v.y, v.z].map(glam::Vec4::splat)
+                    };
+                    let (mask4, t4) = four.hit_boxes(row(|b| b.min), row(|b| b.max), t_max);
+                    let in_some = some >> lane & 1 == 1;
+                    assert_eq!(in_some, mask4 & 1 == 1, "packet {packet} lane {lane}");
+                    if in_some {
+                        assert_eq!(entries[lane], t4.x, "packet {packet} lane {lane}");
+                    }
+                    let own: Vec<bool> = rays
+                        .iter()
+                        .enumerate()
+                        .map(|(r, ray)| b.hit(ray.ray.origin, ray.inv_dir, bound(r)).is_some())
+                        .collect();
+                    if own.iter().any(|&h| h) {
+                        assert!(in_some, "packet {packet} lane {lane}: a ray enters, culled");
+                        some_seen += 1;
+                    }
+                    if all >> lane & 1 == 1 {
+                        assert!(
+                            own.iter().all(|&h| h),
+                            "packet {packet} lane {lane}: not all"
+                        );
+                        all_seen += 1;
+                    }
+                }
+                assert_eq!(some >> 7, 0, "an unused lane is let through");
+            }
+            // The workload must exercise both answers.
+            assert!(
+                some_seen > 100 && all_seen > 20,
+                "{some_seen} entered, {all_seen} all"
+            );
         }
 
         /// The AVX2 test agrees with `Aabb::hit` on each child, including rays lying in a
