@@ -209,9 +209,19 @@ pub(super) struct PacketSearch {
 }
 
 impl CullBound for PacketSearch {
+    type Rays = u64;
     #[inline(always)]
     fn t_max(&self) -> f32 {
         self.t_max
+    }
+    #[inline(always)]
+    fn all_rays(&self) -> u64 {
+        self.open()
+    }
+    #[inline(always)]
+    fn resume(&self, rays: u64, t_enter: f32) -> Option<u64> {
+        let rays = rays & self.open();
+        (rays != 0 && t_enter <= self.t_max * CULL_SLACK).then_some(rays)
     }
 }
 
@@ -372,20 +382,22 @@ pub(super) fn query(
         let packet = Packet4::new(bounds);
         walk(
             &bvh.wide,
-            |node: &WideNode, t_max| {
-                let (hit, t) = packet.hit(node, t_max);
+            // Interval culling only: every child goes on with all the rays that reached it.
+            |node: &WideNode, s: &PacketSearch, entering: u64| {
+                let (hit, t) = packet.hit(node, s.t_max());
                 let mut entries = [0.0; 8];
                 entries[..4].copy_from_slice(&t.to_array());
                 Visit {
                     children: node.children(),
                     hit,
                     entries,
+                    rays: [entering; 8],
                 }
             },
             &mut search,
             stats,
-            |c, n, enter, s: &mut PacketSearch, st: &mut Stats| {
-                s.test_leaf_per_ray(&leaf, rays, (c, n, enter), u64::MAX, st);
+            |c, n, enter, entering, s: &mut PacketSearch, st: &mut Stats| {
+                s.test_leaf_per_ray(&leaf, rays, (c, n, enter), entering, st);
                 s.finish_leaf()
             },
         );

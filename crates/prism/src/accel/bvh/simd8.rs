@@ -41,7 +41,7 @@ pub(super) fn traverse(
     ray: &TraceRay,
     search: &mut HitSearch,
     stats: &mut Stats,
-    leaf: impl FnMut(u32, u32, f32, &mut HitSearch, &mut Stats) -> bool,
+    leaf: impl FnMut(u32, u32, f32, (), &mut HitSearch, &mut Stats) -> bool,
 ) {
     #[cfg(target_arch = "x86_64")]
     {
@@ -90,10 +90,7 @@ mod x86 {
     use crate::accel::bvh::leaves::PACKED;
     use crate::accel::bvh::packet::Packet4;
     use crate::accel::bvh::traverse::{CullBound, Visit};
-    use crate::accel::bvh::MAX_DEPTH;
     use crate::accel::query::HitSearch;
-    use crate::accel::stack::TraversalStack;
-    use crate::accel::CULL_SLACK;
     use crate::geometry::ShapeKind;
     use crate::math::TraceRay;
     use crate::stats::Stats;
@@ -400,97 +397,88 @@ mod x86 {
     ) {
         let packet = Packet8::new(bounds);
         let box_test = Packet4::new(*bounds);
-        // Deferred children: (child, count or 0, entry bound, the rays that enter it).
-        let mut stack = TraversalStack::<(u32, u32, f32, u64), { 7 * MAX_DEPTH }>::new();
-        let (mut child, mut count, mut enter, mut rays) = (0u32, 0u32, 0.0f32, search.open());
-        loop {
-            if count > 0 {
-                rays &= search.open();
-                if count & PACKED != 0 && soa.permutation.is_some() {
-                    let k = soa.permutation.unwrap_or([0, 1, 2]);
-                    let first = child as usize;
-                    let n = (count & !PACKED) as usize;
-                    for pack in &packs[first..first + n] {
-                        let open = rays & search.open();
-                        if open == 0 {
-                            break;
-                        }
-                        // The triangles' boxes against the packet's interval first: a
-                        // triangle none of the rays can reach is skipped for all of them.
-                        let v = pack.lanes_by_vertex();
-                        let min = [0, 1, 2].map(|a| v[0][a].min(v[1][a]).min(v[2][a]));
-                        let max = [0, 1, 2].map(|a| v[0][a].max(v[1][a]).max(v[2][a]));
-                        let (mut lanes, _) = box_test.hit_boxes(min, max, search.t_max());
-                        lanes &= (1 << pack.len()) - 1;
-                        stats.count_tests(
-                            ShapeKind::Triangle,
-                            u64::from(lanes.count_ones()) * u64::from(open.count_ones()),
-                        );
-                        while lanes != 0 {
-                            let lane = lanes.trailing_zeros() as usize;
-                            lanes &= lanes - 1;
-                            let open = rays & search.open();
-                            let mut kept =
-                                triangle_candidates(pack, lane, k, open, soa, &search.nested);
-                            while kept != 0 {
-                                let i = kept.trailing_zeros() as usize;
-                                kept &= kept - 1;
-                                search.test_pack_lane(i, pack, lane, soa.ray(i));
-                            }
-                        }
-                    }
-                } else {
-                    leaf(child, count, enter, rays, search, stats);
-                }
-                if search.finish_leaf() {
-                    return;
-                }
-            } else {
-                let node = &nodes[child as usize];
-                let (mut mask, t, everyone) = packet.hit(node, search.t_max(), search.t_min());
-                stats.node_visits += u64::from(Ray8::children(node));
-                let (children, counts) = (&node.child, &node.count);
-                // Each child the packet may enter goes on with the rays that do enter it.
-                let mut hits = [(0.0f32, 0usize, 0u64); 8];
-                let mut n = 0;
-                while mask != 0 {
-                    let k = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let entering = if everyone >> k & 1 == 1 {
+        crate::accel::bvh::traverse::walk(
+            nodes,
+            // Each child the packet may enter goes on with the rays that do enter it.
+            |node: &Wide8Node, s: &PacketSearch, rays: u64| {
+                let (mut some, entries, everyone) = packet.hit(node, s.t_max(), s.t_min());
+                let (mut hit, mut entering) = (0u32, [0u64; 8]);
+                while some != 0 {
+                    let k = some.trailing_zeros() as usize;
+                    some &= some - 1;
+                    entering[k] = if everyone >> k & 1 == 1 {
                         rays
                     } else {
-                        rays_entering(&packet, node, k, rays, soa, &search.bound)
+                        rays_entering(&packet, node, k, rays, soa, &s.bound)
                     };
-                    if entering == 0 {
-                        continue;
+                    if entering[k] != 0 {
+                        hit |= 1 << k;
                     }
-                    // Nearest first (ties keep lane order).
-                    let mut j = n;
-                    while j > 0 && hits[j - 1].0 > t[k] {
-                        hits[j] = hits[j - 1];
-                        j -= 1;
+                }
+                Visit {
+                    children: Ray8::children(node),
+                    hit,
+                    entries,
+                    rays: entering,
+                }
+            },
+            search,
+            stats,
+            |child, count, enter, rays, search: &mut PacketSearch, stats: &mut Stats| {
+                let rays = rays & search.open();
+                match soa.permutation {
+                    Some(k) if count & PACKED != 0 => {
+                        let first = child as usize;
+                        let n = (count & !PACKED) as usize;
+                        for pack in &packs[first..first + n] {
+                            test_pack(pack, k, rays, soa, &box_test, search, stats);
+                        }
                     }
-                    hits[j] = (t[k], k, entering);
-                    n += 1;
+                    _ => leaf(child, count, enter, rays, search, stats),
                 }
-                if n > 0 {
-                    for &(t_enter, k, r) in hits[1..n].iter().rev() {
-                        stack.push((children[k], counts[k], t_enter, r));
-                    }
-                    let (t_enter, k, r) = hits[0];
-                    (child, count, enter, rays) = (children[k], counts[k], t_enter, r);
-                    continue;
-                }
-            }
-            loop {
-                let Some((c, n, t_enter, r)) = stack.pop() else {
-                    return;
-                };
-                let r = r & search.open();
-                if r != 0 && t_enter <= search.t_max() * CULL_SLACK {
-                    (child, count, enter, rays) = (c, n, t_enter, r);
-                    break;
-                }
+                search.finish_leaf()
+            },
+        )
+    }
+
+    /// Tests the triangles of `pack` for the rays of `rays` still searching, which share
+    /// the axis permutation `k`: the triangles' boxes against the packet's interval first
+    /// (a triangle none of the rays can reach is skipped for all of them), then one
+    /// triangle against eight rays (`triangle_candidates`), then the scalar test per kept
+    /// ray.
+    #[target_feature(enable = "avx2,popcnt")]
+    #[inline]
+    fn test_pack(
+        pack: &TrianglePack,
+        k: [usize; 3],
+        rays: u64,
+        soa: &RaySoa<'_>,
+        box_test: &Packet4,
+        search: &mut PacketSearch,
+        stats: &mut Stats,
+    ) {
+        let open = rays & search.open();
+        if open == 0 {
+            return;
+        }
+        let v = pack.lanes_by_vertex();
+        let min = [0, 1, 2].map(|a| v[0][a].min(v[1][a]).min(v[2][a]));
+        let max = [0, 1, 2].map(|a| v[0][a].max(v[1][a]).max(v[2][a]));
+        let (mut lanes, _) = box_test.hit_boxes(min, max, search.t_max());
+        lanes &= (1 << pack.len()) - 1;
+        stats.count_tests(
+            ShapeKind::Triangle,
+            u64::from(lanes.count_ones()) * u64::from(open.count_ones()),
+        );
+        while lanes != 0 {
+            let lane = lanes.trailing_zeros() as usize;
+            lanes &= lanes - 1;
+            let open = rays & search.open();
+            let mut kept = triangle_candidates(pack, lane, k, open, soa, &search.nested);
+            while kept != 0 {
+                let i = kept.trailing_zeros() as usize;
+                kept &= kept - 1;
+                search.test_pack_lane(i, pack, lane, soa.ray(i));
             }
         }
     }
@@ -505,17 +493,18 @@ mod x86 {
         ray: &TraceRay,
         search: &mut HitSearch,
         stats: &mut Stats,
-        leaf: impl FnMut(u32, u32, f32, &mut HitSearch, &mut Stats) -> bool,
+        leaf: impl FnMut(u32, u32, f32, (), &mut HitSearch, &mut Stats) -> bool,
     ) {
         let ray8 = Ray8::new(ray);
         crate::accel::bvh::traverse::walk(
             nodes,
-            |node: &Wide8Node, t_max| {
-                let (hit, entries) = ray8.hit(node, t_max);
+            |node: &Wide8Node, s: &HitSearch, ()| {
+                let (hit, entries) = ray8.hit(node, s.t_max());
                 Visit {
                     children: Ray8::children(node),
                     hit,
                     entries,
+                    rays: [(); 8],
                 }
             },
             search,

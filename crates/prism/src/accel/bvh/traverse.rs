@@ -51,28 +51,33 @@ impl Accel for Bvh {
         }
 
         if !self.wide8.is_empty() {
-            super::simd8::traverse(&self.wide8, ray, &mut search, stats, |c, n, _, s, st| {
-                leaf.test(c, n, s, st)
-            });
+            super::simd8::traverse(
+                &self.wide8,
+                ray,
+                &mut search,
+                stats,
+                |c, n, _, (), s, st| leaf.test(c, n, s, st),
+            );
             return search.best();
         }
 
         let wide_ray = WideRay::new(ray);
         walk(
             &self.wide,
-            |node: &WideNode, t_max| {
-                let t = node.hit(&wide_ray, t_max);
+            |node: &WideNode, s: &HitSearch, ()| {
+                let t = node.hit(&wide_ray, s.t_max());
                 let mut entries = [0.0; 8];
                 entries[..4].copy_from_slice(&t.to_array());
                 Visit {
                     children: node.children(),
                     hit: t.cmplt(Vec4::INFINITY).bitmask(),
                     entries,
+                    rays: [(); 8],
                 }
             },
             &mut search,
             stats,
-            |c, n, _, s, st| leaf.test(c, n, s, st),
+            |c, n, _, (), s, st| leaf.test(c, n, s, st),
         );
         search.best()
     }
@@ -95,52 +100,68 @@ impl Accel for Bvh {
 }
 
 /// What the shared walk culls against: the distance beyond which no hit is wanted any more
-/// (one ray's best hit so far, or the farthest of a packet's).
+/// (one ray's best hit so far, or the farthest of a packet's), and which rays go on into a
+/// child (`Rays`: nothing for one ray, a bit per ray for a packet).
 pub(super) trait CullBound {
+    /// What travels with each child: the rays that enter it.
+    type Rays: Copy;
     fn t_max(&self) -> f32;
+    /// The rays the walk starts with.
+    fn all_rays(&self) -> Self::Rays;
+    /// The rays of `rays` that still need a child deferred with entry bound `t_enter`, or
+    /// None when none does.
+    fn resume(&self, rays: Self::Rays, t_enter: f32) -> Option<Self::Rays>;
 }
 
 impl CullBound for HitSearch {
+    type Rays = ();
     #[inline(always)]
     fn t_max(&self) -> f32 {
         HitSearch::t_max(self)
     }
+    #[inline(always)]
+    fn all_rays(&self) {}
+    #[inline(always)]
+    fn resume(&self, (): (), t_enter: f32) -> Option<()> {
+        // Entry distances are compared against t_max with the same slack the box test
+        // gives exits (`CULL_SLACK`): a hit's reported distance may be a little short.
+        (t_enter <= HitSearch::t_max(self) * crate::accel::CULL_SLACK).then_some(())
+    }
 }
 
 /// What one visit of a wide node found.
-pub(super) struct Visit {
+pub(super) struct Visit<R> {
     /// Children in use (what the statistics count as node visits).
     pub children: u32,
-    /// The children the ray enters before the bound, a bit per lane.
+    /// The children entered before the bound, a bit per lane.
     pub hit: u32,
     /// Their entry distances (meaningful in the lanes of `hit`).
     pub entries: [f32; 8],
+    /// The rays that enter each of them.
+    pub rays: [R; 8],
 }
 
-/// The stack walk both wide layouts share: visit a node (`visit`, the layout's SIMD box
-/// test), descend into the nearest child hit, push the others farthest first (ties keep
-/// lane order), hand leaves to `leaf` with their entry distance (true when the query is
-/// answered), and skip deferred children whose entry lies beyond a hit found since they
-/// were pushed. `#[inline(always)]` so that the 8-wide caller's AVX2 compilation reaches
-/// the whole walk. One ray or a packet: `search` says how far to look.
+/// The stack walk both wide layouts and packets share: visit a node (`visit`, the
+/// layout's SIMD box test, with the rays that reached it), descend into the nearest child
+/// hit, push the others farthest first (ties keep lane order), hand leaves to `leaf` with
+/// their entry distance and rays (true when the query is answered), and skip deferred
+/// children that `search` no longer needs (`CullBound::resume`). `#[inline(always)]` so
+/// that the 8-wide callers' AVX2 compilation reaches the whole walk.
 #[inline(always)]
 pub(super) fn walk<N: LeafSlots, S: CullBound>(
     nodes: &[N],
-    visit: impl Fn(&N, f32) -> Visit,
+    visit: impl Fn(&N, &S, S::Rays) -> Visit<S::Rays>,
     search: &mut S,
     stats: &mut Stats,
-    mut leaf: impl FnMut(u32, u32, f32, &mut S, &mut Stats) -> bool,
+    mut leaf: impl FnMut(u32, u32, f32, S::Rays, &mut S, &mut Stats) -> bool,
 ) {
-    // Entry distances are compared against t_max with the same slack the box test gives
-    // exits (`CULL_SLACK`): a hit's reported distance may be a little short.
-    let slack = crate::accel::CULL_SLACK;
-    // Deferred children: (child, primitive count or 0 for interior, entry distance). A
-    // visit defers at most seven, and a wide tree is no deeper than the binary one.
-    let mut stack = TraversalStack::<(u32, u32, f32), { 7 * MAX_DEPTH }>::new();
-    let (mut child, mut count, mut enter) = (0u32, 0u32, 0.0f32);
+    // Deferred children: (child, primitive count or 0 for interior, entry distance, rays).
+    // A visit defers at most seven, and a wide tree is no deeper than the binary one.
+    let mut stack = TraversalStack::<(u32, u32, f32, S::Rays), { 7 * MAX_DEPTH }>::new();
+    let (mut child, mut count, mut enter, mut rays) = (0u32, 0u32, 0.0f32, search.all_rays());
     loop {
         if count > 0 {
-            if leaf(child, count, enter, search, stats) {
+            if leaf(child, count, enter, rays, search, stats) {
                 return;
             }
         } else {
@@ -149,14 +170,16 @@ pub(super) fn walk<N: LeafSlots, S: CullBound>(
                 children,
                 hit: mut mask,
                 entries: t,
-            } = visit(node, search.t_max());
+                rays: r,
+            } = visit(node, search, rays);
             stats.node_visits += u64::from(children);
             let (children, counts) = node.children_and_counts();
             if mask != 0 {
                 let first = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
                 if mask == 0 {
-                    (child, count, enter) = (children[first], counts[first], t[first]);
+                    (child, count, enter, rays) =
+                        (children[first], counts[first], t[first], r[first]);
                     continue;
                 }
                 // Two or more: order them nearest first (ties keep lane order).
@@ -176,19 +199,19 @@ pub(super) fn walk<N: LeafSlots, S: CullBound>(
                 }
                 // Farthest first onto the stack, so the nearer ones come off first.
                 for &(t_enter, k) in hits[1..n].iter().rev() {
-                    stack.push((children[k], counts[k], t_enter));
+                    stack.push((children[k], counts[k], t_enter, r[k]));
                 }
                 let (t_enter, k) = hits[0];
-                (child, count, enter) = (children[k], counts[k], t_enter);
+                (child, count, enter, rays) = (children[k], counts[k], t_enter, r[k]);
                 continue;
             }
         }
         loop {
-            let Some((c, n, t_enter)) = stack.pop() else {
+            let Some((c, n, t_enter, deferred)) = stack.pop() else {
                 return;
             };
-            if t_enter <= search.t_max() * slack {
-                (child, count, enter) = (c, n, t_enter);
+            if let Some(still) = search.resume(deferred, t_enter) {
+                (child, count, enter, rays) = (c, n, t_enter, still);
                 break;
             }
         }
