@@ -5,7 +5,7 @@
 //! quadric x² + y² = (r_base + k·z)², solved in f64 because rays nearly parallel to the
 //! side make its leading coefficient cancel.
 
-use super::{ShapeHit, SurfacePoint};
+use super::{ShapeHit, SurfacePoint, Uv};
 use crate::math::robust::gamma;
 use crate::math::{Aabb, Frame, Ray, Vec2, Vec3};
 use glam::DVec3;
@@ -134,6 +134,11 @@ impl Cone {
 
     /// The point, normals and uv of a hit that `intersect` found, on the side or a cap.
     pub fn surface(&self, ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
+        self.surface_with(ray, hit, Uv::Compute)
+    }
+
+    /// `surface`, with the uv parameters only if `uv` asks for them (else zero).
+    pub fn surface_with(&self, ray: &Ray, hit: &ShapeHit, uv: Uv) -> SurfacePoint {
         let (o, d) = self.local_ray(ray);
         let local = o + hit.t as f64 * d;
         let h = self.height as f64;
@@ -144,12 +149,14 @@ impl Cone {
                 .try_normalize()
                 .unwrap_or(glam::DVec2::X);
             let n = DVec3::new(radial.x, radial.y, -self.slope()).normalize();
-            let phi = radial.y.atan2(radial.x) as f32;
-            (
-                DVec3::new(radial.x * r, radial.y * r, z),
-                n,
-                Vec2::new(0.5 + phi / (2.0 * PI), (z / h) as f32),
-            )
+            let uv = match uv {
+                Uv::Compute => {
+                    let phi = radial.y.atan2(radial.x) as f32;
+                    Vec2::new(0.5 + phi / (2.0 * PI), (z / h) as f32)
+                }
+                Uv::Skip => Vec2::ZERO,
+            };
+            (DVec3::new(radial.x * r, radial.y * r, z), n, uv)
         } else {
             let top = hit.u == APEX_CAP;
             let z = if top { h } else { 0.0 };

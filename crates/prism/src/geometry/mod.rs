@@ -35,6 +35,16 @@ pub struct ShapeHit {
     pub v: f32,
 }
 
+/// Whether a surface description includes the uv parameters. They cost an arc tangent
+/// and an arc cosine on spheres and cones, and only textures read them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Uv {
+    /// Compute them.
+    Compute,
+    /// Leave them zero.
+    Skip,
+}
+
 /// Local surface description at a hit, computed once for the nearest hit only.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfacePoint {
@@ -47,7 +57,7 @@ pub struct SurfacePoint {
     pub ng: Vec3,
     /// Shading normal (interpolated vertex normals where present), in ng's hemisphere.
     pub ns: Vec3,
-    /// Surface parameters, for textures.
+    /// Surface parameters, for textures (zero where `Uv::Skip` left them out).
     pub uv: Vec2,
 }
 
@@ -99,12 +109,18 @@ impl Shape {
     }
 
     /// The surface description of a hit that `intersect` found on this shape.
-    pub fn surface(&self, meshes: &[TriangleMesh], ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
+    pub fn surface(
+        &self,
+        meshes: &[TriangleMesh],
+        ray: &Ray,
+        hit: &ShapeHit,
+        uv: Uv,
+    ) -> SurfacePoint {
         match self {
-            Shape::Sphere(s) => s.surface(ray, hit),
+            Shape::Sphere(s) => s.surface_with(ray, hit, uv),
             Shape::Triangle { mesh, index } => meshes[*mesh as usize].surface(*index, hit),
             Shape::Plane(p) => p.surface(ray, hit),
-            Shape::Cone(c) => c.surface(ray, hit),
+            Shape::Cone(c) => c.surface_with(ray, hit, uv),
             Shape::Box(b) => b.surface(ray, hit),
         }
     }
@@ -242,9 +258,14 @@ impl Geometry {
 
     /// The surface description of a hit on primitive `prim`.
     pub fn surface(&self, prim: u32, ray: &Ray, hit: &ShapeHit) -> SurfacePoint {
+        self.surface_with(prim, ray, hit, Uv::Compute)
+    }
+
+    /// `surface`, with the uv parameters only if `uv` asks for them.
+    pub fn surface_with(&self, prim: u32, ray: &Ray, hit: &ShapeHit, uv: Uv) -> SurfacePoint {
         self.primitives[prim as usize]
             .shape
-            .surface(&self.meshes, ray, hit)
+            .surface(&self.meshes, ray, hit, uv)
     }
 
     /// Bounds of every bounded primitive.

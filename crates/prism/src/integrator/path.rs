@@ -148,7 +148,7 @@ impl<'a> PathTracer<'a> {
             }
             let prim = &geometry.primitives[hit.prim as usize];
             let material = &scene.materials[prim.material as usize];
-            let sp = geometry.surface(hit.prim, &ray, &hit.shape_hit());
+            let sp = geometry.surface_with(hit.prim, &ray, &hit.shape_hit(), material.uv_need());
             let entering = ray.dir.dot(sp.ng) < 0.0;
             let (ng, ns) = if entering {
                 (sp.ng, sp.ns)

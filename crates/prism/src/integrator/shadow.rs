@@ -22,7 +22,7 @@
 
 use super::light_buffer::{prim_bounds, BufferParams, LightBuffer, LightBufferInfo, Unbuilt};
 use crate::accel::{Hit, HitSearch, QueryMode};
-use crate::geometry::SurfacePoint;
+use crate::geometry::{SurfacePoint, Uv};
 use crate::light::{Light, LightSample};
 use crate::math::robust::offset_ray_origin;
 use crate::math::{Color, Ray, TraceRay, Vec3};
@@ -586,7 +586,7 @@ fn walk_transparent(
         if atten.max_element() <= 0.0 {
             return Color::ZERO;
         }
-        let sp = geometry.surface(hit.prim, &ray, &hit.shape_hit());
+        let sp = geometry.surface_with(hit.prim, &ray, &hit.shape_hit(), Uv::Skip);
         let next = offset_ray_origin(sp.p, sp.p_error, sp.ng, dir);
         remaining -= (next - origin).dot(dir);
         origin = next;

@@ -389,7 +389,7 @@ impl<'a> Whitted<'a> {
         }
         let prim = &scene.geometry.primitives[hit.prim as usize];
         let material = &scene.materials[prim.material as usize];
-        let sp = scene.geometry.surface(hit.prim, ray, &hit.shape_hit());
+        let sp = (scene.geometry).surface_with(hit.prim, ray, &hit.shape_hit(), material.uv_need());
         // Face the normals towards the incoming ray; `entering` says which side it came from.
         let entering = ray.dir.dot(sp.ng) < 0.0;
         let (ng, ns) = if entering {

@@ -7,6 +7,7 @@
 
 use super::fresnel::FresnelMode;
 use super::texture::Texture;
+use crate::geometry::Uv;
 use crate::math::{Color, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -146,6 +147,15 @@ impl Material {
             0.0
         } else {
             self.specular * c.powf(self.shininess)
+        }
+    }
+
+    /// Whether `color_at` reads the surface's uv (see `geometry::Uv`).
+    pub fn uv_need(&self) -> Uv {
+        if self.color.reads_uv() {
+            Uv::Compute
+        } else {
+            Uv::Skip
         }
     }
 

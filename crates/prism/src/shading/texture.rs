@@ -126,6 +126,15 @@ impl ImageTexture {
 }
 
 impl Texture {
+    /// Whether `eval` reads its uv argument (so a surface point needs its uv computed).
+    pub fn reads_uv(&self) -> bool {
+        match self {
+            Texture::Solid(_) => false,
+            Texture::Checker(c) => c.space == CheckerSpace::Uv,
+            Texture::Image(_) => true,
+        }
+    }
+
     /// The colour at uv `uv` and point `p`.
     pub fn eval(&self, uv: Vec2, p: Vec3) -> Color {
         match self {
