@@ -37,6 +37,7 @@ pub fn next_down(x: f32) -> f32 {
 /// Moves `p` (with per-axis error bound `p_error`) off the surface with normal `n`, to the
 /// side `towards` points to. The result is guaranteed to be on that side of the true surface
 /// point, so a ray leaving from it cannot re-hit the surface at t ≈ 0.
+#[inline(always)]
 pub fn offset_ray_origin(p: Vec3, p_error: Vec3, n: Vec3, towards: Vec3) -> Vec3 {
     let d = n.abs().dot(p_error);
     let side = if towards.dot(n) < 0.0 { -n } else { n };
