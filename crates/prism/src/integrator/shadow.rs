@@ -21,13 +21,14 @@
 //!   no light buffer beats the BVH with the cache on the SPD scenes).
 
 use super::light_buffer::{prim_bounds, BufferParams, LightBuffer, LightBufferInfo, Unbuilt};
-use crate::accel::{Hit, HitSearch, QueryMode};
+use crate::accel::{Hit, HitSearch, QueryMode, PACKET_MAX};
 use crate::geometry::{SurfacePoint, Uv};
 use crate::light::{Light, LightSample};
 use crate::math::robust::offset_ray_origin;
 use crate::math::{Color, Ray, TraceRay, Vec3};
 use crate::scene::PreparedScene;
 use crate::stats::Stats;
+use arrayvec::ArrayVec;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::cell::RefCell;
 use std::fmt;
@@ -315,63 +316,85 @@ impl<'a> Shadows<'a> {
     }
 
     /// For a packet of shadow rays towards one light that `answers_packets`, in a scene with
-    /// transparent surfaces: each ray's first surface before the light (`distances[i]`
-    /// away), as the first step of `visibility`'s walk through transparent surfaces finds
-    /// it; one nearest-hit packet query, counted as the shadow rays. `visibility_after`
-    /// goes on from there.
-    pub(super) fn first_surfaces_packet(
+    /// transparent surfaces: the fraction of the light that reaches each ray's origin,
+    /// `distances[i]` away, exactly as `visibility` finds it. The walk through transparent
+    /// surfaces goes breadth first: the rays still walking after each surface go on as one
+    /// packet (they leave the same glass towards the same light, so they stay coherent).
+    /// `segments[i]` gains ray i's continuation rays, which `stats` counts too.
+    pub(super) fn transmittance_packet(
         &self,
         rays: &[Ray],
         distances: &[f32],
-        first: &mut [Option<Hit>],
+        visibility: &mut [Color],
+        segments: &mut [u32],
         stats: &mut Stats,
     ) {
         let scene = self.scene;
-        stats.shadow_rays += rays.len() as u64;
+        let geometry = &scene.scene.geometry;
+        let n = rays.len();
+        stats.shadow_rays += n as u64;
         let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
-        scene.intersector.intersect_packet_within(
-            &scene.scene.geometry,
-            rays,
-            distances,
-            first,
-            stats,
-        );
-        stats.shadow_tests += stats.primitive_tests - tests;
-        stats.shadow_node_visits += stats.node_visits - nodes;
-    }
-
-    /// `visibility` of a light from `sp` whose shadow ray's first surface
-    /// `first_surfaces_packet` found (None: the light is seen): the rest of the walk
-    /// through transparent surfaces, exactly as `visibility` takes it.
-    pub(super) fn visibility_after(
-        &self,
-        sp: &SurfacePoint,
-        ng: Vec3,
-        light: &LightSample,
-        first: Option<Hit>,
-        stats: &mut Stats,
-    ) -> Color {
-        if first.is_none() {
-            return Color::ONE;
+        // The rays still walking: which of the packet's, their segment and what is left.
+        let mut walking: ArrayVec<usize, PACKET_MAX> = (0..n).collect();
+        let mut segment_rays: ArrayVec<Ray, PACKET_MAX> = rays.iter().copied().collect();
+        let mut remaining: ArrayVec<f32, PACKET_MAX> = distances.iter().copied().collect();
+        let mut atten = [Color::ONE; PACKET_MAX];
+        let mut hits = [None; PACKET_MAX];
+        for segment in 0..MAX_SHADOW_SEGMENTS {
+            let m = walking.len();
+            if m == 0 {
+                break;
+            }
+            if segment > 0 {
+                stats.shadow_continuations += m as u64;
+                for &i in &walking {
+                    segments[i] += 1;
+                }
+            }
+            scene.intersector.intersect_packet_within(
+                geometry,
+                &segment_rays,
+                &remaining,
+                &mut hits[..m],
+                stats,
+            );
+            // The same steps as `transmittance`, ray by ray; the survivors are
+            // compacted in place for the next segment.
+            let mut kept = 0;
+            for k in 0..m {
+                let (i, ray, left) = (walking[k], segment_rays[k], remaining[k]);
+                let Some(hit) = hits[k] else {
+                    visibility[i] = atten[i];
+                    continue;
+                };
+                let prim = &geometry.primitives[hit.prim as usize];
+                atten[i] *= scene.scene.materials[prim.material as usize].transmit;
+                if atten[i].max_element() <= 0.0 {
+                    visibility[i] = Color::ZERO;
+                    continue;
+                }
+                let sp = geometry.surface_with(hit.prim, &ray, &hit.shape_hit(), Uv::Skip);
+                let next = offset_ray_origin(sp.p, sp.p_error, sp.ng, ray.dir);
+                let left = left - (next - ray.origin).dot(ray.dir);
+                if left <= 0.0 {
+                    visibility[i] = atten[i];
+                    continue;
+                }
+                walking[kept] = i;
+                segment_rays[kept] = Ray::new(next, ray.dir);
+                remaining[kept] = left;
+                kept += 1;
+            }
+            walking.truncate(kept);
+            segment_rays.truncate(kept);
+            remaining.truncate(kept);
         }
-        let scene = self.scene;
-        let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
-        let origin = offset_ray_origin(sp.p, sp.p_error, ng, light.to_light);
-        let query = Query {
-            scene,
-            buffer: None,
-        };
-        let v = walk_transparent(
-            &query,
-            origin,
-            light.to_light,
-            light.distance,
-            Some(first),
-            stats,
-        );
+        // Rays that crossed `MAX_SHADOW_SEGMENTS` surfaces see nothing, as in the walk.
+        for &i in &walking {
+            visibility[i] = Color::ZERO;
+        }
         stats.shadow_tests += stats.primitive_tests - tests;
         stats.shadow_node_visits += stats.node_visits - nodes;
-        v
     }
 
     /// Whether each of a packet of shadow rays (at most `PACKET_MAX`) towards one light
@@ -542,25 +565,13 @@ fn cached_any_hit(
 
 /// Fraction of a light's radiance, per channel, that reaches `origin` along `dir` within
 /// `distance`: 0 behind an opaque surface, the product of kt (a colour) over the
-/// transparent ones otherwise.
+/// transparent ones otherwise. `Shadows::transmittance_packet` takes the same steps for a
+/// packet.
 fn transmittance(
     query: &Query,
     origin: Vec3,
     dir: Vec3,
     distance: f32,
-    stats: &mut Stats,
-) -> Color {
-    walk_transparent(query, origin, dir, distance, None, stats)
-}
-
-/// `transmittance`, whose first segment's nearest hit is `first` when it is already known
-/// (a packet query found it).
-fn walk_transparent(
-    query: &Query,
-    origin: Vec3,
-    dir: Vec3,
-    distance: f32,
-    mut first: Option<Option<Hit>>,
     stats: &mut Stats,
 ) -> Color {
     let scene = query.scene.scene;
@@ -573,11 +584,7 @@ fn walk_transparent(
             stats.shadow_continuations += 1;
         }
         let ray = Ray::new(origin, dir);
-        let hit = match first.take() {
-            Some(known) => known,
-            None => query.nearest(&ray, remaining, stats),
-        };
-        let Some(hit) = hit else {
+        let Some(hit) = query.nearest(&ray, remaining, stats) else {
             return atten;
         };
         let prim = &geometry.primitives[hit.prim as usize];

@@ -132,7 +132,7 @@ impl<'a> Whitted<'a> {
         let mut answered: Vec<Option<ShadowAnswers>> = vec![None; scene.lights.len()];
         let mut batch = Batch::new();
         let mut blocked = [false; PACKET_MAX];
-        let mut first = [None; PACKET_MAX];
+        let mut seen = [Color::ZERO; PACKET_MAX];
         for (index, light) in scene.lights.iter().enumerate() {
             if !self.shadows.answers_packets(index) {
                 continue;
@@ -150,20 +150,23 @@ impl<'a> Whitted<'a> {
                 rays_of[owners[i]] += 1;
             }
             let m = batch.rays.len();
-            // With transparent surfaces the first surface starts the walk through them;
-            // otherwise whether anything blocks the ray settles it.
+            // With transparent surfaces the packet walks through them; otherwise whether
+            // anything blocks the ray settles it.
             answered[index] = Some(if self.scene.has_transmissive {
-                self.shadows.first_surfaces_packet(
+                let mut segments = [0u32; PACKET_MAX];
+                self.shadows.transmittance_packet(
                     &batch.rays,
                     &batch.t_max,
-                    &mut first[..m],
+                    &mut seen[..m],
+                    &mut segments[..m],
                     stats,
                 );
-                let mut of_ray = [None; PACKET_MAX];
+                let mut of_ray = [Color::ZERO; PACKET_MAX];
                 for (k, &i) in batch.from.iter().enumerate() {
-                    of_ray[i] = first[k];
+                    of_ray[i] = seen[k];
+                    rays_of[owners[i]] += segments[k];
                 }
-                ShadowAnswers::FirstSurface(of_ray)
+                ShadowAnswers::Seen(of_ray)
             } else {
                 self.shadows
                     .blocked_packet(&batch.rays, &batch.t_max, &mut blocked[..m], stats);
@@ -176,28 +179,25 @@ impl<'a> Whitted<'a> {
         }
         for (i, surface) in surfaces.iter().enumerate() {
             let before = stats.total_rays();
-            colors[i] =
-                match surface {
-                    None => scene.background,
-                    Some(surface) => {
-                        self.local(surface, stats, |index, ls, stats| match &answered[index] {
-                            Some(ShadowAnswers::Blocked(of_ray)) if !of_ray[i] => Color::ONE,
-                            // Without transparent surfaces a blocked ray sees nothing.
-                            Some(ShadowAnswers::Blocked(_)) => Color::ZERO,
-                            Some(ShadowAnswers::FirstSurface(of_ray)) => self
-                                .shadows
-                                .visibility_after(&surface.sp, surface.ng, ls, of_ray[i], stats),
-                            None => self.shadows.visibility(
-                                index,
-                                depth,
-                                &surface.sp,
-                                surface.ng,
-                                ls,
-                                stats,
-                            ),
-                        })
-                    }
-                };
+            colors[i] = match surface {
+                None => scene.background,
+                Some(surface) => {
+                    self.local(surface, stats, |index, ls, stats| match &answered[index] {
+                        Some(ShadowAnswers::Blocked(of_ray)) if !of_ray[i] => Color::ONE,
+                        // Without transparent surfaces a blocked ray sees nothing.
+                        Some(ShadowAnswers::Blocked(_)) => Color::ZERO,
+                        Some(ShadowAnswers::Seen(of_ray)) => of_ray[i],
+                        None => self.shadows.visibility(
+                            index,
+                            depth,
+                            &surface.sp,
+                            surface.ng,
+                            ls,
+                            stats,
+                        ),
+                    })
+                }
+            };
             rays_of[owners[i]] += (stats.total_rays() - before) as u32;
         }
         if depth >= self.max_depth {
@@ -570,12 +570,12 @@ impl Batch {
 const PACKET_DEPTH: u32 = 8;
 
 /// A light's shadow rays answered as a packet: in a scene without transparent surfaces
-/// whether each is blocked, otherwise the first surface each meets.
+/// whether each is blocked, otherwise the fraction of the light each one sees.
 /// (Kept inline, not boxed: one per light in a packet's list, and the list is the only
 /// allocation of a depth.)
 #[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy)]
 enum ShadowAnswers {
     Blocked([bool; PACKET_MAX]),
-    FirstSurface([Option<Hit>; PACKET_MAX]),
+    Seen([Color; PACKET_MAX]),
 }
