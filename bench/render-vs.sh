@@ -8,7 +8,8 @@
 #
 # Usage: bench/render-vs.sh REVISION [output file]   e.g. bench/render-vs.sh 29d38f2
 # PRISM_LOCK names a lock file that serialises each timed render with other builds and
-# benchmarks on a shared machine (default /tmp/prism-cargo.lock).
+# benchmarks on a shared machine (default /tmp/prism-cargo.lock). PRISM_OLD_BINARY names a
+# prism binary already built at REVISION, which then is not built again.
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -26,10 +27,14 @@ cleanup() {
 trap cleanup EXIT
 
 # Both binaries, built first so that no build runs while anything is timed.
-git worktree add --detach "$work/old" "$rev" >/dev/null
-(cd "$work/old" && flock "$lock" cargo build --release --quiet -p prism-cli)
+if [[ -n ${PRISM_OLD_BINARY:-} ]]; then
+    cp "$PRISM_OLD_BINARY" "$work/prism-old"
+else
+    git worktree add --detach "$work/old" "$rev" >/dev/null
+    (cd "$work/old" && flock "$lock" cargo build --release --quiet -p prism-cli)
+    cp "$work/old/target/release/prism" "$work/prism-old"
+fi
 flock "$lock" cargo build --release --quiet -p prism-cli
-cp "$work/old/target/release/prism" "$work/prism-old"
 cp "${CARGO_TARGET_DIR:-target}/release/prism" "$work/prism-new"
 
 # CPU seconds (user + system) of one render.
