@@ -26,7 +26,7 @@ use crate::geometry::{SurfacePoint, Uv};
 use crate::light::{Light, LightSample};
 use crate::math::robust::offset_ray_origin;
 use crate::math::{Color, Ray, TraceRay, Vec3};
-use crate::scene::PreparedScene;
+use crate::scene::{PreparedScene, Scene};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -358,32 +358,26 @@ impl<'a> Shadows<'a> {
                 &mut hits[..m],
                 stats,
             );
-            // The same steps as `transmittance`, ray by ray; the survivors are
+            // Each ray's step, as `transmittance` takes it; the rays that go on are
             // compacted in place for the next segment.
             let mut kept = 0;
             for k in 0..m {
-                let (i, ray, left) = (walking[k], segment_rays[k], remaining[k]);
-                let Some(hit) = hits[k] else {
-                    visibility[i] = atten[i];
-                    continue;
-                };
-                let prim = &geometry.primitives[hit.prim as usize];
-                atten[i] *= scene.scene.materials[prim.material as usize].transmit;
-                if atten[i].max_element() <= 0.0 {
-                    visibility[i] = Color::ZERO;
-                    continue;
+                let i = walking[k];
+                match step(
+                    scene.scene,
+                    &segment_rays[k],
+                    remaining[k],
+                    hits[k],
+                    &mut atten[i],
+                ) {
+                    Step::Ends(seen) => visibility[i] = seen,
+                    Step::GoesOn(ray, left) => {
+                        walking[kept] = i;
+                        segment_rays[kept] = ray;
+                        remaining[kept] = left;
+                        kept += 1;
+                    }
                 }
-                let sp = geometry.surface_with(hit.prim, &ray, &hit.shape_hit(), Uv::Skip);
-                let next = offset_ray_origin(sp.p, sp.p_error, sp.ng, ray.dir);
-                let left = left - (next - ray.origin).dot(ray.dir);
-                if left <= 0.0 {
-                    visibility[i] = atten[i];
-                    continue;
-                }
-                walking[kept] = i;
-                segment_rays[kept] = Ray::new(next, ray.dir);
-                remaining[kept] = left;
-                kept += 1;
             }
             walking.truncate(kept);
             segment_rays.truncate(kept);
@@ -574,34 +568,50 @@ fn transmittance(
     distance: f32,
     stats: &mut Stats,
 ) -> Color {
-    let scene = query.scene.scene;
-    let geometry = &scene.geometry;
     let mut atten = Color::ONE;
-    let mut origin = origin;
+    let mut ray = Ray::new(origin, dir);
     let mut remaining = distance;
     for segment in 0..MAX_SHADOW_SEGMENTS {
         if segment > 0 {
             stats.shadow_continuations += 1;
         }
-        let ray = Ray::new(origin, dir);
-        let Some(hit) = query.nearest(&ray, remaining, stats) else {
-            return atten;
-        };
-        let prim = &geometry.primitives[hit.prim as usize];
-        let kt = scene.materials[prim.material as usize].transmit;
-        atten *= kt;
-        if atten.max_element() <= 0.0 {
-            return Color::ZERO;
-        }
-        let sp = geometry.surface_with(hit.prim, &ray, &hit.shape_hit(), Uv::Skip);
-        let next = offset_ray_origin(sp.p, sp.p_error, sp.ng, dir);
-        remaining -= (next - origin).dot(dir);
-        origin = next;
-        if remaining <= 0.0 {
-            return atten;
+        let hit = query.nearest(&ray, remaining, stats);
+        match step(query.scene.scene, &ray, remaining, hit, &mut atten) {
+            Step::Ends(seen) => return seen,
+            Step::GoesOn(next, left) => (ray, remaining) = (next, left),
         }
     }
     Color::ZERO
+}
+
+/// Where a shadow ray's walk through transparent surfaces stands after one segment.
+enum Step {
+    /// The walk is over: this much of the light is seen.
+    Ends(Color),
+    /// It goes on along this ray, with this distance left to the light.
+    GoesOn(Ray, f32),
+}
+
+/// One segment of the walk: `ray` met `hit` (its nearest surface within `remaining`, or
+/// none), and `atten` is what the surfaces before it let through.
+#[inline(always)]
+fn step(scene: &Scene, ray: &Ray, remaining: f32, hit: Option<Hit>, atten: &mut Color) -> Step {
+    let Some(hit) = hit else {
+        return Step::Ends(*atten);
+    };
+    let geometry = &scene.geometry;
+    let prim = &geometry.primitives[hit.prim as usize];
+    *atten *= scene.materials[prim.material as usize].transmit;
+    if atten.max_element() <= 0.0 {
+        return Step::Ends(Color::ZERO);
+    }
+    let sp = geometry.surface_with(hit.prim, ray, &hit.shape_hit(), Uv::Skip);
+    let next = offset_ray_origin(sp.p, sp.p_error, sp.ng, ray.dir);
+    let left = remaining - (next - ray.origin).dot(ray.dir);
+    if left <= 0.0 {
+        return Step::Ends(*atten);
+    }
+    Step::GoesOn(Ray::new(next, ray.dir), left)
 }
 
 #[cfg(test)]
