@@ -112,10 +112,11 @@ impl HitSearch {
     }
 
     /// Tests the triangles of `pack`, whose ids are primitive ids, in lane order; true when
-    /// the query is answered. Every lane counts as a test. A 4-wide first pass rejects the
-    /// lanes the scalar test would reject at the loosest bound any of them gets (the bound
-    /// only shrinks as hits are kept), and the scalar test decides each lane kept, with the
-    /// tie rule's bound for its id, so the answer is the one `test` gives lane by lane.
+    /// the query is answered. Every lane counts as a test. The 4-wide test finds the lanes
+    /// hit at the loosest bound any of them gets (the bound only shrinks as hits are kept);
+    /// each is then held to the tie rule's bound for its id, with the comparisons of the
+    /// scalar test on the lane's own values, and the lanes only the scalar test can decide
+    /// go to it: the answer is the one `test` gives lane by lane.
     #[inline(always)]
     pub(crate) fn test_pack(
         &mut self,
@@ -125,11 +126,28 @@ impl HitSearch {
         stats: &mut Stats,
     ) -> bool {
         stats.count_tests(ShapeKind::Triangle, pack.len() as u64);
-        let mut kept = pack.candidates(pack_ray, self.nested_limit());
-        while kept != 0 {
-            let lane = kept.trailing_zeros() as usize;
-            kept &= kept - 1;
-            if self.test_pack_lane(pack, lane, ray) {
+        let hits = pack.hits(pack_ray, self.nested_limit());
+        let mut lanes = hits.hit | hits.undecided;
+        while lanes != 0 {
+            let lane = lanes.trailing_zeros() as usize;
+            lanes &= lanes - 1;
+            let answered = if hits.undecided & (1 << lane) != 0 {
+                self.test_pack_lane(pack, lane, ray)
+            } else {
+                let prim = pack.ids[lane];
+                match hits.within(lane, self.limit_for(prim)) {
+                    Some(h) => self.keep(Hit::new(
+                        prim,
+                        ShapeHit {
+                            t: h.t,
+                            u: h.b1,
+                            v: h.b2,
+                        },
+                    )),
+                    None => false,
+                }
+            };
+            if answered {
                 return true;
             }
         }

@@ -13,6 +13,7 @@
 //! re-evaluates those in f64, and only it can decide them.
 
 use super::triangle::{intersect_triangle, TriangleHit};
+use crate::math::robust::gamma;
 use crate::math::{TraceRay, Vec3};
 use glam::Vec4;
 
@@ -79,10 +80,10 @@ impl TrianglePack {
             .map(|axes| Vec3::new(axes[0][lane], axes[1][lane], axes[2][lane]))
     }
 
-    /// The lanes (bit k for lane k) that `intersect_triangle(ray, …, t_max)` might report a
-    /// hit for; every other lane it certainly rejects.
+    /// The edge functions, determinant and scaled distance of the four lanes, computed
+    /// exactly as `intersect_triangle` computes them.
     #[inline(always)]
-    pub fn candidates(&self, ray: &PackRay, t_max: f32) -> u32 {
+    fn sheared(&self, ray: &PackRay) -> Sheared {
         let (kx, ky, kz) = (ray.kx, ray.ky, ray.kz);
         // As in `intersect_triangle`: vertices relative to the origin, permuted and sheared.
         let rel = |v: &[Vec4; 3]| {
@@ -100,27 +101,102 @@ impl TrianglePack {
         let by = b[1] - sy * b[2];
         let cx = c[0] - sx * c[2];
         let cy = c[1] - sy * c[2];
-
         let u = cx * by - cy * bx;
         let v = ax * cy - ay * cx;
         let w = bx * ay - by * ax;
-        let zero = Vec4::ZERO;
-        let exact_zero = u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero);
-        let outside = (u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero))
-            & (u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero));
-        let det = u + v + w;
         let az = sz * a[2];
         let bz = sz * b[2];
         let cz = sz * c[2];
-        let t_scaled = u * az + v * bz + w * cz;
+        Sheared {
+            x: [ax, bx, cx],
+            y: [ay, by, cy],
+            z: [az, bz, cz],
+            det: u + v + w,
+            t_scaled: u * az + v * bz + w * cz,
+            u,
+            v,
+            w,
+        }
+    }
+
+    /// The lanes the scalar test rejects on the comparisons that need no exact zero
+    /// re-evaluated (`rejected`), and those with an exact zero edge function (`exact_zero`),
+    /// which only the scalar test can decide.
+    #[inline(always)]
+    fn rejected(&self, s: &Sheared, t_max: f32) -> (u32, u32) {
+        let zero = Vec4::ZERO;
+        let (u, v, w, det) = (s.u, s.v, s.w, s.det);
+        let exact_zero = u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero);
+        let outside = (u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero))
+            & (u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero));
+        let t_scaled = s.t_scaled;
         let bound = Vec4::splat(t_max) * det;
         let behind_or_beyond = (det.cmplt(zero) & (t_scaled.cmpge(zero) | t_scaled.cmplt(bound)))
             | (det.cmpgt(zero) & (t_scaled.cmple(zero) | t_scaled.cmpgt(bound)));
-        // A zero determinant rejects in the scalar test too; lanes with an exact zero edge
-        // function are left to it, since it re-evaluates those in f64 first.
-        let rejected =
-            (outside | behind_or_beyond | det.cmpeq(zero)).bitmask() & !exact_zero.bitmask();
-        !rejected & ((1u32 << self.lanes) - 1)
+        // A zero determinant rejects in the scalar test too.
+        let rejected = (outside | behind_or_beyond | det.cmpeq(zero)).bitmask();
+        (rejected, exact_zero.bitmask())
+    }
+
+    /// The lanes (bit k for lane k) that `intersect_triangle(ray, …, t_max)` might report a
+    /// hit for; every other lane it certainly rejects.
+    #[inline(always)]
+    pub fn candidates(&self, ray: &PackRay, t_max: f32) -> u32 {
+        let (rejected, exact_zero) = self.rejected(&self.sheared(ray), t_max);
+        // Lanes with an exact zero edge function are left to the scalar test, since it
+        // re-evaluates those in f64 first.
+        !(rejected & !exact_zero) & self.lane_mask()
+    }
+
+    /// The whole watertight test in four lanes at bound `t_max`: each lane's hit is the one
+    /// `intersect_triangle(ray, …, t_max)` reports, bit for bit (the same operations in the
+    /// same order, the division included), except the lanes in `PackHits::undecided`,
+    /// which the scalar test must decide (an exact zero edge function, which it
+    /// re-evaluates in f64, or a value that is not finite).
+    #[inline(always)]
+    pub fn hits(&self, ray: &PackRay, t_max: f32) -> PackHits {
+        let s = self.sheared(ray);
+        let (rejected, exact_zero) = self.rejected(&s, t_max);
+        let lanes = self.lane_mask();
+        let undecided = exact_zero & lanes;
+        let open = !rejected & !exact_zero & lanes;
+        if open == 0 {
+            return PackHits {
+                hit: 0,
+                undecided,
+                ..PackHits::NONE
+            };
+        }
+        let inv = Vec4::ONE / s.det;
+        let t = s.t_scaled * inv;
+        // pbrt-v4's bound on the rounding of t, as `intersect_triangle` takes it.
+        let abs_max = |a: [Vec4; 3]| a[0].abs().max(a[1].abs()).max(a[2].abs());
+        let (max_x, max_y, max_z) = (abs_max(s.x), abs_max(s.y), abs_max(s.z));
+        let delta_z = Vec4::splat(gamma(3)) * max_z;
+        let delta_x = Vec4::splat(gamma(5)) * (max_x + max_z);
+        let delta_y = Vec4::splat(gamma(5)) * (max_y + max_z);
+        let delta_e = Vec4::splat(2.0)
+            * (Vec4::splat(gamma(2)) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+        let max_e = s.u.abs().max(s.v.abs()).max(s.w.abs());
+        let delta_t = Vec4::splat(3.0)
+            * (Vec4::splat(gamma(3)) * max_e * max_z + delta_e * max_z + delta_z * max_e)
+            * inv.abs();
+        let finite = t.is_finite_mask().bitmask() & delta_t.is_finite_mask().bitmask();
+        let within = (t.cmplt(Vec4::splat(t_max)) & t.cmpgt(delta_t)).bitmask();
+        PackHits {
+            hit: open & within & finite,
+            undecided: undecided | (open & !finite),
+            t,
+            t_scaled: s.t_scaled,
+            det: s.det,
+            b1: s.v * inv,
+            b2: s.w * inv,
+        }
+    }
+
+    #[inline(always)]
+    fn lane_mask(&self) -> u32 {
+        (1u32 << self.lanes) - 1
     }
 
     /// The scalar test of lane `lane`: the answer, bit for bit, of `intersect_triangle` on
@@ -143,6 +219,63 @@ pub struct PackRay {
     kz: usize,
 }
 
+/// A pack's edge functions, determinant, scaled distance and sheared vertex coordinates
+/// (`x[i]`, `y[i]`, `z[i]` for vertex i), lane by lane.
+struct Sheared {
+    x: [Vec4; 3],
+    y: [Vec4; 3],
+    z: [Vec4; 3],
+    u: Vec4,
+    v: Vec4,
+    w: Vec4,
+    det: Vec4,
+    t_scaled: Vec4,
+}
+
+/// What `TrianglePack::hits` found, lane by lane.
+#[derive(Clone, Copy, Debug)]
+pub struct PackHits {
+    /// Lanes hit at the bound the test was given.
+    pub hit: u32,
+    /// Lanes only the scalar test can decide.
+    pub undecided: u32,
+    t: Vec4,
+    t_scaled: Vec4,
+    det: Vec4,
+    b1: Vec4,
+    b2: Vec4,
+}
+
+impl PackHits {
+    const NONE: PackHits = PackHits {
+        hit: 0,
+        undecided: 0,
+        t: Vec4::ZERO,
+        t_scaled: Vec4::ZERO,
+        det: Vec4::ZERO,
+        b1: Vec4::ZERO,
+        b2: Vec4::ZERO,
+    };
+
+    /// Lane `lane`'s hit (one of `hit`) if it also holds at the tighter bound `t_max`:
+    /// what `intersect_triangle(ray, …, t_max)` reports, for the comparisons of the bound
+    /// are made again on the lane's own values.
+    #[inline(always)]
+    pub fn within(&self, lane: usize, t_max: f32) -> Option<TriangleHit> {
+        let (det, t_scaled, t) = (self.det[lane], self.t_scaled[lane], self.t[lane]);
+        let beyond = if det < 0.0 {
+            t_scaled < t_max * det
+        } else {
+            t_scaled > t_max * det
+        };
+        (!beyond && t < t_max).then(|| TriangleHit {
+            t,
+            b1: self.b1[lane],
+            b2: self.b2[lane],
+        })
+    }
+}
+
 impl PackRay {
     /// The constants of `ray`.
     #[inline(always)]
@@ -163,6 +296,7 @@ impl PackRay {
 mod tests {
     use super::*;
     use crate::math::hash::uniform;
+    use crate::math::robust::{next_down, next_up};
     use crate::math::Ray;
 
     fn point(seed: u64, scale: f32) -> Vec3 {
@@ -245,6 +379,67 @@ mod tests {
         assert!(
             kept_misses * 10 < misses,
             "the first pass keeps {kept_misses} of {misses} misses"
+        );
+    }
+
+    /// The 4-wide test reports each lane's hit exactly as the scalar test does, bit for
+    /// bit, at its own bound and at every tighter one (`within`), on the cases of
+    /// `the_first_pass_keeps_every_hit`; only lanes it marks undecided are left out.
+    #[test]
+    fn the_four_wide_test_is_the_scalar_test() {
+        let (mut decided, mut undecided, mut hit) = (0, 0, 0);
+        for scale in [1e-3f32, 1.0, 1e3] {
+            for case in 0..3000u64 {
+                let tris: Vec<([Vec3; 3], u32)> = (0..4)
+                    .map(|k| {
+                        let s = case * 16 + k * 4;
+                        let hub = point(case * 16 + 99, scale);
+                        let first = if case % 4 == 1 { hub } else { point(s, scale) };
+                        ([first, point(s + 1, scale), point(s + 2, scale)], k as u32)
+                    })
+                    .collect();
+                let lanes = 1 + (case % 4) as usize;
+                let pack = TrianglePack::new(&tris[..lanes]);
+                let origin = point(case * 16 + 50, 2.0 * scale);
+                let [a, b, c] = tris[(case % 4) as usize % lanes].0;
+                let target = (a + b + c) / 3.0 + point(case * 16 + 51, 0.3 * scale);
+                let dir = target - origin;
+                if dir == Vec3::ZERO {
+                    continue;
+                }
+                let ray = TraceRay::new(Ray::new(origin, dir));
+                let pack_ray = PackRay::new(&ray);
+                for t_max in [f32::INFINITY, 1.1, 1.0, 0.9] {
+                    let hits = pack.hits(&pack_ray, t_max);
+                    assert_eq!((hits.hit | hits.undecided) >> lanes, 0, "a padding lane");
+                    for (lane, &(v, _)) in tris[..lanes].iter().enumerate() {
+                        if hits.undecided & (1 << lane) != 0 {
+                            undecided += 1;
+                            continue;
+                        }
+                        decided += 1;
+                        let scalar = |bound| intersect_triangle(&ray, v[0], v[1], v[2], bound);
+                        let found = (hits.hit & (1 << lane) != 0)
+                            .then(|| hits.within(lane, t_max))
+                            .flatten();
+                        assert_eq!(found, scalar(t_max), "case {case} lane {lane} at {t_max}");
+                        let Some(h) = found else { continue };
+                        hit += 1;
+                        // Tighter bounds: around the hit itself, where rounding decides.
+                        for bound in [next_up(h.t), h.t, next_down(h.t), 0.5 * h.t] {
+                            assert_eq!(hits.within(lane, bound), scalar(bound), "case {case}");
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            decided > 10 * undecided,
+            "{undecided} of {decided} undecided"
+        );
+        assert!(
+            hit > 2000,
+            "the cases hit too rarely to show anything ({hit})"
         );
     }
 
