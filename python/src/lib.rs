@@ -27,6 +27,7 @@ fn _prism(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::load, m)?)?;
     m.add_function(wrap_pyfunction!(scene::builtin, m)?)?;
     m.add_function(wrap_pyfunction!(scene::builtins, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::scene_files, m)?)?;
     m.add_function(wrap_pyfunction!(image::write, m)?)?;
     m.add_function(wrap_pyfunction!(image::read, m)?)?;
     m.add_function(wrap_pyfunction!(image::compare, m)?)?;

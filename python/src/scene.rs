@@ -253,6 +253,17 @@ pub(crate) fn load(py: Python<'_>, path: PathBuf) -> PyResult<PyScene> {
     Ok(PyScene::new(scene, path.display().to_string()))
 }
 
+/// Loads a scene file and lists every file the load read (the scene file first, then
+/// meshes, libraries, buffers and textures), as paths joined onto the file's folder: what a
+/// machine without this file system needs to load it (`prism.distributed`). Returns the
+/// list and the image size the scene asks for.
+#[pyfunction]
+pub(crate) fn scene_files(py: Python<'_>, path: PathBuf) -> PyResult<(Vec<PathBuf>, (u32, u32))> {
+    let (scene, files) = py.allow_threads(|| prism_io::scene::load_listing_files(&path));
+    let scene = scene.map_err(scene_error)?;
+    Ok((files, (scene.options.width, scene.options.height)))
+}
+
 /// A built-in scene by name (`builtins()` lists them; also sphereflake:N).
 #[pyfunction]
 pub(crate) fn builtin(name: &str) -> PyResult<PyScene> {
