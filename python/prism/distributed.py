@@ -144,7 +144,7 @@ def render(
     progress=None,
     **settings,
 ):
-    """Renders `scene` (a file, or "builtin:NAME") on Dask; returns (image, stats), or
+    """Renders `scene` (a file, "builtin:NAME" or a `SceneBundle`) on Dask; returns (image, stats), or
     with `frames` (a list of camera overrides, dicts as `Scene.set_camera` takes) a list of
     images, one per frame, and the stats.
 
@@ -165,7 +165,7 @@ def render(
     for reserved in ("region",):
         if reserved in settings:
             raise ValueError(f"{reserved}= is chosen per tile by prism.distributed")
-    bundle = SceneBundle.of(scene, shared=shared)
+    bundle = scene if isinstance(scene, SceneBundle) else SceneBundle.of(scene, shared=shared)
     width = settings.get("width") or bundle.size[0]
     height = settings.get("height") or bundle.size[1]
     settings = dict(settings, width=width, height=height)
@@ -175,7 +175,7 @@ def render(
     own = None
     if client is None:
         cluster = LocalCluster(
-            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0"
         )
         own = Client(cluster)
         client = own
