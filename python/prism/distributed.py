@@ -10,8 +10,9 @@ every pixel as a pure function of scene, settings and position, so the result is
 bit-identical to one local render whatever the tile size and however many workers took
 part, and a tile rendered twice (after a worker died) gives the same pixels.
 
-The scene travels as a `SceneBundle` (its file and every file it reads, scattered once to
-each worker), or as a path every worker can open (`shared=True`). A tile that fails for a
+The scene travels as a `SceneBundle` (its file and every file it reads), which a worker
+plugin hands to each worker once, and to any worker that joins later; or as a path every
+worker can open (`shared=True`). A tile that fails for a
 reason in the scene or the settings comes back as a value, not an exception, so Dask does
 not retry it: the render stops and raises that error once. A worker that dies costs only
 its tiles in flight, which the scheduler gives to another worker.
@@ -29,6 +30,7 @@ import threading
 import time
 
 import numpy as np
+from distributed.diagnostics.plugin import WorkerPlugin
 
 from . import ImageError, PrismError, RenderError, SceneError, write
 from .bundle import SceneBundle
@@ -104,11 +106,15 @@ def _threads_per_task():
     return max(1, cores // max(1, slots))
 
 
-def _render_tile(bundle, settings, camera, materials, frame, region):
-    """One task: renders `region`; returns ("ok", frame, region, pixels, stats) or, for
-    an error of the scene or the settings, ("error", frame, region, kind, message)."""
+def _render_tile(digest, settings, camera, materials, frame, region):
+    """One task: renders `region` of the scene of the bundle `digest`; returns ("ok",
+    frame, region, pixels, stats) or, for an error of the scene or the settings, ("error",
+    frame, region, kind, message)."""
     global attempts
     attempts += 1
+    bundle = _installed.get(digest)
+    if bundle is None:
+        return ("error", frame, region, "PrismError", "the scene did not reach this worker")
     try:
         scene = _scene(bundle, camera, materials)
         options = dict(settings)
@@ -122,6 +128,38 @@ def _render_tile(bundle, settings, camera, materials, frame, region):
 
 
 # --- on the client ----------------------------------------------------------------------
+
+
+class _BundlePlugin(WorkerPlugin):
+    """Hands a `SceneBundle` to every worker of a cluster: those running now and those
+    that join later (a worker the nanny restarts after a crash among them), once each."""
+
+    def __init__(self, bundle):
+        self.bundle = bundle
+        self.name = f"prism-scene-{bundle.digest}"
+
+    def setup(self, worker):
+        _installed[self.bundle.digest] = self.bundle
+
+
+#: The bundles this worker process received, by digest.
+_installed = {}
+
+#: (id of a client, digest) of the bundles already given to a client's cluster, which keeps
+#: its plugins while it runs: the next render of the same scene ships nothing.
+_registered = {}
+_registered_lock = threading.Lock()
+
+
+def _ship(client, bundle):
+    """Gives `bundle` to every worker of `client`'s cluster, unless it has it already."""
+    with _registered_lock:
+        for key in [k for k, c in _registered.items() if c.status in ("closed", "closing")]:
+            del _registered[key]
+        key = (id(client), bundle.digest)
+        if key not in _registered:
+            client.register_plugin(_BundlePlugin(bundle))
+            _registered[key] = client
 
 
 def _add_counters(total, counters):
@@ -181,11 +219,11 @@ def render(
         client = own
     start = time.perf_counter()
     try:
-        shipped = client.scatter(bundle, broadcast=True)
+        _ship(client, bundle)
         futures = [
             client.submit(
                 _render_tile,
-                shipped,
+                bundle.digest,
                 settings,
                 camera,
                 materials,
