@@ -83,6 +83,10 @@ fn the_first_screen_gives_the_render_and_test_commands() {
         ci.contains("cargo test --release"),
         ".ci/run calls the README's test command"
     );
+    assert!(
+        first_screen.contains("python/test.sh") && ci.contains("\npython/test.sh"),
+        ".ci/run calls the README's Python test command"
+    );
 }
 
 #[test]

@@ -935,3 +935,52 @@ fn a_material_may_emit() {
     assert!(parse("[materials.lamp]\nemission = [-1, 0, 0]\n").is_err());
     assert!(parse("[render]\nintegrator = \"photon\"\n").is_err());
 }
+
+/// A load lists every file it read, so a scene can be shipped with its meshes, material
+/// libraries and textures to a machine without this file system (prism's Python package
+/// does that for Dask workers); a glTF's image counts as much as a TOML mesh include.
+#[test]
+fn a_load_lists_the_files_it_read() {
+    use prism_io::scene::load_listing_files;
+    use std::path::PathBuf;
+    let root = PathBuf::from("../../scenes");
+    let names = |path: &str| -> Vec<String> {
+        let (scene, files) = load_listing_files(&root.join(path));
+        scene.unwrap_or_else(|e| panic!("{path}: {e}"));
+        let mut names: Vec<String> = (files.iter())
+            .map(|f| {
+                let f = f
+                    .strip_prefix(&root)
+                    .unwrap_or_else(|_| panic!("{}", f.display()));
+                f.to_string_lossy()
+                    .replace('\\', "/")
+                    .replace("meshes/../", "")
+            })
+            .collect();
+        names.sort();
+        names
+    };
+    assert_eq!(
+        names("mesh-room.toml"),
+        [
+            "mesh-room.toml",
+            "meshes/gems.mtl",
+            "meshes/gems.obj",
+            "meshes/torus.ply",
+            "textures/testcard.png"
+        ]
+    );
+    assert_eq!(
+        names("shapes.toml"),
+        ["shapes.toml", "textures/testcard.png"]
+    );
+    assert_eq!(
+        names("spheres.gltf"),
+        ["spheres.gltf", "textures/testcard.png"]
+    );
+    assert_eq!(names("whitted.toml"), ["whitted.toml"]);
+    // Outside such a load nothing is recorded, and a failed load still lists what it tried.
+    let (scene, files) = load_listing_files(&root.join("no-such-scene.toml"));
+    assert!(scene.is_err());
+    assert_eq!(files, [root.join("no-such-scene.toml")]);
+}

@@ -39,9 +39,26 @@ fn named(doc: &str, stem: &str) -> bool {
     })
 }
 
-/// The crates of the workspace, in their dependency order; each has a section of
-/// ARCHITECTURE.md whose heading names its `crates/NAME/src`.
-const CRATES: [&str; 5] = ["prism", "prism-io", "prism-lab", "prism-serve", "prism-cli"];
+/// The crates of the workspace, in their dependency order, with their folders; each has a
+/// section of ARCHITECTURE.md whose heading names its `FOLDER/src`.
+const CRATE_DIRS: [(&str, &str); 6] = [
+    ("prism", "crates/prism"),
+    ("prism-io", "crates/prism-io"),
+    ("prism-lab", "crates/prism-lab"),
+    ("prism-serve", "crates/prism-serve"),
+    ("prism-python", "python"),
+    ("prism-cli", "crates/prism-cli"),
+];
+
+/// The crates' names, in their dependency order.
+const CRATES: [&str; 6] = [
+    "prism",
+    "prism-io",
+    "prism-lab",
+    "prism-serve",
+    "prism-python",
+    "prism-cli",
+];
 
 /// The section of ARCHITECTURE.md whose `## ` heading contains `marker`.
 fn section(doc: &str, marker: &str) -> String {
@@ -67,9 +84,18 @@ fn unnamed(doc: &str, dir: &str) -> Vec<String> {
         .collect()
 }
 
-/// `crates/NAME/…` as a path from crates/prism, where the tests run.
+/// The folder of crate `name`, from the workspace's root (`crates/NAME`, or `python`).
+fn folder(name: &str) -> &'static str {
+    CRATE_DIRS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .unwrap_or_else(|| panic!("{name} is not a crate of the workspace"))
+        .1
+}
+
+/// `FOLDER/sub` of crate `name` as a path from crates/prism, where the tests run.
 fn crate_dir(name: &str, sub: &str) -> String {
-    format!("../{name}/{sub}")
+    format!("../../{}/{sub}", folder(name))
 }
 
 #[test]
@@ -77,7 +103,7 @@ fn every_module_is_named_in_its_crates_section() {
     let doc = architecture();
     let mut missing = Vec::new();
     for name in CRATES {
-        let part = section(&doc, &format!("`crates/{name}/src`"));
+        let part = section(&doc, &format!("`{}/src`", folder(name)));
         let dir = crate_dir(name, "src");
         missing.extend(
             unnamed(&part, &dir)
@@ -226,9 +252,15 @@ fn modules_import_only_what_the_order_puts_before_them() {
     // reads, and the macros every module may use.
     let free = ["options", "preset", "kinds"];
     let mut wrong = Vec::new();
-    for name in ["prism", "prism-io", "prism-lab", "prism-serve"] {
+    for name in [
+        "prism",
+        "prism-io",
+        "prism-lab",
+        "prism-serve",
+        "prism-python",
+    ] {
         let order = documented_order(name);
-        let src = Path::new("..").join(name).join("src");
+        let src = Path::new(&crate_dir(name, "src")).to_path_buf();
         let level = |m: &str| order.iter().position(|l| l.iter().any(|x| x == m));
         for module in top_modules(&src) {
             if level(&module).is_none() && !free.contains(&module.as_str()) {
@@ -263,7 +295,7 @@ fn modules_import_only_what_the_order_puts_before_them() {
 /// The workspace crates a crate's Cargo.toml lists under `[dependencies]` (not the
 /// dev-dependencies: test fixtures may come from any crate).
 fn crate_dependencies(name: &str) -> Vec<String> {
-    let manifest = fs::read_to_string(Path::new("..").join(name).join("Cargo.toml")).unwrap();
+    let manifest = fs::read_to_string(crate_dir(name, "Cargo.toml")).unwrap();
     let deps = manifest
         .split("\n[dependencies]")
         .nth(1)

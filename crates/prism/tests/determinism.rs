@@ -55,3 +55,127 @@ fn whitted_is_deterministic() {
 fn sphereflake_is_deterministic() {
     check("sphereflake:2");
 }
+
+/// The image of `options` assembled from `render_region` pieces cut `edge` pixels square.
+fn assembled(
+    prepared: &prism::scene::PreparedScene,
+    options: &RenderOptions,
+    edge: u32,
+) -> Vec<u32> {
+    use prism::render::{render_region, Tile};
+    let (w, h) = (options.width, options.height);
+    let mut bits = vec![0u32; (w * h * 3) as usize];
+    for y0 in (0..h).step_by(edge as usize) {
+        for x0 in (0..w).step_by(edge as usize) {
+            let region = Tile {
+                x0,
+                y0,
+                x1: (x0 + edge).min(w),
+                y1: (y0 + edge).min(h),
+            };
+            let r =
+                render_region(prepared, options, region, &|_| {}, &AtomicBool::new(false)).unwrap();
+            assert_eq!(
+                (r.film.width, r.film.height),
+                (region.width(), region.height())
+            );
+            assert_eq!(r.rays.camera.len(), region.pixel_count() as usize);
+            for y in region.y0..region.y1 {
+                for x in region.x0..region.x1 {
+                    let c = r.film.get(x - x0, y - y0);
+                    let i = ((y * w + x) * 3) as usize;
+                    bits[i..i + 3].copy_from_slice(&[c.x.to_bits(), c.y.to_bits(), c.z.to_bits()]);
+                }
+            }
+        }
+    }
+    bits
+}
+
+/// Regions of an image (how prism's Python package cuts a render for Dask) hold exactly
+/// the whole render's pixels, with the one-pixel box filter and with filters whose reach
+/// crosses the regions' edges, with and without packets, for both integrators.
+#[test]
+fn regions_assemble_into_the_whole_image() {
+    use prism::render::FilterKind;
+    let cases = [
+        ("whitted", FilterKind::Box, None, true),
+        ("whitted", FilterKind::Mitchell, None, true),
+        ("whitted", FilterKind::Gaussian, None, false),
+        ("whitted", FilterKind::Box, Some(1.0), true),
+        ("cornell-light", FilterKind::Tent, None, false),
+    ];
+    for (name, filter, radius, packets) in cases {
+        let scene = builtin::find(name).unwrap();
+        let options = RenderOptions {
+            width: 45,
+            height: 31,
+            samples: 2,
+            filter,
+            filter_radius: radius,
+            packets,
+            threads: 2,
+            ..scene.options.clone()
+        };
+        let prepared = scene.prepare(&options.accel);
+        let whole = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
+        let expected: Vec<u32> = (whole.film.pixels.iter())
+            .flat_map(|c| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()])
+            .collect();
+        for edge in [1, 7, 16, 45] {
+            assert!(
+                assembled(&prepared, &options, edge) == expected,
+                "{name}, {filter} filter, packets {packets}: {edge}-pixel regions differ"
+            );
+        }
+    }
+}
+
+/// A region outside the image, or a part of it for the samplers that share samples
+/// across the whole image, is refused with a message rather than rendered wrong.
+#[test]
+fn regions_that_cannot_be_rendered_are_refused() {
+    use prism::render::{render_region, Tile};
+    use prism::sampling::SamplerKind;
+    let scene = builtin::find("whitted").unwrap();
+    let options = RenderOptions {
+        width: 20,
+        height: 10,
+        ..scene.options.clone()
+    };
+    let prepared = scene.prepare(&options.accel);
+    let cancel = AtomicBool::new(false);
+    let outside = Tile {
+        x0: 10,
+        y0: 0,
+        x1: 21,
+        y1: 10,
+    };
+    let e = render_region(&prepared, &options, outside, &|_| {}, &cancel)
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("outside the 20×10 image"), "{e}");
+    let empty = Tile {
+        x0: 5,
+        y0: 5,
+        x1: 5,
+        y1: 8,
+    };
+    assert!(render_region(&prepared, &options, empty, &|_| {}, &cancel).is_err());
+    let adaptive = RenderOptions {
+        sampler: SamplerKind::Adaptive,
+        ..options.clone()
+    };
+    let part = Tile {
+        x0: 0,
+        y0: 0,
+        x1: 10,
+        y1: 10,
+    };
+    let e = render_region(&prepared, &adaptive, part, &|_| {}, &cancel)
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("adaptive sampler"), "{e}");
+    let all = Tile::full(20, 10);
+    assert!(render_region(&prepared, &adaptive, all, &|_| {}, &cancel).is_ok());
+}

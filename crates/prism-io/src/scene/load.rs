@@ -2,7 +2,8 @@
 //! own becomes a scene with a camera and a light that frame it.
 
 use super::Scene;
-use std::path::Path;
+use std::cell::RefCell;
+use std::path::{Path, PathBuf};
 
 /// Why a scene file could not be loaded; every variant names the file, and syntax errors the line
 /// and column.
@@ -84,6 +85,7 @@ pub fn load(path: &Path) -> Result<Scene, LoadError> {
 /// regular files are read: a name such as "/dev/zero" or a pipe would be read until memory
 /// runs out, or forever.
 pub(crate) fn read_regular_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    note_read(path);
     if !std::fs::metadata(path)?.is_file() {
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
@@ -91,4 +93,35 @@ pub(crate) fn read_regular_file(path: &Path) -> std::io::Result<Vec<u8>> {
         ));
     }
     std::fs::read(path)
+}
+
+thread_local! {
+    /// The files this thread's `load_listing_files` has read so far; None when no such
+    /// load runs. Loading runs on the calling thread alone, so a thread-local sees it all.
+    static FILES_READ: RefCell<Option<Vec<PathBuf>>> = const { RefCell::new(None) };
+}
+
+/// Notes that a load is about to read `path` (a scene file, an included mesh, an MTL
+/// library, a glTF buffer, a texture), for `load_listing_files`.
+pub(crate) fn note_read(path: &Path) {
+    FILES_READ.with(|files| {
+        if let Some(files) = files.borrow_mut().as_mut() {
+            if !files.iter().any(|f| f == path) {
+                files.push(path.to_path_buf());
+            }
+        }
+    });
+}
+
+/// Loads a scene file as `load` does and lists every file the load read (or tried to),
+/// the scene file first, as paths joined onto `path`'s folder. A scene is then shipped
+/// with its meshes, textures and libraries to machines that do not share this one's file
+/// system (prism's Python package does that for Dask workers).
+pub fn load_listing_files(path: &Path) -> (Result<Scene, LoadError>, Vec<PathBuf>) {
+    let outer = FILES_READ.with(|files| files.replace(Some(Vec::new())));
+    let scene = load(path);
+    let read = FILES_READ
+        .with(|files| files.replace(outer))
+        .unwrap_or_default();
+    (scene, read)
 }

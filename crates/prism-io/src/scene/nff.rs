@@ -15,6 +15,7 @@ use std::path::Path;
 
 /// Reads and parses an NFF file.
 pub fn load(path: &Path) -> Result<Scene, LoadError> {
+    crate::scene::load::note_read(path);
     let text = std::fs::read_to_string(path).map_err(|e| LoadError::Io {
         path: path.display().to_string(),
         message: e.to_string(),

@@ -22,7 +22,7 @@ use super::memory::try_filled;
 use super::packet::trace_packet;
 use super::rays::{PixelRays, RayMark};
 use super::splat::{FilmSums, SplatBuffer};
-use super::{Film, Job, RenderError, TileDone, Traced};
+use super::{Film, Job, RenderError, Tile, TileDone, Traced};
 use crate::accel::PACKET_MAX;
 use crate::math::{Color, Vec2};
 use crate::sampling::adaptive::{
@@ -150,7 +150,7 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Result<Traced, Re
         Film::try_new(w, h)?
     };
     let sums = if wide {
-        Some(FilmSums::try_new(w, h)?)
+        Some(FilmSums::try_new(Tile::full(w, h))?)
     } else {
         None
     };
@@ -180,7 +180,7 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Result<Traced, Re
         .collect::<Result<Vec<_>, _>>()?;
     let sums = merge.into_inner().unwrap_or_else(|e| e.into_inner()).sums;
     out.film = match sums {
-        Some(sums) => sums.into_film()?,
+        Some(sums) => sums.into_film(Tile::full(w, h))?,
         None => film,
     };
     Ok(out)
@@ -809,7 +809,7 @@ fn reconstruct(
     splat: impl Fn(&mut SplatBuffer, u32, u32) + Sync,
 ) -> Result<Film, RenderError> {
     let (w, h) = (job.width, job.height);
-    let sums = Mutex::new(FilmSums::try_new(w, h)?);
+    let sums = Mutex::new(FilmSums::try_new(Tile::full(w, h))?);
     (0..h).into_par_iter().for_each(|y| {
         let mut buffer = SplatBuffer::around(&job.filter, (w, h), 0, y, w, y + 1);
         for x in 0..w {
@@ -825,5 +825,5 @@ fn reconstruct(
     });
     sums.into_inner()
         .unwrap_or_else(|e| e.into_inner())
-        .into_film()
+        .into_film(Tile::full(w, h))
 }

@@ -50,6 +50,48 @@ impl Tile {
     pub fn pixel_count(&self) -> u64 {
         (self.x1 - self.x0) as u64 * (self.y1 - self.y0) as u64
     }
+
+    /// The whole of a width × height image.
+    pub fn full(width: u32, height: u32) -> Self {
+        Tile {
+            x0: 0,
+            y0: 0,
+            x1: width,
+            y1: height,
+        }
+    }
+
+    /// Pixels per row.
+    pub fn width(&self) -> u32 {
+        self.x1 - self.x0
+    }
+
+    /// Rows.
+    pub fn height(&self) -> u32 {
+        self.y1 - self.y0
+    }
+
+    /// The pixels both rectangles hold, or None when they do not overlap.
+    pub fn intersection(&self, other: &Tile) -> Option<Tile> {
+        let t = Tile {
+            x0: self.x0.max(other.x0),
+            y0: self.y0.max(other.y0),
+            x1: self.x1.min(other.x1),
+            y1: self.y1.min(other.y1),
+        };
+        (t.x0 < t.x1 && t.y0 < t.y1).then_some(t)
+    }
+
+    /// The rectangle grown by `margin` pixels on every side, clipped to a width × height
+    /// image.
+    pub(crate) fn grown(&self, margin: u32, width: u32, height: u32) -> Tile {
+        Tile {
+            x0: self.x0.saturating_sub(margin),
+            y0: self.y0.saturating_sub(margin),
+            x1: self.x1.saturating_add(margin).min(width),
+            y1: self.y1.saturating_add(margin).min(height),
+        }
+    }
 }
 
 /// Tiles in row-major order covering a width × height image.
@@ -160,6 +202,8 @@ pub enum RenderError {
 pub(crate) struct Job<'a> {
     width: u32,
     height: u32,
+    /// The pixels the result holds: the whole image, or the region of `render_region`.
+    area: Tile,
     camera: CameraRays,
     integrator: Integrator<'a>,
     seed: u64,
@@ -223,10 +267,48 @@ pub fn render(
     on_tile: &(dyn Fn(TileDone) + Sync),
     cancel: &AtomicBool,
 ) -> Result<RenderResult, RenderError> {
+    let full = Tile::full(options.width, options.height);
+    render_region(scene, options, full, on_tile, cancel)
+}
+
+/// Renders only the pixels of `region` of the `options.width` × `options.height` image:
+/// the result's film and ray counts are `region`'s size, and every pixel is bit for bit the
+/// one `render` gives, since a sample depends only on its position and pixels are exact
+/// sums. This is how a render is cut into pieces for several processes or machines
+/// (prism's Python package hands them to Dask). A filter wider than the pixel also traces
+/// the samples within its reach around the region, so the statistics count those too.
+/// Only the per-pixel samplers render a region: `corners` and `adaptive` share samples
+/// between pixels in passes over the whole image and refuse any region but all of it.
+pub fn render_region(
+    scene: &PreparedScene,
+    options: &RenderOptions,
+    region: Tile,
+    on_tile: &(dyn Fn(TileDone) + Sync),
+    cancel: &AtomicBool,
+) -> Result<RenderResult, RenderError> {
     options.validate().map_err(RenderError::Options)?;
+    let full = Tile::full(options.width, options.height);
+    if region.intersection(&full) != Some(region) {
+        return Err(RenderError::Options(format!(
+            "region [{}, {}) × [{}, {}) is empty or reaches outside the {}×{} image",
+            region.x0, region.x1, region.y0, region.y1, options.width, options.height
+        )));
+    }
+    let lattice = matches!(
+        options.sampler,
+        crate::sampling::SamplerKind::Corners | crate::sampling::SamplerKind::Adaptive
+    );
+    if lattice && region != full {
+        return Err(RenderError::Options(format!(
+            "the {} sampler shares samples between pixels across the whole image, so it \
+             renders no region smaller than the image; use a per-pixel sampler",
+            options.sampler
+        )));
+    }
     let job = Job {
         width: options.width,
         height: options.height,
+        area: region,
         camera: scene.scene.camera.setup(options.width, options.height)?,
         integrator: Integrator::new(scene, options),
         seed: options.seed,

@@ -35,19 +35,29 @@ pub(super) fn render(
     tile_size: u32,
 ) -> Result<Traced, RenderError> {
     let (width, height) = (job.width, job.height);
-    let tile_list = tiles(width, height, tile_size);
+    let area = job.area;
     let local = job.filter.is_pixel_box();
-    // Only a filter wider than the pixel needs the whole image's sums; the box filter's
+    // A wider filter spreads the samples of pixels around the area into it, so those are
+    // traced too. Tiles stay on the whole image's grid, clipped, so the packets' blocks
+    // are the ones a whole render traces.
+    let traced = if local {
+        area
+    } else {
+        area.grown(job.filter.radius.ceil() as u32, width, height)
+    };
+    let tile_list: Vec<Tile> = tiles(width, height, tile_size)
+        .iter()
+        .filter_map(|t| t.intersection(&traced))
+        .collect();
+    let (aw, ah) = (area.width(), area.height());
+    // Only a filter wider than the pixel needs the traced area's sums; the box filter's
     // pixels go straight into the film.
     let (mut out, sums) = if local {
-        (
-            Traced::try_new(width, height, Film::try_new(width, height)?)?,
-            None,
-        )
+        (Traced::try_new(aw, ah, Film::try_new(aw, ah)?)?, None)
     } else {
-        let sums = Mutex::new(FilmSums::try_new(width, height)?);
+        let sums = Mutex::new(FilmSums::try_new(traced)?);
         (
-            Traced::try_new(width, height, Film::unallocated(width, height))?,
+            Traced::try_new(aw, ah, Film::unallocated(aw, ah))?,
             Some(sums),
         )
     };
@@ -117,11 +127,11 @@ pub(super) fn render(
         .collect();
 
     let mut film = match sums {
-        None => std::mem::replace(&mut out.film, Film::unallocated(width, height)),
+        None => std::mem::replace(&mut out.film, Film::unallocated(aw, ah)),
         Some(sums) => sums
             .into_inner()
             .unwrap_or_else(|e| e.into_inner())
-            .into_film()?,
+            .into_film(area)?,
     };
     for (tile, result) in tile_list.iter().zip(results) {
         let Some(r) = result else {
@@ -133,11 +143,18 @@ pub(super) fn render(
         let mut rays = r.rays.iter();
         for y in tile.y0..tile.y1 {
             for x in tile.x0..tile.x1 {
-                if local {
-                    film.set(x, y, means.next().unwrap_or_default());
+                let mean = if local { means.next() } else { None };
+                let ray = rays.next();
+                // Pixels of the filter's margin were traced for their samples only.
+                if x < area.x0 || x >= area.x1 || y < area.y0 || y >= area.y1 {
+                    continue;
                 }
-                if let Some(&r) = rays.next() {
-                    out.rays.add(x, y, r);
+                let (ax, ay) = (x - area.x0, y - area.y0);
+                if let Some(m) = mean {
+                    film.set(ax, ay, m);
+                }
+                if let Some(&r) = ray {
+                    out.rays.add(ax, ay, r);
                 }
             }
         }

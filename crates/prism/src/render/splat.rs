@@ -9,6 +9,7 @@
 
 use super::film::Film;
 use super::filter::Filter;
+use super::Tile;
 use crate::math::{Color, Vec2};
 
 /// 2⁶⁰: the fixed-point unit. Values up to 2⁶⁷ ≈ 1.5·10²⁰ fit, and 10⁻¹⁰ keeps 30 bits.
@@ -109,49 +110,69 @@ impl SplatBuffer {
     }
 }
 
-/// The whole image's sums, into which finished buffers are merged in any order.
+/// The sums of a rectangle of the image (the whole image, or a region and the filter's
+/// reach around it), into which finished buffers are merged in any order.
 pub(super) struct FilmSums {
-    width: u32,
-    height: u32,
+    area: Tile,
     sums: Vec<PixelSum>,
 }
 
 impl FilmSums {
-    /// Zero sums, or an out-of-memory error instead of an abort.
-    pub(super) fn try_new(width: u32, height: u32) -> Result<Self, super::RenderError> {
-        let n = width as usize * height as usize;
+    /// Zero sums over `area`, or an out-of-memory error instead of an abort.
+    pub(super) fn try_new(area: Tile) -> Result<Self, super::RenderError> {
+        let n = area.pixel_count() as usize;
         Ok(FilmSums {
-            width,
-            height,
+            area,
             sums: super::memory::try_filled(n, PixelSum::default(), "filter sums")?,
         })
     }
 
+    /// Adds a buffer's sums; the part of it outside this area is dropped.
     pub(super) fn merge(&mut self, buffer: &SplatBuffer) {
-        for y in 0..buffer.height {
-            let src = (y * buffer.width) as usize;
-            let dst = ((buffer.y0 + y) * self.width + buffer.x0) as usize;
-            for (d, s) in self.sums[dst..dst + buffer.width as usize]
+        let own = Tile {
+            x0: buffer.x0,
+            y0: buffer.y0,
+            x1: buffer.x0 + buffer.width,
+            y1: buffer.y0 + buffer.height,
+        };
+        let Some(common) = own.intersection(&self.area) else {
+            return;
+        };
+        let n = common.width() as usize;
+        for y in common.y0..common.y1 {
+            let src = ((y - buffer.y0) * buffer.width + (common.x0 - buffer.x0)) as usize;
+            let dst =
+                ((y - self.area.y0) * self.area.width() + (common.x0 - self.area.x0)) as usize;
+            for (d, s) in self.sums[dst..dst + n]
                 .iter_mut()
-                .zip(&buffer.sums[src..src + buffer.width as usize])
+                .zip(&buffer.sums[src..src + n])
             {
                 d.add(s.0);
             }
         }
     }
 
-    /// Each pixel's weighted average; black where no sample counted.
-    pub(super) fn into_film(self) -> Result<Film, super::RenderError> {
-        let mut film = Film::try_new(self.width, self.height)?;
-        for (p, s) in film.pixels.iter_mut().zip(&self.sums) {
-            let [r, g, b, w] = s.0;
-            if w != 0 {
-                let w = w as f64;
-                *p = Color::new(
-                    (r as f64 / w) as f32,
-                    (g as f64 / w) as f32,
-                    (b as f64 / w) as f32,
-                );
+    /// Each pixel of `part` (within this area) as its weighted average; black where no
+    /// sample counted.
+    pub(super) fn into_film(self, part: Tile) -> Result<Film, super::RenderError> {
+        let mut film = Film::try_new(part.width(), part.height())?;
+        for y in part.y0..part.y1 {
+            for x in part.x0..part.x1 {
+                let i = (y - self.area.y0) as usize * self.area.width() as usize
+                    + (x - self.area.x0) as usize;
+                let [r, g, b, w] = self.sums[i].0;
+                if w != 0 {
+                    let w = w as f64;
+                    film.set(
+                        x - part.x0,
+                        y - part.y0,
+                        Color::new(
+                            (r as f64 / w) as f32,
+                            (g as f64 / w) as f32,
+                            (b as f64 / w) as f32,
+                        ),
+                    );
+                }
             }
         }
         Ok(film)
@@ -168,9 +189,9 @@ mod tests {
         let f = Filter::new(FilterKind::Box, None);
         let mut buf = SplatBuffer::around(&f, (4, 4), 1, 1, 2, 2);
         buf.add(&f, 1, 1, Vec2::ZERO, 1.0, Color::ONE);
-        let mut film = FilmSums::try_new(4, 4).unwrap();
+        let mut film = FilmSums::try_new(Tile::full(4, 4)).unwrap();
         film.merge(&buf);
-        let film = film.into_film().unwrap();
+        let film = film.into_film(Tile::full(4, 4)).unwrap();
         let lit: Vec<(u32, u32)> = (0..16)
             .map(|i| (i % 4, i / 4))
             .filter(|&(x, y)| film.get(x, y) == Color::ONE)
@@ -193,13 +214,13 @@ mod tests {
             })
             .collect();
         let render = |order: &mut dyn Iterator<Item = &(u32, u32, Vec2, Color)>| {
-            let mut film = FilmSums::try_new(5, 5).unwrap();
+            let mut film = FilmSums::try_new(Tile::full(5, 5)).unwrap();
             for &(x, y, o, c) in order {
                 let mut buf = SplatBuffer::around(&f, (5, 5), x, y, x + 1, y + 1);
                 buf.add(&f, x, y, o, 1.0, c);
                 film.merge(&buf);
             }
-            film.into_film().unwrap()
+            film.into_film(Tile::full(5, 5)).unwrap()
         };
         let forward = render(&mut samples.iter());
         let backward = render(&mut samples.iter().rev());

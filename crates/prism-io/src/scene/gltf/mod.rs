@@ -33,6 +33,7 @@ use transform::Placement;
 
 /// Reads a .gltf or .glb file. The content decides which: GLB files start with "glTF".
 pub(super) fn load(path: &Path) -> Result<Scene, LoadError> {
+    crate::scene::load::note_read(path);
     let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
         path: path.display().to_string(),
         message: e.to_string(),

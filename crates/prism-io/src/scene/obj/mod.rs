@@ -21,6 +21,7 @@ use std::path::Path;
 
 /// Reads the OBJ file at `path` and, unless told to ignore them, its material libraries.
 pub fn load(path: &Path, materials: Materials) -> Result<MeshFile, LoadError> {
+    crate::scene::load::note_read(path);
     let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
         path: path.display().to_string(),
         message: e.to_string(),

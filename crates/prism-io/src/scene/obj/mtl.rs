@@ -362,6 +362,7 @@ impl Checker<'_> {
         let image = match self.textures.get(&file) {
             Some(image) => image.clone(),
             None => {
+                crate::scene::load::note_read(&file);
                 let image = crate::texture::load(&file).map_err(|e| {
                     self.error(
                         file_at,

@@ -22,6 +22,7 @@ use std::path::Path;
 
 /// Reads the PLY file at `path`.
 pub fn load(path: &Path) -> Result<MeshFile, LoadError> {
+    crate::scene::load::note_read(path);
     let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
         path: path.display().to_string(),
         message: e.to_string(),

@@ -51,6 +51,7 @@ fn texture(def: Spanned<TextureDef>, base_dir: &Path) -> Result<Texture, Problem
         }),
         TextureDef::Image(i) => {
             let file = base_dir.join(i.path.get_ref());
+            crate::scene::load::note_read(&file);
             let mut image = crate::texture::load(&file).map_err(|e| {
                 Problem::at(
                     i.path.span(),

@@ -29,6 +29,7 @@ use std::path::Path;
 
 /// Reads and parses the scene file at `path`.
 pub(super) fn load(path: &Path) -> Result<Scene, LoadError> {
+    crate::scene::load::note_read(path);
     let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
         path: path.display().to_string(),
         message: e.to_string(),

@@ -1,0 +1,104 @@
+"""What prism refuses reaches Python as an exception carrying prism's message: scene
+files by file:line:col, bad arguments as ValueError; nothing panics."""
+
+import numpy as np
+import pytest
+
+import prism
+
+
+def test_a_missing_file_is_a_scene_error_naming_it(tmp_path):
+    missing = tmp_path / "nowhere.toml"
+    with pytest.raises(prism.SceneError, match=r"cannot read .*nowhere\.toml"):
+        prism.load(missing)
+
+
+def test_a_malformed_scene_names_file_line_and_column(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, "x"]\n')
+    with pytest.raises(prism.SceneError) as caught:
+        prism.load(bad)
+    assert f"{bad}:3:" in str(caught.value)
+    assert isinstance(caught.value, prism.PrismError)
+
+
+def test_an_unknown_extension_and_a_directory_are_refused(tmp_path):
+    odd = tmp_path / "scene.xyz"
+    odd.write_text("nothing")
+    with pytest.raises(prism.SceneError, match="unknown scene format"):
+        prism.load(odd)
+    with pytest.raises(prism.SceneError, match="directory"):
+        prism.load(tmp_path)
+
+
+def test_an_unknown_builtin_lists_the_known_ones():
+    with pytest.raises(ValueError, match="no built-in scene named 'nope'.*whitted"):
+        prism.builtin("nope")
+
+
+@pytest.mark.parametrize(
+    "settings,message",
+    [
+        ({"spp": 3}, "square number"),
+        ({"spp": 0}, "square number"),
+        ({"width": 0}, "at least 1×1"),
+        ({"sampler": "wobbly"}, "sampler"),
+        ({"accel": "bvh:leaf=banana"}, "accel"),
+        ({"integrator": "photon"}, "integrator"),
+        ({"depth": 0}, "max_depth"),
+        ({"threads": 100000}, "threads"),
+        ({"tile": 0}, "tile_size"),
+        ({"region": (0, 0, 100, 10)}, "outside"),
+        ({"region": (5, 5, 5, 9)}, "empty"),
+        ({"sampler": "adaptive", "region": (0, 0, 4, 4)}, "whole image"),
+        ({"sampler": "corners", "spp": 4}, "own sample count"),
+    ],
+)
+def test_bad_settings_raise_value_error(settings, message):
+    scene = prism.builtin("whitted")
+    settings = {"width": 20, "height": 10, **settings}
+    with pytest.raises(ValueError, match=message):
+        scene.render(**settings)
+
+
+def test_wrong_types_raise_type_error():
+    scene = prism.builtin("whitted")
+    with pytest.raises(TypeError):
+        scene.render(width="wide")
+    with pytest.raises(OverflowError):
+        scene.render(width=-1)
+
+
+def test_bad_overrides_raise_value_error():
+    scene = prism.builtin("whitted")
+    camera = scene.camera
+    with pytest.raises(ValueError, match="coincide"):
+        scene.set_camera(eye=camera["look_at"])
+    with pytest.raises(ValueError, match="field of view"):
+        scene.set_camera(fov=180)
+    with pytest.raises(ValueError, match="finite"):
+        scene.set_camera(eye=[float("nan"), 0, 0])
+    assert scene.camera == camera, "a refused change leaves the camera as it was"
+    with pytest.raises(ValueError, match="no material named 'chrome'"):
+        scene.set_material("chrome", reflect=1.0)
+    name = scene.materials[0]["name"]
+    with pytest.raises(ValueError, match="reflect"):
+        scene.set_material(name, reflect=2.0)
+
+
+def test_image_errors(tmp_path):
+    image = np.zeros((4, 5, 3), dtype=np.float32)
+    with pytest.raises(prism.ImageError):
+        prism.write(tmp_path / "x.bmp", image)
+    with pytest.raises(prism.ImageError):
+        prism.write(tmp_path / "no" / "such" / "dir" / "x.exr", image)
+    with pytest.raises(ValueError, match=r"shape \(height, width, 3\)"):
+        prism.write(tmp_path / "x.exr", np.zeros((4, 5)))
+    with pytest.raises(ValueError, match="EXR"):
+        prism.write(tmp_path / "x.png", image, half=True)
+    with pytest.raises(prism.ImageError, match="differ in size"):
+        prism.compare(image, np.zeros((5, 4, 3)))
+    with pytest.raises(prism.ImageError):
+        prism.read(tmp_path / "missing.exr")
+    with pytest.raises(ValueError, match="scene"):
+        prism.bench(["not-a-scene"])
