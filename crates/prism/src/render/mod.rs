@@ -5,6 +5,7 @@
 //! depends only on (scene, options, seed, position) and pixels are exact sums, so the image
 //! and the statistics are identical for every thread count, tile size and order.
 
+mod beam;
 mod film;
 mod filter;
 mod lattice;
@@ -15,6 +16,7 @@ mod progressive;
 mod rays;
 mod splat;
 
+pub use beam::{render_beam, BeamRender};
 pub use film::Film;
 pub use filter::{Filter, FilterKind};
 pub use memory::{estimate as memory_estimate, MemoryEstimate};
@@ -145,6 +147,10 @@ pub enum RenderError {
         /// What the system said.
         message: String,
     },
+    /// The beam tracer cannot render this scene (curved shapes, an orthographic camera, a
+    /// beam tree past its budget).
+    #[error(transparent)]
+    Beam(#[from] crate::integrator::beam::BeamError),
     /// A buffer of the render could not be allocated; `what` names it.
     #[error("out of memory: the {what} would take {}", memory::format_bytes(*bytes))]
     OutOfMemory {
@@ -224,6 +230,24 @@ pub fn render(
     cancel: &AtomicBool,
 ) -> Result<RenderResult, RenderError> {
     options.validate().map_err(RenderError::Options)?;
+    if options.integrator == crate::options::IntegratorKind::Beam {
+        let beam = render_beam(
+            scene,
+            options,
+            crate::integrator::beam::DEFAULT_TOLERANCE,
+            on_tile,
+            cancel,
+        )?;
+        return Ok(RenderResult {
+            film: beam.film,
+            stats: beam.stats,
+            complete: beam.complete,
+            render_time: beam.render_time,
+            rays: RayCounts::try_new(options.width, options.height)?,
+            light_buffers: Vec::new(),
+            light_buffer_notes: Vec::new(),
+        });
+    }
     let job = Job {
         width: options.width,
         height: options.height,
