@@ -216,11 +216,14 @@ pub(crate) fn facets(scene: &Scene) -> Result<Vec<Facet>, FacetError> {
             }
         }
     }
-    let names: Vec<String> = [(curved[0], "sphere"), (curved[1], "cone or cylinder")]
-        .iter()
-        .filter(|(n, _)| *n > 0)
-        .map(|(n, what)| format!("{n} {what}{}", if *n == 1 { "" } else { "s" }))
-        .collect();
+    let names: Vec<String> = [
+        (curved[0], "sphere", "spheres"),
+        (curved[1], "cone or cylinder", "cones or cylinders"),
+    ]
+    .iter()
+    .filter(|(n, _, _)| *n > 0)
+    .map(|&(n, one, many)| format!("{n} {}", if n == 1 { one } else { many }))
+    .collect();
     if !names.is_empty() {
         return Err(FacetError::Curved(names.join(" and ")));
     }
