@@ -56,19 +56,104 @@ fn cornell() -> Scene {
     let g = diffuse(&mut s, Color::new(0.1, 0.75, 0.1), 0.0);
     let m = diffuse(&mut s, Color::splat(0.1), 0.8);
     let v = Vec3::new;
-    quad(&mut s, [v(-1., 0., -1.), v(1., 0., -1.), v(1., 0., 1.), v(-1., 0., 1.)], w);
-    quad(&mut s, [v(-1., 2., -1.), v(-1., 2., 1.), v(1., 2., 1.), v(1., 2., -1.)], w);
-    quad(&mut s, [v(-1., 0., -1.), v(-1., 2., -1.), v(1., 2., -1.), v(1., 0., -1.)], w);
-    quad(&mut s, [v(-1., 0., -1.), v(-1., 0., 1.), v(-1., 2., 1.), v(-1., 2., -1.)], r);
-    quad(&mut s, [v(1., 0., -1.), v(1., 2., -1.), v(1., 2., 1.), v(1., 0., 1.)], g);
-    quad(&mut s, [v(-1., 0., 3.5), v(1., 0., 3.5), v(1., 2., 3.5), v(-1., 2., 3.5)], w);
-    quad(&mut s, [v(-1., 0., 1.), v(-1., 0., 3.5), v(-1., 2., 3.5), v(-1., 2., 1.)], r);
-    quad(&mut s, [v(1., 0., 1.), v(1., 2., 1.), v(1., 2., 3.5), v(1., 0., 3.5)], g);
-    quad(&mut s, [v(-1., 0., 1.), v(1., 0., 1.), v(1., 0., 3.5), v(-1., 0., 3.5)], w);
-    quad(&mut s, [v(-1., 2., 1.), v(-1., 2., 3.5), v(1., 2., 3.5), v(1., 2., 1.)], w);
     quad(
         &mut s,
-        [v(-0.6, 0.4, -0.97), v(0.6, 0.4, -0.9), v(0.6, 1.6, -0.9), v(-0.6, 1.6, -0.97)],
+        [
+            v(-1., 0., -1.),
+            v(1., 0., -1.),
+            v(1., 0., 1.),
+            v(-1., 0., 1.),
+        ],
+        w,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 2., -1.),
+            v(-1., 2., 1.),
+            v(1., 2., 1.),
+            v(1., 2., -1.),
+        ],
+        w,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 0., -1.),
+            v(-1., 2., -1.),
+            v(1., 2., -1.),
+            v(1., 0., -1.),
+        ],
+        w,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 0., -1.),
+            v(-1., 0., 1.),
+            v(-1., 2., 1.),
+            v(-1., 2., -1.),
+        ],
+        r,
+    );
+    quad(
+        &mut s,
+        [v(1., 0., -1.), v(1., 2., -1.), v(1., 2., 1.), v(1., 0., 1.)],
+        g,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 0., 3.5),
+            v(1., 0., 3.5),
+            v(1., 2., 3.5),
+            v(-1., 2., 3.5),
+        ],
+        w,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 0., 1.),
+            v(-1., 0., 3.5),
+            v(-1., 2., 3.5),
+            v(-1., 2., 1.),
+        ],
+        r,
+    );
+    quad(
+        &mut s,
+        [v(1., 0., 1.), v(1., 2., 1.), v(1., 2., 3.5), v(1., 0., 3.5)],
+        g,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 0., 1.),
+            v(1., 0., 1.),
+            v(1., 0., 3.5),
+            v(-1., 0., 3.5),
+        ],
+        w,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 2., 1.),
+            v(-1., 2., 3.5),
+            v(1., 2., 3.5),
+            v(1., 2., 1.),
+        ],
+        w,
+    );
+    quad(
+        &mut s,
+        [
+            v(-0.6, 0.4, -0.97),
+            v(0.6, 0.4, -0.9),
+            v(0.6, 1.6, -0.9),
+            v(-0.6, 1.6, -0.97),
+        ],
         m,
     );
     s.options.max_depth = 3;
@@ -101,7 +186,13 @@ fn main() {
         .join("../../../shared/scenes/spd/tetra.nff");
     if tetra.exists() {
         // prism-io is a dev-dependency of the engine: its loader reads the NFF.
-        scenes.push(("SPD tetra".into(), prism_io::scene::load(&tetra).unwrap(), 256, 256, 1e-4));
+        scenes.push((
+            "SPD tetra".into(),
+            prism_io::scene::load(&tetra).unwrap(),
+            256,
+            256,
+            1e-4,
+        ));
     } else {
         eprintln!("skipped: {} is absent", tetra.display());
     }
@@ -118,8 +209,14 @@ fn main() {
             ..base.clone()
         };
         let start = Instant::now();
-        let beam = render_beam(&prepared, &beam_options, *tol, &|_| {}, &AtomicBool::new(false))
-            .unwrap();
+        let beam = render_beam(
+            &prepared,
+            &beam_options,
+            *tol,
+            &|_| {},
+            &AtomicBool::new(false),
+        )
+        .unwrap();
         rows.push(Row {
             scene: name.clone(),
             method: "beam (exact)".into(),
@@ -156,8 +253,13 @@ fn main() {
     println!("| scene | method | time (s) | RMSE against the beam image | work |");
     println!("|---|---|---|---|---|");
     for r in &rows {
-        let e = r.rmse.map_or("0 (the reference)".into(), |e| format!("{e:.5}"));
-        println!("| {} | {} | {:.3} | {} | {} |", r.scene, r.method, r.seconds, e, r.note);
+        let e = r
+            .rmse
+            .map_or("0 (the reference)".into(), |e| format!("{e:.5}"));
+        println!(
+            "| {} | {} | {:.3} | {} | {} |",
+            r.scene, r.method, r.seconds, e, r.note
+        );
     }
     std::fs::write(&svg, plot(&rows)).unwrap();
     eprintln!("wrote {svg}");
@@ -168,13 +270,26 @@ fn main() {
 fn plot(rows: &[Row]) -> String {
     let (w, h, m) = (640.0, 400.0, 60.0);
     let times: Vec<f64> = rows.iter().map(|r| r.seconds.max(1e-4)).collect();
-    let errs: Vec<f64> = rows.iter().filter_map(|r| r.rmse).map(|e| e.max(1e-5)).collect();
+    let errs: Vec<f64> = rows
+        .iter()
+        .filter_map(|r| r.rmse)
+        .map(|e| e.max(1e-5))
+        .collect();
     let (t0, t1) = (
-        times.iter().cloned().fold(f64::INFINITY, f64::min).log10().floor(),
+        times
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min)
+            .log10()
+            .floor(),
         times.iter().cloned().fold(0.0, f64::max).log10().ceil(),
     );
     let (e0, e1) = (
-        errs.iter().cloned().fold(f64::INFINITY, f64::min).log10().floor(),
+        errs.iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min)
+            .log10()
+            .floor(),
         errs.iter().cloned().fold(0.0, f64::max).log10().ceil(),
     );
     let x = |t: f64| m + (t.max(1e-4).log10() - t0) / (t1 - t0).max(1.0) * (w - 2.0 * m);

@@ -29,7 +29,13 @@ fn beam(scene: &Scene, width: u32, height: u32, tolerance: f64) -> Result<BeamRe
         integrator: IntegratorKind::Beam,
         ..scene.options.clone()
     };
-    render_beam(&prepared, &options, tolerance, &|_| {}, &AtomicBool::new(false))
+    render_beam(
+        &prepared,
+        &options,
+        tolerance,
+        &|_| {},
+        &AtomicBool::new(false),
+    )
 }
 
 fn jittered(scene: &Scene, width: u32, height: u32, n: u32) -> Film {
@@ -104,22 +110,107 @@ fn cornell() -> Scene {
         ..Material::default()
     });
     let v = Vec3::new;
-    quad(&mut s, [v(-1., 0., -1.), v(1., 0., -1.), v(1., 0., 1.), v(-1., 0., 1.)], white);
-    quad(&mut s, [v(-1., 2., -1.), v(-1., 2., 1.), v(1., 2., 1.), v(1., 2., -1.)], white);
-    quad(&mut s, [v(-1., 0., -1.), v(-1., 2., -1.), v(1., 2., -1.), v(1., 0., -1.)], white);
-    quad(&mut s, [v(-1., 0., -1.), v(-1., 0., 1.), v(-1., 2., 1.), v(-1., 2., -1.)], red);
-    quad(&mut s, [v(1., 0., -1.), v(1., 2., -1.), v(1., 2., 1.), v(1., 0., 1.)], green);
+    quad(
+        &mut s,
+        [
+            v(-1., 0., -1.),
+            v(1., 0., -1.),
+            v(1., 0., 1.),
+            v(-1., 0., 1.),
+        ],
+        white,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 2., -1.),
+            v(-1., 2., 1.),
+            v(1., 2., 1.),
+            v(1., 2., -1.),
+        ],
+        white,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 0., -1.),
+            v(-1., 2., -1.),
+            v(1., 2., -1.),
+            v(1., 0., -1.),
+        ],
+        white,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 0., -1.),
+            v(-1., 0., 1.),
+            v(-1., 2., 1.),
+            v(-1., 2., -1.),
+        ],
+        red,
+    );
+    quad(
+        &mut s,
+        [v(1., 0., -1.), v(1., 2., -1.), v(1., 2., 1.), v(1., 0., 1.)],
+        green,
+    );
     // The wall behind the camera, which the mirror shows.
-    quad(&mut s, [v(-1., 0., 3.5), v(1., 0., 3.5), v(1., 2., 3.5), v(-1., 2., 3.5)], white);
-    quad(&mut s, [v(-1., 0., 1.), v(-1., 0., 3.5), v(-1., 2., 3.5), v(-1., 2., 1.)], red);
-    quad(&mut s, [v(1., 0., 1.), v(1., 2., 1.), v(1., 2., 3.5), v(1., 0., 3.5)], green);
-    quad(&mut s, [v(-1., 0., 1.), v(1., 0., 1.), v(1., 0., 3.5), v(-1., 0., 3.5)], white);
-    quad(&mut s, [v(-1., 2., 1.), v(-1., 2., 3.5), v(1., 2., 3.5), v(1., 2., 1.)], white);
+    quad(
+        &mut s,
+        [
+            v(-1., 0., 3.5),
+            v(1., 0., 3.5),
+            v(1., 2., 3.5),
+            v(-1., 2., 3.5),
+        ],
+        white,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 0., 1.),
+            v(-1., 0., 3.5),
+            v(-1., 2., 3.5),
+            v(-1., 2., 1.),
+        ],
+        red,
+    );
+    quad(
+        &mut s,
+        [v(1., 0., 1.), v(1., 2., 1.), v(1., 2., 3.5), v(1., 0., 3.5)],
+        green,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 0., 1.),
+            v(1., 0., 1.),
+            v(1., 0., 3.5),
+            v(-1., 0., 3.5),
+        ],
+        white,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 2., 1.),
+            v(-1., 2., 3.5),
+            v(1., 2., 3.5),
+            v(1., 2., 1.),
+        ],
+        white,
+    );
     // The mirror, a little in front of the back wall, tilted so its image is not the room
     // straight back.
     quad(
         &mut s,
-        [v(-0.6, 0.4, -0.97), v(0.6, 0.4, -0.9), v(0.6, 1.6, -0.9), v(-0.6, 1.6, -0.97)],
+        [
+            v(-0.6, 0.4, -0.97),
+            v(0.6, 0.4, -0.9),
+            v(0.6, 1.6, -0.9),
+            v(-0.6, 1.6, -0.97),
+        ],
         mirror,
     );
     s.options.max_depth = 3;
@@ -163,16 +254,51 @@ fn mirror_corner() -> Scene {
         ..Material::default()
     });
     let v = Vec3::new;
-    quad(&mut s, [v(-1., 0., -1.), v(-1., 0., 1.), v(1., 0., 1.), v(1., 0., -1.)], a);
+    quad(
+        &mut s,
+        [
+            v(-1., 0., -1.),
+            v(-1., 0., 1.),
+            v(1., 0., 1.),
+            v(1., 0., -1.),
+        ],
+        a,
+    );
     // A tile pattern on the floor: two triangles of other colours.
     let tri = |s: &mut Scene, p: [Vec3; 3], m: u32| {
         let mesh = TriangleMesh::new(p.to_vec(), vec![[0, 1, 2]], None, None).unwrap();
         s.geometry.add_mesh(mesh, m);
     };
-    tri(&mut s, [v(-0.8, 0.01, -0.2), v(0.3, 0.01, 0.6), v(0.5, 0.01, -0.7)], b);
-    tri(&mut s, [v(-0.9, 0.02, 0.3), v(-0.2, 0.02, 0.9), v(-0.1, 0.02, 0.1)], c);
-    quad(&mut s, [v(-1., 0., -1.), v(1., 0., -1.), v(1., 1.5, -1.), v(-1., 1.5, -1.)], mirror);
-    quad(&mut s, [v(-1., 0., -1.), v(-1., 1.5, -1.), v(-1., 1.5, 1.), v(-1., 0., 1.)], mirror);
+    tri(
+        &mut s,
+        [v(-0.8, 0.01, -0.2), v(0.3, 0.01, 0.6), v(0.5, 0.01, -0.7)],
+        b,
+    );
+    tri(
+        &mut s,
+        [v(-0.9, 0.02, 0.3), v(-0.2, 0.02, 0.9), v(-0.1, 0.02, 0.1)],
+        c,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 0., -1.),
+            v(1., 0., -1.),
+            v(1., 1.5, -1.),
+            v(-1., 1.5, -1.),
+        ],
+        mirror,
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 0., -1.),
+            v(-1., 1.5, -1.),
+            v(-1., 1.5, 1.),
+            v(-1., 0., 1.),
+        ],
+        mirror,
+    );
     s.options.max_depth = 4;
     s
 }
@@ -207,7 +333,10 @@ fn assert_converges(scene: &Scene, what: &str, width: u32, height: u32, floor: f
         };
         prism_io::output::write_image(&dir.join(format!("{what}-diff.png")), &diff).unwrap();
     }
-    assert!(errors[0] > errors[1] && errors[1] > errors[2], "{what}: {errors:?}");
+    assert!(
+        errors[0] > errors[1] && errors[1] > errors[2],
+        "{what}: {errors:?}"
+    );
     assert!(errors[2] * 2.5 < errors[0], "{what}: {errors:?}");
     assert!(errors[2] < floor, "{what}: {errors:?}");
 }
@@ -239,7 +368,11 @@ fn jittered_supersampling_converges_to_the_beam_image_of_the_cornell_box() {
     let scene = cornell();
     let r = beam(&scene, 64, 64, 1e-4).unwrap();
     // The mirror spawned beams, and they reached the room behind the camera.
-    assert!(r.stats.reflected_rays > 0 && r.deepest == 2, "{}", r.deepest);
+    assert!(
+        r.stats.reflected_rays > 0 && r.deepest == 2,
+        "{}",
+        r.deepest
+    );
     assert_converges(&scene, "cornell", 64, 64, 0.005);
 }
 
@@ -273,11 +406,16 @@ fn the_beam_image_is_the_same_at_every_scale() {
             let diff = prism_lab::metrics::rmse(&base.film, &r.film, None).unwrap();
             if diff >= 1e-4 {
                 let bad: Vec<(usize, Color, Color)> = (0..base.film.pixels.len())
-                    .filter(|&i| (base.film.pixels[i] - r.film.pixels[i]).abs().max_element() > 1e-3)
+                    .filter(|&i| {
+                        (base.film.pixels[i] - r.film.pixels[i]).abs().max_element() > 1e-3
+                    })
                     .map(|i| (i, base.film.pixels[i], r.film.pixels[i]))
                     .take(5)
                     .collect();
-                eprintln!("{factor}: {bad:?} stats {:?} {:?}", base.stats.beams, r.stats.beams);
+                eprintln!(
+                    "{factor}: {bad:?} stats {:?} {:?}",
+                    base.stats.beams, r.stats.beams
+                );
             }
             assert!(diff < 1e-4, "scale {factor}: RMSE {diff}");
         }
@@ -287,9 +425,14 @@ fn the_beam_image_is_the_same_at_every_scale() {
 #[test]
 fn curved_shapes_are_refused_with_a_message() {
     let scene = builtin::find("whitted").unwrap();
-    let err = beam(&scene, 16, 16, 1e-4).err().expect("spheres are refused");
+    let err = beam(&scene, 16, 16, 1e-4)
+        .err()
+        .expect("spheres are refused");
     let text = err.to_string();
-    assert!(text.contains("planar polygons") && text.contains("sphere"), "{text}");
+    assert!(
+        text.contains("planar polygons") && text.contains("sphere"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -323,4 +466,3 @@ fn the_render_entry_point_renders_beams_when_asked() {
     assert_eq!(via_render.film.pixels, direct.film.pixels);
     assert!(via_render.stats.beams > 0);
 }
-

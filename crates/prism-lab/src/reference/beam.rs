@@ -45,11 +45,17 @@ pub fn beam(
         ..scene.options.clone()
     };
     let prepared = scene.prepare(&options.accel);
-    let r = render_beam(&prepared, &options, tolerance, &|_| {}, &AtomicBool::new(false))
-        .map_err(|e| match e {
-            RenderError::Camera(c) => ReferenceError::Camera(c),
-            other => ReferenceError::Unsupported(other.to_string()),
-        })?;
+    let r = render_beam(
+        &prepared,
+        &options,
+        tolerance,
+        &|_| {},
+        &AtomicBool::new(false),
+    )
+    .map_err(|e| match e {
+        RenderError::Camera(c) => ReferenceError::Camera(c),
+        other => ReferenceError::Unsupported(other.to_string()),
+    })?;
     Ok(BeamReference {
         error_bound: r.error_bound(),
         film: r.film,

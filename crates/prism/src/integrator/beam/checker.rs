@@ -95,7 +95,12 @@ pub(crate) fn integrate(
         pending -= p.bound;
         splits += 1;
         job.piece(p.piece.clip(&p.cut), p.beyond, &mut out, &mut fresh);
-        job.piece(p.piece.clip(&p.cut.flipped()), p.beyond, &mut out, &mut fresh);
+        job.piece(
+            p.piece.clip(&p.cut.flipped()),
+            p.beyond,
+            &mut out,
+            &mut fresh,
+        );
     }
     for p in queue {
         job.mean(&p.piece, p.bound, &mut out);
@@ -234,14 +239,24 @@ impl Job<'_> {
         let bound = (n_u.min(n_v) * square * self.diff).min(0.5 * area * self.diff);
         // Cut along the square border in the middle of the longer run.
         let (num, k) = if n_u >= n_v {
-            (&self.uv.nu, (0.5 * (u_lo + u_hi)).floor().max(u_lo.floor() + 1.0))
+            (
+                &self.uv.nu,
+                (0.5 * (u_lo + u_hi)).floor().max(u_lo.floor() + 1.0),
+            )
         } else {
-            (&self.uv.nv, (0.5 * (v_lo + v_hi)).floor().max(v_lo.floor() + 1.0))
+            (
+                &self.uv.nv,
+                (0.5 * (v_lo + v_hi)).floor().max(v_lo.floor() + 1.0),
+            )
         };
         queue.push(Pending {
             cut: border(num, den, k, sign),
             piece,
-            bound: if bound.is_finite() { bound } else { 0.5 * area * self.diff },
+            bound: if bound.is_finite() {
+                bound
+            } else {
+                0.5 * area * self.diff
+            },
             beyond,
         });
     }

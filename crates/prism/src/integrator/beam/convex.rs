@@ -282,7 +282,10 @@ mod tests {
         let sq = Convex::rect(0.0, 0.0, 1.0, 1.0);
         let p = DVec2::new(0.5, 0.5);
         let (inside, rest) = sq.split(&[Affine2::left_of(p, p)]);
-        assert_eq!(inside.area() + rest.iter().map(Convex::area).sum::<f64>(), 1.0);
+        assert_eq!(
+            inside.area() + rest.iter().map(Convex::area).sum::<f64>(),
+            1.0
+        );
     }
 
     #[test]

@@ -144,11 +144,14 @@ pub(crate) fn facets(scene: &Scene) -> Result<Vec<Facet>, FacetError> {
                 let pts = [o, o + t1, o + t2];
                 let uv = pts.map(|p| {
                     plane
-                        .surface(&Ray::new(p, -n), &ShapeHit {
-                            t: 0.0,
-                            u: 0.0,
-                            v: 0.0,
-                        })
+                        .surface(
+                            &Ray::new(p, -n),
+                            &ShapeHit {
+                                t: 0.0,
+                                u: 0.0,
+                                v: 0.0,
+                            },
+                        )
                         .uv
                 });
                 let Some(uvmap) = UvMap::through(pts.map(d), uv) else {
@@ -176,8 +179,12 @@ pub(crate) fn facets(scene: &Scene) -> Result<Vec<Facet>, FacetError> {
                             p[a2] = if s2 { hi[a2] } else { lo[a2] };
                             p
                         };
-                        let points =
-                            vec![at(false, false), at(true, false), at(true, true), at(false, true)];
+                        let points = vec![
+                            at(false, false),
+                            at(true, false),
+                            at(true, true),
+                            at(false, true),
+                        ];
                         let mut normal = DVec3::ZERO;
                         normal[axis] = if max_side { 1.0 } else { -1.0 };
                         let face = axis as u8 + 3 * max_side as u8;

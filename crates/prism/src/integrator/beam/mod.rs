@@ -177,7 +177,12 @@ impl<'a> BeamTracer<'a> {
         let mut out = Vec::new();
         for y in (0..self.height).step_by(TILE as usize) {
             for x in (0..self.width).step_by(TILE as usize) {
-                out.push((x, y, (x + TILE).min(self.width), (y + TILE).min(self.height)));
+                out.push((
+                    x,
+                    y,
+                    (x + TILE).min(self.width),
+                    (y + TILE).min(self.height),
+                ));
             }
         }
         out

@@ -6,7 +6,12 @@ use super::convex::{Affine2, Convex};
 
 /// Calls `f(x, y, piece)` for each pixel (x, y) of the `width` × `height` film that `cell`
 /// covers with positive area.
-pub(crate) fn pixel_pieces(cell: &Convex, width: u32, height: u32, mut f: impl FnMut(u32, u32, Convex)) {
+pub(crate) fn pixel_pieces(
+    cell: &Convex,
+    width: u32,
+    height: u32,
+    mut f: impl FnMut(u32, u32, Convex),
+) {
     let (lo, hi) = cell.bounds();
     let y0 = lo.y.floor().max(0.0) as u32;
     let y1 = (hi.y.ceil().max(0.0) as u32).min(height);

@@ -118,7 +118,13 @@ impl Beam {
 
     /// The child beam through `window` refracted at the plane: depth beyond it scaled by
     /// `s` (Heckbert & Hanrahan's linear approximation, see the module's notes).
-    pub(crate) fn refracted(&self, window: Vec<Convex>, plane: Interface, link: Link, s: f64) -> Beam {
+    pub(crate) fn refracted(
+        &self,
+        window: Vec<Convex>,
+        plane: Interface,
+        link: Link,
+        s: f64,
+    ) -> Beam {
         let n = plane.normal;
         // X ↦ X + (s − 1)(n·X − k)n.
         let m = DMat3::IDENTITY + (s - 1.0) * outer(n, n);
@@ -146,7 +152,11 @@ fn outer(a: DVec3, b: DVec3) -> DMat3 {
 
 /// The half-space of points beyond the plane n·X = k as the eye sees it.
 fn beyond(view: &View, n: DVec3, k: f64) -> (DVec3, f64) {
-    let side = if n.dot(view.eye) - k >= 0.0 { 1.0 } else { -1.0 };
+    let side = if n.dot(view.eye) - k >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    };
     // −side·(n·X − k) ≥ 0.
     (-side * n, side * k)
 }
