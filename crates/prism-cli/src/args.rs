@@ -200,9 +200,11 @@ pub(crate) struct RenderArgs {
     #[arg(long)]
     pub no_packets: bool,
 
-    /// The integrator: whitted (Whitted's recursive ray tracer, the default) or path (a
+    /// The integrator: whitted (Whitted's recursive ray tracer, the default), path (a
     /// path tracer with area lights, next-event estimation and MIS; each sample of the
-    /// sampler is one path, so --samples 8 traces 64 paths per pixel; docs/path-tracing.md).
+    /// sampler is one path, so --samples 8 traces 64 paths per pixel; docs/path-tracing.md)
+    /// or beam (beam tracing of planar polygons, each pixel the exact area average of what
+    /// it sees; the sampler and filter are not used; docs/beam-tracing.md).
     #[arg(long, value_name = "NAME")]
     pub integrator: Option<prism::options::IntegratorKind>,
 

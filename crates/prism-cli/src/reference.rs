@@ -1,15 +1,16 @@
-//! `prism reference`: the exact box-filtered image of the checkerboard scene, computed from
-//! the geometry with no sampling (prism_lab::reference), with its error bound.
+//! `prism reference`: the exact box-filtered image of a scene, computed from the geometry
+//! with no sampling (prism_lab::reference): the checkerboard in closed form, any other
+//! scene of planar polygons by the beam tracer; with its error bound.
 
 use anyhow::Result;
 use clap::Args;
-use prism_lab::reference::{checkerboard, DEFAULT_TOLERANCE};
+use prism_lab::reference::{beam, checkerboard, ReferenceError, DEFAULT_TOLERANCE};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Args, Debug)]
 pub(crate) struct ReferenceArgs {
-    /// Scene file (.toml); without it the built-in checkerboard.
+    /// Scene file (any format of planar polygons); without it the built-in checkerboard.
     pub scene: Option<PathBuf>,
 
     /// Built-in scene instead of a file.
@@ -32,6 +33,11 @@ pub(crate) struct ReferenceArgs {
     /// cost about 1/√tolerance.
     #[arg(long, value_name = "X", default_value_t = DEFAULT_TOLERANCE)]
     pub tolerance: f64,
+
+    /// Beam-trace the checkerboard too, instead of its closed form (slower: its horizon
+    /// holds unboundedly many squares per pixel).
+    #[arg(long)]
+    pub beam: bool,
 
     /// No closing message.
     #[arg(short, long)]
@@ -63,13 +69,32 @@ pub(crate) fn run(args: &ReferenceArgs) -> Result<ExitCode> {
     prism_io::output::ImageFormat::from_path(&args.output)?;
     crate::outputs::check_writable(&args.output)?;
     let start = std::time::Instant::now();
-    let reference = checkerboard(&scene, width, height, args.tolerance)?;
-    prism_io::output::write_image(&args.output, &reference.film)?;
+    // The closed form where the scene is the checkerboard, else the beam tracer.
+    let analytic = if args.beam {
+        Err(ReferenceError::Unsupported("--beam".into()))
+    } else {
+        checkerboard(&scene, width, height, args.tolerance)
+    };
+    let (mut film, bound, how) = match analytic {
+        Ok(r) => (r.film, r.error_bound, "closed form".to_string()),
+        Err(ReferenceError::Unsupported(_)) => {
+            let r = beam(&scene, width, height, args.tolerance)?;
+            let how = format!(
+                "beam traced: {} beams, {} fragments, {} pixel pieces, tree depth {}",
+                r.beams, r.fragments, r.pieces, r.depth
+            );
+            (r.film, r.error_bound, how)
+        }
+        Err(e) => return Err(e.into()),
+    };
+    film.transfer = options.transfer;
+    prism_io::output::write_image(&args.output, &film)?;
     if !args.quiet {
         eprintln!(
-            "prism: wrote {} ({name}, {width}×{height}, exact to {:.1e} per pixel, {:.2} s)",
+            "prism: wrote {} ({name}, {width}×{height}, {how}, exact to {:.1e} per pixel, \
+             {:.2} s)",
             args.output.display(),
-            reference.error_bound,
+            bound,
             start.elapsed().as_secs_f64()
         );
     }

@@ -37,12 +37,16 @@ pub enum IntegratorKind {
     Whitted,
     /// A path tracer with area lights, next-event estimation and MIS.
     Path,
+    /// Heckbert & Hanrahan's beam tracer: exact visible polygons, box-filtered exactly
+    /// (planar scenes only; docs/beam-tracing.md).
+    Beam,
 }
 
 named_kinds! {
     IntegratorKind, "integrator" {
         Whitted => "whitted",
         Path => "path",
+        Beam => "beam",
     }
 }
 
@@ -119,7 +123,8 @@ pub struct RenderOptions {
     /// adaptive sampler's refinement traces single rays. The node visits and tests of a
     /// packet are shared evenly among its rays' pixels in the cost view.
     pub packets: bool,
-    /// Which integrator renders: `whitted` (the default) or `path` (docs/path-tracing.md).
+    /// Which integrator renders: `whitted` (the default), `path` (docs/path-tracing.md) or
+    /// `beam` (docs/beam-tracing.md).
     pub integrator: IntegratorKind,
     /// The path tracer's estimator of area light: MIS (the default) or one strategy alone.
     /// A switch for tests and experiments; scene files and the CLI do not set it.

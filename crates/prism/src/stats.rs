@@ -50,6 +50,13 @@ pub struct Stats {
     pub light_buffer_covered: u64,
     /// Of those, the ones whose walk would have been too long: the accelerator answered.
     pub light_buffer_fallbacks: u64,
+    /// Beams traced by the beam tracer (the view's tile beams included); its reflected and
+    /// refracted beams are also counted as `reflected_rays` and `refracted_rays`.
+    pub beams: u64,
+    /// Visible fragments (convex cells) the beams found.
+    pub beam_fragments: u64,
+    /// Fragment ∩ pixel pieces the beam tracer shaded.
+    pub beam_pieces: u64,
 }
 
 impl Stats {
@@ -100,5 +107,8 @@ impl AddAssign for Stats {
         self.light_buffer_queries += o.light_buffer_queries;
         self.light_buffer_covered += o.light_buffer_covered;
         self.light_buffer_fallbacks += o.light_buffer_fallbacks;
+        self.beams += o.beams;
+        self.beam_fragments += o.beam_fragments;
+        self.beam_pieces += o.beam_pieces;
     }
 }

@@ -1,7 +1,9 @@
 //! Integrators turn a camera ray into radiance. Whitted's recursive ray tracer is the one
 //! prism is built around; the path tracer (`path.rs`) solves the rendering equation with
-//! area lights (`emitters.rs`) and the lobes of `shading::Bsdf`.
+//! area lights (`emitters.rs`) and the lobes of `shading::Bsdf`; the beam tracer (`beam/`)
+//! traces whole beams of planar polygons instead of rays.
 
+pub mod beam;
 mod emitters;
 mod light_buffer;
 mod path;
@@ -34,6 +36,9 @@ impl<'a> Integrator<'a> {
         match options.integrator {
             IntegratorKind::Whitted => Integrator::Whitted(Whitted::new(scene, options)),
             IntegratorKind::Path => Integrator::Path(PathTracer::new(scene, options)),
+            // The beam tracer renders whole tiles (`render::render` hands it the film);
+            // callers that ask for radiance ray by ray get the ray tracer it agrees with.
+            IntegratorKind::Beam => Integrator::Whitted(Whitted::new(scene, options)),
         }
     }
 

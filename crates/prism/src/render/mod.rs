@@ -5,6 +5,7 @@
 //! depends only on (scene, options, seed, position) and pixels are exact sums, so the image
 //! and the statistics are identical for every thread count, tile size and order.
 
+mod beam;
 mod film;
 mod filter;
 mod lattice;
@@ -15,6 +16,7 @@ mod progressive;
 mod rays;
 mod splat;
 
+pub use beam::{render_beam, BeamRender};
 pub use film::Film;
 pub use filter::{Filter, FilterKind};
 pub use memory::{estimate as memory_estimate, MemoryEstimate};
@@ -187,6 +189,10 @@ pub enum RenderError {
         /// What the system said.
         message: String,
     },
+    /// The beam tracer cannot render this scene (curved shapes, an orthographic camera, a
+    /// beam tree past its budget).
+    #[error(transparent)]
+    Beam(#[from] crate::integrator::beam::BeamError),
     /// A buffer of the render could not be allocated; `what` names it.
     #[error("out of memory: the {what} would take {}", memory::format_bytes(*bytes))]
     OutOfMemory {
@@ -304,6 +310,30 @@ pub fn render_region(
              renders no region smaller than the image; use a per-pixel sampler",
             options.sampler
         )));
+    }
+    if options.integrator == crate::options::IntegratorKind::Beam {
+        // The beam tracer cuts the view into its own tile beams and renders them all.
+        if region != full {
+            return Err(RenderError::Options(
+                "the beam integrator renders whole images only, no region of one".into(),
+            ));
+        }
+        let beam = render_beam(
+            scene,
+            options,
+            crate::integrator::beam::DEFAULT_TOLERANCE,
+            on_tile,
+            cancel,
+        )?;
+        return Ok(RenderResult {
+            film: beam.film,
+            stats: beam.stats,
+            complete: beam.complete,
+            render_time: beam.render_time,
+            rays: RayCounts::try_new(options.width, options.height)?,
+            light_buffers: Vec::new(),
+            light_buffer_notes: Vec::new(),
+        });
     }
     let job = Job {
         width: options.width,
