@@ -37,7 +37,11 @@ def test_python_keeps_running_while_a_thread_renders():
 def test_ctrl_c_interrupts_a_long_render():
     script = textwrap.dedent(
         """
-        import sys, prism
+        import signal, sys, prism
+        # A job a non-interactive shell starts in the background inherits SIGINT ignored,
+        # and Python then keeps ignoring it; a terminal's Ctrl-C, which this test stands
+        # for, reaches a process that has the default handler.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         scene = prism.builtin("sphereflake")
         print("rendering", flush=True)
         try:
@@ -55,6 +59,9 @@ def test_ctrl_c_interrupts_a_long_render():
     time.sleep(0.5)
     child.send_signal(signal.SIGINT)
     # The render would take hours; a minute is only a bound on waiting for the answer.
-    out, err = child.communicate(timeout=60)
+    try:
+        out, err = child.communicate(timeout=60)
+    finally:
+        child.kill()
     assert child.returncode == 3, (out, err)
     assert out.strip() == "interrupted"
