@@ -70,3 +70,29 @@ impl<'a> Integrator<'a> {
         }
     }
 }
+
+/// Whether a secondary ray (or beam) of weight `w` in a parent of weight `weight` is
+/// traced: the ray tracer's depth control, which the beam tracer applies per fragment.
+/// Under SPD's rules, whenever the material has the term at all (`present`); otherwise
+/// when it can change some channel of the pixel by `min_weight`. A child the static limit
+/// would trace but this drops is counted as pruned.
+pub(crate) fn spawns(
+    (spd_rules, min_weight): (bool, f32),
+    present: bool,
+    w: crate::math::Color,
+    weight: crate::math::Color,
+    stats: &mut crate::stats::Stats,
+) -> bool {
+    if spd_rules {
+        return present;
+    }
+    if w.max_element() <= 0.0 {
+        return false;
+    }
+    if (weight * w).max_element() >= min_weight {
+        true
+    } else {
+        stats.pruned_rays += 1;
+        false
+    }
+}

@@ -50,18 +50,7 @@ impl<'a> Whitted<'a> {
     /// static limit would trace but adaptive depth control drops are counted. A coloured
     /// weight counts by its largest channel: the most the ray can change any channel.
     fn spawns(&self, present: bool, w: Color, weight: Color, stats: &mut Stats) -> bool {
-        if self.spd_rules {
-            return present;
-        }
-        if w.max_element() <= 0.0 {
-            return false;
-        }
-        if (weight * w).max_element() >= self.min_weight {
-            true
-        } else {
-            stats.pruned_rays += 1;
-            false
-        }
+        super::spawns((self.spd_rules, self.min_weight), present, w, weight, stats)
     }
 
     /// The shadow-ray machinery this render built (light buffers and why some lights have

@@ -56,18 +56,8 @@ pub fn render_beam(
     }
     let tracer = BeamTracer::new(scene, options, tolerance)?;
     let tiles = tracer.tiles();
-    let requested = match options.threads {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        n => n,
-    };
-    let threads = requested.clamp(1, tiles.len().max(1));
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| RenderError::Threads {
-            threads,
-            message: e.to_string(),
-        })?;
+    let threads = super::requested_threads(options).clamp(1, tiles.len().max(1));
+    let pool = super::thread_pool(threads)?;
     let start = Instant::now();
     type Traced = Option<Result<(TileImage, Stats), crate::integrator::beam::BeamError>>;
     let traced: Vec<Traced> = pool.install(|| {

@@ -112,15 +112,31 @@ pub fn tiles(width: u32, height: u32, size: u32) -> Vec<Tile> {
     out
 }
 
+/// The threads `options.threads` asks for: 0 means one per core.
+pub(crate) fn requested_threads(options: &RenderOptions) -> usize {
+    match options.threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    }
+}
+
+/// A pool of `threads` workers for one render.
+pub(crate) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, RenderError> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| RenderError::Threads {
+            threads,
+            message: e.to_string(),
+        })
+}
+
 /// The worker threads a render starts: the requested count (every core for 0), but never
 /// more than there are pieces of work (tiles, or rows for the lattice samplers), since
 /// the others could only wait.
 pub fn worker_threads(options: &RenderOptions) -> usize {
     use crate::sampling::SamplerKind;
-    let requested = match options.threads {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        n => n,
-    };
+    let requested = requested_threads(options);
     let pieces = match options.sampler {
         SamplerKind::Corners | SamplerKind::Adaptive => options.height as usize + 1,
         _ => {
@@ -347,14 +363,7 @@ pub fn render_region(
         on_tile,
         cancel,
     };
-    let threads = worker_threads(options);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| RenderError::Threads {
-            threads,
-            message: e.to_string(),
-        })?;
+    let pool = thread_pool(worker_threads(options))?;
 
     let start = Instant::now();
     let traced = pool.install(|| match Sampler::new(options) {

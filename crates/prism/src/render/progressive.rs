@@ -115,20 +115,9 @@ impl Progressive {
         }
         let camera = scene.scene.camera.setup(self.width, self.height)?;
         let integrator = Integrator::new(scene, options);
-        let threads = match options.threads {
-            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-            n => n,
-        }
-        .clamp(1, self.height as usize);
+        let threads = super::requested_threads(options).clamp(1, self.height as usize);
         if self.pool.as_ref().map(|(n, _)| *n) != Some(threads) {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .map_err(|e| RenderError::Threads {
-                    threads,
-                    message: e.to_string(),
-                })?;
-            self.pool = Some((threads, pool));
+            self.pool = Some((threads, super::thread_pool(threads)?));
         }
         let pool = &self.pool.as_ref().expect("just built").1;
         let seed = options.seed;

@@ -207,17 +207,6 @@ impl BeamTracer<'_> {
     /// The ray tracer's rule (`Whitted::spawns`), per fragment: a child of weight `w` in a
     /// beam worth `weight` is traced when it can change the pixel by `min_weight`.
     fn spawns(&self, present: bool, w: Color, weight: Color, stats: &mut Stats) -> bool {
-        if self.spd_rules {
-            return present;
-        }
-        if w.max_element() <= 0.0 {
-            return false;
-        }
-        if (weight * w).max_element() >= self.min_weight {
-            true
-        } else {
-            stats.pruned_rays += 1;
-            false
-        }
+        crate::integrator::spawns((self.spd_rules, self.min_weight), present, w, weight, stats)
     }
 }
