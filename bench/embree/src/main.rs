@@ -17,6 +17,9 @@ use std::path::PathBuf;
 const USAGE: &str = "usage:
   embree-bench run --mesh NAME [--meshes DIR] [--repeats N] [--builds N] [--threads 1,2] [--csv FILE]
       NAME: bunny, blob, sphereflake or soup; CSV rows are appended to FILE
+  embree-bench builds --mesh NAME [--builds N] [--prism-only 1]
+      builds alone: prism's default BVH and Embree MEDIUM in turns, medians of wall and process CPU ms
+      (--prism-only 1: prism alone, for a profiler)
   embree-bench report FILE.csv    markdown tables of a CSV
   embree-bench diff --mesh NAME    primary rays on which prism and Embree disagree
   embree-bench profile --mesh NAME [--repeats N] [--rays primary|incoherent|shadow] [--packets N]
@@ -34,6 +37,8 @@ struct Options {
     rays: Option<String>,
     /// `profile` only: trace in packets of this many rays.
     packets: Option<usize>,
+    /// `builds` only: time prism's build alone.
+    prism_only: bool,
 }
 
 fn main() {
@@ -42,6 +47,7 @@ fn main() {
         Some("run") => parse(&args[1..]).and_then(|o| run(&o)),
         Some("profile") => parse(&args[1..]).and_then(|o| profile(&o)),
         Some("diff") => parse(&args[1..]).and_then(|o| diff(&o)),
+        Some("builds") => parse(&args[1..]).and_then(|o| builds(&o)),
         Some("report") if args.len() == 2 => {
             report::markdown(&PathBuf::from(&args[1])).map(|t| print!("{t}"))
         }
@@ -63,6 +69,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         csv: None,
         rays: None,
         packets: None,
+        prism_only: false,
     };
     let mut it = args.iter();
     while let Some(flag) = it.next() {
@@ -85,6 +92,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             }
             "--csv" => o.csv = Some(PathBuf::from(value)),
             "--rays" => o.rays = Some(value.clone()),
+            "--prism-only" => o.prism_only = number()? != 0,
             "--packets" => o.packets = Some(number()?.clamp(1, prism::accel::PACKET_MAX)),
             _ => return Err(format!("unknown option {flag}\n{USAGE}")),
         }
@@ -158,6 +166,50 @@ fn diff(o: &Options) -> Result<(), String> {
             );
         }
     }
+    Ok(())
+}
+
+/// Builds alone, prism's and Embree MEDIUM's in turns (or prism's alone, for a profiler).
+fn builds(o: &Options) -> Result<(), String> {
+    let mesh = meshes::make(&o.mesh, &o.meshes_dir)?;
+    let geometry = prism_geometry(&mesh)?;
+    let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
+    let device = embree::Device::new();
+    let spec = AccelSpec::default();
+    let (mut ours, mut theirs) = (Vec::new(), Vec::new());
+    let mut sah = f64::NAN;
+    for _ in 0..o.builds {
+        let mut built = None;
+        ours.push(time(|| {
+            built = Some(SceneIntersector::build(&geometry, &spec))
+        }));
+        sah = built
+            .and_then(|b| b.accel.info().sah_cost)
+            .unwrap_or(f64::NAN);
+        if !o.prism_only {
+            let scene =
+                embree::Scene::new(&device, &positions, &mesh.indices, embree::Quality::Medium);
+            theirs.push(time(|| scene.commit()));
+        }
+    }
+    if theirs.is_empty() {
+        theirs.push(measure::Sample {
+            cpu: Default::default(),
+            wall: Default::default(),
+        });
+    }
+    let (a, b) = (median(&ours), median(&theirs));
+    println!(
+        "{}: {} triangles, median of {} builds, wall ms (CPU ms): prism {:.1} ({:.1}), SAH {sah:.2}; embree-M {:.1} ({:.1}); prism / embree-M speed {:.2}x wall",
+        mesh.name,
+        mesh.indices.len(),
+        o.builds,
+        ms(a.wall),
+        ms(a.cpu),
+        ms(b.wall),
+        ms(b.cpu),
+        ms(b.wall) / ms(a.wall)
+    );
     Ok(())
 }
 

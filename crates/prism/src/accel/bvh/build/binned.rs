@@ -3,10 +3,12 @@
 //! One pass bins all three axes; the bins also give each side's bounds, so a child never
 //! passes over its primitives just to bound them.
 
+use super::prim_ref::{PrimRef, SimdBox};
 use super::topdown::{Split, SplitRule, PARALLEL_PASS};
 use super::BuildPrims;
 use crate::accel::bvh::BvhOptions;
 use crate::math::{Aabb, Vec3};
+use glam::Vec3A;
 use rayon::prelude::*;
 
 pub(super) struct BinnedSah {
@@ -35,22 +37,19 @@ pub(super) struct Sweep {
 
 #[derive(Clone, Copy)]
 struct Bin {
-    bounds: Aabb,
-    centroids: Aabb,
+    bounds: SimdBox,
     count: u32,
 }
 
 impl Bin {
     const EMPTY: Bin = Bin {
-        bounds: Aabb::EMPTY,
-        centroids: Aabb::EMPTY,
+        bounds: SimdBox::EMPTY,
         count: 0,
     };
 
     fn merge(&self, other: &Bin) -> Bin {
         Bin {
             bounds: self.bounds.union(&other.bounds),
-            centroids: self.centroids.union(&other.centroids),
             count: self.count + other.count,
         }
     }
@@ -60,30 +59,39 @@ impl Bin {
 /// partitioning follow, so each side of a split is exactly the union of its bins.
 #[derive(Clone, Copy)]
 struct Binning {
-    lo: Vec3,
+    lo: Vec3A,
     /// Bins per unit length; 0 on an axis whose centroids all coincide.
-    scale: Vec3,
+    scale: Vec3A,
+    /// The last bin's number, as a float.
+    last: Vec3A,
     bins: usize,
 }
 
 impl Binning {
+    /// The bins of centroid `c` on the three axes. The clamp keeps the maximum in the last
+    /// bin and sends NaN to bin 0 (`max` returns its argument when a lane is NaN).
     #[inline(always)]
-    fn bin(&self, c: Vec3, axis: usize) -> usize {
-        // `as` saturates (NaN to 0), and the clamp keeps the maximum in the last bin.
-        (((c[axis] - self.lo[axis]) * self.scale[axis]) as usize).min(self.bins - 1)
+    fn bins_of(&self, c: Vec3A) -> [usize; 3] {
+        truncate_lanes(self.position(c).max(Vec3A::ZERO).min(self.last))
     }
 
-    /// Adds primitives `order` to `bins` (three axes' worth, axis-major), reading each
-    /// primitive once.
-    fn fill(&self, prims: &BuildPrims, order: &[u32], bins: &mut [Bin]) {
+    /// Where centroid `c` falls on the three axes, in bins from the first bin's start.
+    #[inline(always)]
+    fn position(&self, c: Vec3A) -> Vec3A {
+        (c - self.lo) * self.scale
+    }
+
+    /// Adds `refs` to `bins` (three axes' worth, axis-major), reading each reference once.
+    fn fill(&self, refs: &[PrimRef], bins: &mut [Bin]) {
         let nb = self.bins;
-        for &i in order {
-            let (c, b) = (prims.centroids[i as usize], &prims.bounds[i as usize]);
-            for axis in 0..3 {
-                let bin = &mut bins[axis * nb + self.bin(c, axis)];
+        let (x, rest) = bins.split_at_mut(nb);
+        let (y, z) = rest.split_at_mut(nb);
+        for r in refs {
+            let (min, max) = (r.min(), r.max());
+            let [bx, by, bz] = self.bins_of(0.5 * (min + max));
+            for bin in [&mut x[bx], &mut y[by], &mut z[bz]] {
                 bin.count += 1;
-                bin.bounds = bin.bounds.union(b);
-                bin.centroids = bin.centroids.union_point(c);
+                bin.bounds.grow(min, max);
             }
         }
     }
@@ -104,40 +112,40 @@ impl SplitRule for BinnedSah {
         &self,
         prims: &BuildPrims,
         sweep: &mut Sweep,
-        order: &mut [u32],
+        refs: &mut [PrimRef],
         bounds: &Aabb,
         centroid_bounds: &Aabb,
     ) -> Option<Split> {
-        let n = order.len();
+        let n = refs.len();
         // Small nodes take as many bins as primitives: more could not separate them better,
         // and clearing unused bins would cost more than binning.
         let nb = self.bins.min(n.max(4));
         let extent = centroid_bounds.max - centroid_bounds.min;
         let scale = Vec3::select(extent.cmpgt(Vec3::ZERO), nb as f32 / extent, Vec3::ZERO);
         let binning = Binning {
-            lo: centroid_bounds.min,
-            scale,
+            lo: centroid_bounds.min.into(),
+            scale: scale.into(),
+            last: Vec3A::splat((nb - 1) as f32),
             bins: nb,
         };
         let bins = &mut sweep.bins[..3 * nb];
-        self.fill_bins(prims, &binning, order, bins);
+        self.fill_bins(&binning, refs, bins);
         match self.best_split(sweep, nb, bounds, scale, prims) {
             Some((axis, k, cost)) => {
                 if n <= self.max_leaf_size && cost >= prims.leaf_cost(n) {
                     return None;
                 }
-                let mid = partition(order, |&i| {
-                    binning.bin(prims.centroids[i as usize], axis) <= k
-                });
+                let (mid, centroids) = partition(refs, &binning, axis, k);
                 let bins = &sweep.bins[axis * nb..][..nb];
-                let side = |bins: &[Bin]| {
-                    let all = bins.iter().fold(Bin::EMPTY, |a, b| a.merge(b));
-                    (all.bounds, all.centroids)
-                };
-                debug_assert!(mid > 0 && mid < n);
+                let side = |bins: &[Bin]| bins.iter().fold(Bin::EMPTY, |a, b| a.merge(b));
+                let (left, right) = (side(&bins[..=k]), side(&bins[k + 1..]));
+                debug_assert!(mid == left.count as usize && mid > 0 && mid < n);
                 Some(Split {
                     mid,
-                    sides: Some([side(&bins[..=k]), side(&bins[k + 1..])]),
+                    sides: Some([
+                        (left.bounds.to_aabb(), centroids[0].to_aabb()),
+                        (right.bounds.to_aabb(), centroids[1].to_aabb()),
+                    ]),
                 })
             }
             // All centroids coincide: SAH cannot separate them, so split the list in half
@@ -149,19 +157,19 @@ impl SplitRule for BinnedSah {
 }
 
 impl BinnedSah {
-    /// Bins `order` on all three axes, in parallel chunks for the nodes near the top.
-    fn fill_bins(&self, prims: &BuildPrims, binning: &Binning, order: &[u32], bins: &mut [Bin]) {
+    /// Bins `refs` on all three axes, in parallel chunks for the nodes near the top.
+    fn fill_bins(&self, binning: &Binning, refs: &[PrimRef], bins: &mut [Bin]) {
         bins.fill(Bin::EMPTY);
-        if order.len() < PARALLEL_PASS {
-            binning.fill(prims, order, bins);
+        if refs.len() < PARALLEL_PASS {
+            binning.fill(refs, bins);
             return;
         }
         // Unions and counts are exact, so how rayon merges the chunks cannot change them.
-        let merged = order
+        let merged = refs
             .par_chunks(PARALLEL_PASS / 2)
             .map(|chunk| {
                 let mut local = vec![Bin::EMPTY; bins.len()];
-                binning.fill(prims, chunk, &mut local);
+                binning.fill(chunk, &mut local);
                 local
             })
             .reduce(
@@ -194,14 +202,15 @@ impl BinnedSah {
             }
             let bins = &bins[axis * nb..][..nb];
             // Sweep from the right, then from the left, evaluating the split after bin k.
-            let (mut acc, mut count) = (Aabb::EMPTY, 0);
+            // A side's area is only used when it holds primitives (so its box is not empty).
+            let (mut acc, mut count) = (SimdBox::EMPTY, 0);
             for k in (1..nb).rev() {
                 acc = acc.union(&bins[k].bounds);
                 count += bins[k].count;
                 right_area[k] = acc.surface_area();
                 right_count[k] = count;
             }
-            let (mut acc, mut count) = (Aabb::EMPTY, 0);
+            let (mut acc, mut count) = (SimdBox::EMPTY, 0);
             for k in 0..nb - 1 {
                 acc = acc.union(&bins[k].bounds);
                 count += bins[k].count;
@@ -221,14 +230,144 @@ impl BinnedSah {
     }
 }
 
-/// In-place partition; returns the number of elements for which `pred` holds (now first).
-fn partition<T>(items: &mut [T], pred: impl Fn(&T) -> bool) -> usize {
-    let mut first = 0;
-    for i in 0..items.len() {
-        if pred(&items[i]) {
-            items.swap(first, i);
-            first += 1;
+/// Truncates lanes known to lie in [0, 2²³) to integers without `as`, which would check
+/// each lane for NaN and overflow (a fifth of binning's time): an integer-valued float
+/// plus 2²³ holds the integer in its mantissa's bits.
+#[inline(always)]
+fn truncate_lanes(v: Vec3A) -> [usize; 3] {
+    const MANTISSA: u32 = (1 << 23) - 1;
+    let f = v.floor() + Vec3A::splat(8_388_608.0);
+    [
+        (f.x.to_bits() & MANTISSA) as usize,
+        (f.y.to_bits() & MANTISSA) as usize,
+        (f.z.to_bits() & MANTISSA) as usize,
+    ]
+}
+
+/// Moves the references whose bin on `axis` is at most `last_left` to the front, and
+/// returns how many they are and the centroid bounds of both sides. Two cursors swap
+/// misplaced pairs, so each reference moves at most once.
+fn partition(
+    refs: &mut [PrimRef],
+    binning: &Binning,
+    axis: usize,
+    last_left: usize,
+) -> (usize, [SimdBox; 2]) {
+    // bins_of(c)[axis] <= last_left exactly when the unclamped position is below the next
+    // bin's start (NaN, which bins_of sends to bin 0, compares false and goes left too),
+    // which saves the conversion to an integer.
+    let next = (last_left + 1) as f32;
+    let goes_right = |c: Vec3A| binning.position(c)[axis] >= next;
+    let (mut left, mut right) = (SimdBox::EMPTY, SimdBox::EMPTY);
+    let (mut i, mut j) = (0, refs.len());
+    loop {
+        // Advance i over references that belong left, j back over those that belong right.
+        while i < j {
+            let c = refs[i].centroid();
+            if goes_right(c) {
+                break;
+            }
+            left.grow_point(c);
+            i += 1;
+        }
+        while i < j {
+            let c = refs[j - 1].centroid();
+            if !goes_right(c) {
+                break;
+            }
+            right.grow_point(c);
+            j -= 1;
+        }
+        if i == j {
+            return (i, [left, right]);
+        }
+        // refs[i] belongs right and refs[j - 1] left: swap them into place.
+        refs.swap(i, j - 1);
+        left.grow_point(refs[i].centroid());
+        right.grow_point(refs[j - 1].centroid());
+        i += 1;
+        j -= 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::hash::uniform;
+
+    /// References with centroids spread over [lo, lo + 16·size) on every axis, a quarter of
+    /// them exactly on bin borders (where truncation and the partition's comparison must
+    /// agree).
+    fn references(n: u32, lo: f32, size: f32) -> Vec<PrimRef> {
+        (0..n)
+            .map(|i| {
+                let c = Vec3::from_array(std::array::from_fn(|a| {
+                    let u = uniform(i, 0, 0, a as u32, 7) * 16.0;
+                    lo + size * if i % 4 == 0 { u.floor() } else { u }
+                }));
+                PrimRef::new(i, &Aabb::new(c, c))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_partition_splits_where_the_bins_do() {
+        for (lo, size) in [(-3.0, 1e-3), (0.0, 1.0), (1e3, 1e3)] {
+            let refs = references(500, lo, size);
+            let extent = refs.iter().fold(SimdBox::EMPTY, |mut b, r| {
+                b.grow_point(r.centroid());
+                b
+            });
+            let nb = 16;
+            let binning = Binning {
+                lo: extent.min,
+                scale: nb as f32 / (extent.max - extent.min),
+                last: Vec3A::splat((nb - 1) as f32),
+                bins: nb,
+            };
+            let mut bins = vec![Bin::EMPTY; 3 * nb];
+            binning.fill(&refs, &mut bins);
+            for axis in 0..3 {
+                let axis_bins = &bins[axis * nb..][..nb];
+                assert_eq!(axis_bins.iter().map(|b| b.count).sum::<u32>(), 500);
+                for k in 0..nb - 1 {
+                    let mut moved = refs.clone();
+                    let (mid, [left, right]) = partition(&mut moved, &binning, axis, k);
+                    let expected: u32 = axis_bins[..=k].iter().map(|b| b.count).sum();
+                    assert_eq!(mid, expected as usize, "scale {size}, axis {axis}, bin {k}");
+                    for (i, r) in moved.iter().enumerate() {
+                        let bin = binning.bins_of(r.centroid())[axis];
+                        assert_eq!(bin <= k, i < mid, "scale {size}, axis {axis}, bin {k}");
+                        let side = if i < mid { left } else { right };
+                        let c = r.centroid();
+                        assert!(side.min.cmple(c).all() && side.max.cmpge(c).all());
+                    }
+                    let mut indices: Vec<u32> = moved.iter().map(PrimRef::index).collect();
+                    indices.sort_unstable();
+                    assert!(indices.iter().copied().eq(0..500));
+                }
+            }
         }
     }
-    first
+
+    #[test]
+    fn truncation_is_the_integer_part() {
+        for x in [
+            0.0,
+            0.25,
+            0.999_999_9,
+            1.0,
+            7.5,
+            15.0,
+            15.999_999,
+            31.0,
+            4_194_303.5,
+        ] {
+            let v = Vec3A::new(x, x * 0.5, (x * 0.25).floor());
+            assert_eq!(
+                truncate_lanes(v),
+                [x as usize, (x * 0.5) as usize, (x * 0.25).floor() as usize]
+            );
+        }
+    }
 }

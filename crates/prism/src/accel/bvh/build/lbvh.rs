@@ -21,13 +21,12 @@ pub(super) fn build(
     traversal_cost: f32,
     parallel_threshold: usize,
 ) -> Vec<Node> {
-    let centroid_bounds = prims
-        .centroids
+    let centroids: Vec<Vec3> = prims.bounds.par_iter().map(Aabb::center).collect();
+    let centroid_bounds = centroids
         .par_iter()
         .fold(|| Aabb::EMPTY, |b, &c| b.union_point(c))
         .reduce(|| Aabb::EMPTY, |a, b| a.union(&b));
-    let mut keyed: Vec<(u64, u32)> = prims
-        .centroids
+    let mut keyed: Vec<(u64, u32)> = centroids
         .par_iter()
         .zip(order.par_iter())
         .map(|(&c, &i)| (morton_code(c, &centroid_bounds), i))

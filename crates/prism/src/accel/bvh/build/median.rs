@@ -1,6 +1,7 @@
 //! Object median splits: halve the primitives by centroid along the longest axis of their
 //! centroid bounds. Cheap and balanced, but blind to surface area.
 
+use super::prim_ref::PrimRef;
 use super::topdown::{Split, SplitRule};
 use super::BuildPrims;
 use crate::math::Aabb;
@@ -16,9 +17,9 @@ impl SplitRule for ObjectMedian {
 
     fn split(
         &self,
-        prims: &BuildPrims,
+        _: &BuildPrims,
         _: &mut (),
-        order: &mut [u32],
+        order: &mut [PrimRef],
         _bounds: &Aabb,
         centroid_bounds: &Aabb,
     ) -> Option<Split> {
@@ -28,12 +29,9 @@ impl SplitRule for ObjectMedian {
         let axis = centroid_bounds.longest_axis();
         let mid = order.len() / 2;
         // Ties broken by position, so equal centroids still split deterministically.
-        order.select_nth_unstable_by(mid, |&a, &b| {
-            let (ca, cb) = (
-                prims.centroids[a as usize][axis],
-                prims.centroids[b as usize][axis],
-            );
-            ca.total_cmp(&cb).then(a.cmp(&b))
+        order.select_nth_unstable_by(mid, |a, b| {
+            let (ca, cb) = (a.centroid()[axis], b.centroid()[axis]);
+            ca.total_cmp(&cb).then(a.index().cmp(&b.index()))
         });
         Some(Split::at(mid))
     }

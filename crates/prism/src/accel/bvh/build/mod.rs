@@ -5,19 +5,20 @@ mod binned;
 mod lbvh;
 mod median;
 mod presplit;
+mod prim_ref;
 mod stitch;
 mod sweep;
 mod topdown;
 
-use super::{reinsert, Bvh, BvhBuilder, BvhOptions};
+use super::{reinsert, Bvh, BvhBuilder, BvhOptions, Node};
 use crate::geometry::Geometry;
-use crate::math::{Aabb, Vec3};
+use crate::math::Aabb;
+use prim_ref::PrimRef;
 use rayon::prelude::*;
 
 /// What the builders see of the primitives, indexed by build position (0..n).
 pub(super) struct BuildPrims {
     pub bounds: Vec<Aabb>,
-    pub centroids: Vec<Vec3>,
     /// How many primitives a leaf tests in one step: 4 when every primitive is a triangle
     /// (the leaves become `TrianglePack`s, `leaves.rs`), else 1.
     pub test_block: usize,
@@ -53,10 +54,14 @@ impl Bvh {
         });
         let test_block = if all_triangles { 4 } else { 1 };
         let mut bvh = Bvh::build_blocks(prims, bounds, options, test_block);
+        if geometry.meshes.is_empty() {
+            return bvh;
+        }
+        let corners = super::leaves::triangle_corners(geometry);
         bvh.packs = if bvh.wide8.is_empty() {
-            super::leaves::pack_triangles(&mut bvh.wide, &bvh.prims, geometry)
+            super::leaves::pack_triangles(&mut bvh.wide, &bvh.prims, &corners)
         } else {
-            super::leaves::pack_triangles(&mut bvh.wide8, &bvh.prims, geometry)
+            super::leaves::pack_triangles(&mut bvh.wide8, &bvh.prims, &corners)
         };
         bvh
     }
@@ -79,27 +84,40 @@ impl Bvh {
         options: &BvhOptions,
         test_block: usize,
     ) -> Bvh {
-        let centroids = bounds.par_iter().map(Aabb::center).collect();
-        let input = BuildPrims {
-            bounds,
-            centroids,
-            test_block,
-        };
+        let input = BuildPrims { bounds, test_block };
         // Work on positions 0..n; map back to primitive ids at the end.
         let mut order: Vec<u32> = (0..prims.len() as u32).collect();
         let threshold = options.parallel_threshold.max(1);
         let max_leaf_size = options.max_leaf_size.max(1);
+        // The top-down builders move references (box and position) rather than positions.
+        let top_down = |rule: &dyn Fn(&mut [PrimRef]) -> Vec<Node>, order: &mut [u32]| {
+            let mut refs: Vec<PrimRef> = (input.bounds.par_iter().enumerate())
+                .map(|(i, b)| PrimRef::new(i as u32, b))
+                .collect();
+            let nodes = rule(&mut refs);
+            order
+                .par_iter_mut()
+                .zip(&refs)
+                .for_each(|(slot, r)| *slot = r.index());
+            nodes
+        };
         let mut nodes = if order.is_empty() {
             Vec::new()
         } else {
             match options.builder {
                 BvhBuilder::Median => {
                     let rule = median::ObjectMedian { max_leaf_size };
-                    topdown::build(&rule, &input, &mut order, threshold)
+                    top_down(
+                        &|refs| topdown::build(&rule, &input, refs, threshold),
+                        &mut order,
+                    )
                 }
                 BvhBuilder::Binned => {
                     let rule = binned::BinnedSah::new(options);
-                    topdown::build(&rule, &input, &mut order, threshold)
+                    top_down(
+                        &|refs| topdown::build(&rule, &input, refs, threshold),
+                        &mut order,
+                    )
                 }
                 BvhBuilder::Sweep => {
                     let rule = sweep::FullSweepSah {
@@ -107,7 +125,10 @@ impl Bvh {
                         traversal_cost: options.traversal_cost,
                         parallel_threshold: threshold,
                     };
-                    topdown::build(&rule, &input, &mut order, threshold)
+                    top_down(
+                        &|refs| topdown::build(&rule, &input, refs, threshold),
+                        &mut order,
+                    )
                 }
                 BvhBuilder::Lbvh => lbvh::build(
                     &input,

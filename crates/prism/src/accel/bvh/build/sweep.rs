@@ -2,6 +2,7 @@
 //! sorted by centroid and every split between neighbours is costed exactly, with the
 //! right-hand boxes accumulated in one backward pass. O(n log n) per node.
 
+use super::prim_ref::PrimRef;
 use super::topdown::{Split, SplitRule};
 use super::BuildPrims;
 use crate::math::Aabb;
@@ -34,7 +35,7 @@ impl SplitRule for FullSweepSah {
         &self,
         prims: &BuildPrims,
         buffers: &mut Buffers,
-        order: &mut [u32],
+        order: &mut [PrimRef],
         bounds: &Aabb,
         centroid_bounds: &Aabb,
     ) -> Option<Split> {
@@ -49,11 +50,7 @@ impl SplitRule for FullSweepSah {
             }
             let sorted = &mut buffers.sorted;
             sorted.clear();
-            sorted.extend(
-                order
-                    .iter()
-                    .map(|&i| (prims.centroids[i as usize][axis], i)),
-            );
+            sorted.extend(order.iter().map(|r| (r.centroid()[axis], r.index())));
             // Keys are unique (ties broken by position), so any sort gives the same order.
             let by_key = |a: &(f32, u32), b: &(f32, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
             if n > self.parallel_threshold {
@@ -90,7 +87,7 @@ impl SplitRule for FullSweepSah {
                     return None;
                 }
                 for (slot, &(_, i)) in order.iter_mut().zip(&buffers.best) {
-                    *slot = i;
+                    *slot = PrimRef::new(i, &prims.bounds[i as usize]);
                 }
                 Some(Split::at(k))
             }

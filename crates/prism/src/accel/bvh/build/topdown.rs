@@ -3,6 +3,7 @@
 //! and subtrees above a size threshold built in parallel with `rayon::join`. Subtrees are
 //! stitched in serial build order, so the tree is the same for any thread count.
 
+use super::prim_ref::{PrimRef, SimdBox};
 use super::stitch::NodeBlock;
 use super::BuildPrims;
 use crate::accel::bvh::{Node, MAX_DEPTH};
@@ -21,14 +22,14 @@ pub(super) trait SplitRule: Sync {
 
     fn scratch(&self) -> Self::Scratch;
 
-    /// `None` makes `order` a leaf; `Some(split)`, with `0 < split.mid < order.len()`,
-    /// splits it into `order[..mid]` and `order[mid..]` after reordering it. Only called on
+    /// `None` makes `refs` a leaf; `Some(split)`, with `0 < split.mid < refs.len()`,
+    /// splits it into `refs[..mid]` and `refs[mid..]` after reordering it. Only called on
     /// two or more primitives.
     fn split(
         &self,
         prims: &BuildPrims,
         scratch: &mut Self::Scratch,
-        order: &mut [u32],
+        refs: &mut [PrimRef],
         bounds: &Aabb,
         centroid_bounds: &Aabb,
     ) -> Option<Split>;
@@ -52,11 +53,11 @@ impl Split {
 /// A node's bounds and the bounds of its primitives' centroids.
 pub(super) type Extent = (Aabb, Aabb);
 
-/// Builds the tree over `order` (positions into `prims`), reordering it into leaf order.
+/// Builds the tree over `refs`, reordering them into leaf order.
 pub(super) fn build<R: SplitRule>(
     rule: &R,
     prims: &BuildPrims,
-    order: &mut [u32],
+    refs: &mut [PrimRef],
     parallel_threshold: usize,
 ) -> Vec<Node> {
     let top = TopDown {
@@ -64,7 +65,7 @@ pub(super) fn build<R: SplitRule>(
         prims,
         parallel_threshold,
     };
-    top.block(order, 0, 1, None).into_nodes()
+    top.block(refs, 0, 1, None).into_nodes()
 }
 
 struct TopDown<'a, R> {
@@ -74,78 +75,80 @@ struct TopDown<'a, R> {
 }
 
 impl<R: SplitRule> TopDown<'_, R> {
-    /// The bounds of a node at `depth` over `order` (`extent` when the parent knows it),
+    /// The bounds of a node at `depth` over `refs` (`extent` when the parent knows it),
     /// and where to split it (`None`: leaf).
     fn decide(
         &self,
         scratch: &mut R::Scratch,
-        order: &mut [u32],
+        refs: &mut [PrimRef],
         depth: usize,
         extent: Option<Extent>,
     ) -> (Aabb, Option<Split>) {
-        let (bounds, centroid_bounds) = extent.unwrap_or_else(|| self.extent(order));
-        if order.len() == 1 || depth >= MAX_DEPTH - 1 {
+        let (bounds, centroid_bounds) = extent.unwrap_or_else(|| extent_of(refs));
+        if refs.len() == 1 || depth >= MAX_DEPTH - 1 {
             return (bounds, None);
         }
         let split = self
             .rule
-            .split(self.prims, scratch, order, &bounds, &centroid_bounds);
+            .split(self.prims, scratch, refs, &bounds, &centroid_bounds);
         debug_assert!(split
             .as_ref()
-            .is_none_or(|s| s.mid > 0 && s.mid < order.len()));
+            .is_none_or(|s| s.mid > 0 && s.mid < refs.len()));
         (bounds, split)
     }
 
-    /// The bounds and centroid bounds of `order`, in one pass.
-    fn extent(&self, order: &[u32]) -> Extent {
-        let fold = |chunk: &[u32]| {
-            chunk.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), &i| {
-                (
-                    b.union(&self.prims.bounds[i as usize]),
-                    c.union_point(self.prims.centroids[i as usize]),
-                )
-            })
-        };
-        if order.len() < PARALLEL_PASS {
-            return fold(order);
-        }
-        // Unions are exact, so the chunks' order of merging cannot change the result.
-        order.par_chunks(PARALLEL_PASS / 2).map(fold).reduce(
-            || (Aabb::EMPTY, Aabb::EMPTY),
-            |(a, b), (c, d)| (a.union(&c), b.union(&d)),
-        )
-    }
-
-    /// The subtree over `order`, whose first primitive sits at `offset` in leaf order.
+    /// The subtree over `refs`, whose first primitive sits at `offset` in leaf order.
     fn block(
         &self,
-        order: &mut [u32],
+        refs: &mut [PrimRef],
         offset: u32,
         depth: usize,
         extent: Option<Extent>,
     ) -> NodeBlock {
-        if order.len() <= self.parallel_threshold {
+        if refs.len() <= self.parallel_threshold {
             let mut serial = Serial {
                 top: self,
                 scratch: self.rule.scratch(),
-                nodes: Self::first_node(order.len()),
+                nodes: Self::first_node(refs.len()),
             };
-            serial.subdivide(0, order, offset, depth, extent);
+            serial.subdivide(0, refs, offset, depth, extent);
             return NodeBlock::Serial(serial.nodes);
         }
-        let n = order.len();
-        let (bounds, split) = self.decide(&mut self.rule.scratch(), order, depth, extent);
+        let n = refs.len();
+        let (bounds, split) = self.decide(&mut self.rule.scratch(), refs, depth, extent);
         let Some(Split { mid, sides }) = split else {
             return NodeBlock::leaf(Node::leaf(bounds, offset, n));
         };
         let [lo_extent, hi_extent] = sides.map_or([None, None], |s| s.map(Some));
-        let (lo, hi) = order.split_at_mut(mid);
+        let (lo, hi) = refs.split_at_mut(mid);
         let (left, right) = rayon::join(
             || self.block(lo, offset, depth + 1, lo_extent),
             || self.block(hi, offset + mid as u32, depth + 1, hi_extent),
         );
         NodeBlock::split(Node::interior(bounds, 0), left, right)
     }
+}
+
+/// The bounds and centroid bounds of `refs`, in one pass (in parallel chunks for big
+/// nodes: unions are exact, so the chunks' order of merging cannot change the result).
+fn extent_of(refs: &[PrimRef]) -> Extent {
+    let fold = |chunk: &[PrimRef]| {
+        let (mut b, mut c) = (SimdBox::EMPTY, SimdBox::EMPTY);
+        for r in chunk {
+            b.grow(r.min(), r.max());
+            c.grow_point(r.centroid());
+        }
+        (b, c)
+    };
+    let (b, c) = if refs.len() < PARALLEL_PASS {
+        fold(refs)
+    } else {
+        refs.par_chunks(PARALLEL_PASS / 2).map(fold).reduce(
+            || (SimdBox::EMPTY, SimdBox::EMPTY),
+            |(a, b), (c, d)| (a.union(&c), b.union(&d)),
+        )
+    };
+    (b.to_aabb(), c.to_aabb())
 }
 
 /// A subtree built on one thread, depth first into one vector.
@@ -168,14 +171,14 @@ impl<R: SplitRule> Serial<'_, '_, R> {
     fn subdivide(
         &mut self,
         index: usize,
-        order: &mut [u32],
+        refs: &mut [PrimRef],
         offset: u32,
         depth: usize,
         extent: Option<Extent>,
     ) {
-        let (bounds, split) = self.top.decide(&mut self.scratch, order, depth, extent);
+        let (bounds, split) = self.top.decide(&mut self.scratch, refs, depth, extent);
         let Some(Split { mid, sides }) = split else {
-            self.nodes[index] = Node::leaf(bounds, offset, order.len());
+            self.nodes[index] = Node::leaf(bounds, offset, refs.len());
             return;
         };
         let left = self.nodes.len();
@@ -183,7 +186,7 @@ impl<R: SplitRule> Serial<'_, '_, R> {
         let placeholder = Node::leaf(Aabb::EMPTY, 0, 0);
         self.nodes.extend([placeholder, placeholder]);
         let [lo_extent, hi_extent] = sides.map_or([None, None], |s| s.map(Some));
-        let (lo, hi) = order.split_at_mut(mid);
+        let (lo, hi) = refs.split_at_mut(mid);
         self.subdivide(left, lo, offset, depth + 1, lo_extent);
         self.subdivide(left + 1, hi, offset + mid as u32, depth + 1, hi_extent);
     }
