@@ -117,6 +117,11 @@ impl SplitRule for BinnedSah {
         centroid_bounds: &Aabb,
     ) -> Option<Split> {
         let n = refs.len();
+        // Every split costs at least one traversal step, so where a leaf costs no more the
+        // split below could never win (this answers most nodes of a few primitives).
+        if n <= self.max_leaf_size && prims.leaf_cost(n) <= self.traversal_cost {
+            return None;
+        }
         // Small nodes take as many bins as primitives: more could not separate them better,
         // and clearing unused bins would cost more than binning.
         let nb = self.bins.min(n.max(4));
