@@ -6,7 +6,7 @@
 //! way a hit is built exist once, here, and every method gives the same answer as the
 //! brute-force list whatever order it walks in.
 
-use crate::geometry::{Geometry, PackRay, ShapeHit, ShapeKind, TrianglePack};
+use crate::geometry::{DecidedHit, Geometry, PackRay, ShapeHit, ShapeKind, TrianglePack};
 use crate::math::robust::next_up;
 use crate::math::TraceRay;
 use crate::stats::Stats;
@@ -134,24 +134,31 @@ impl HitSearch {
             let answered = if hits.undecided & (1 << lane) != 0 {
                 self.test_pack_lane(pack, lane, ray)
             } else {
-                let prim = pack.ids[lane];
-                match hits.within(lane, self.limit_for(prim)) {
-                    Some(h) => self.keep(Hit::new(
-                        prim,
-                        ShapeHit {
-                            t: h.t,
-                            u: h.b1,
-                            v: h.b2,
-                        },
-                    )),
-                    None => false,
-                }
+                self.keep_decided(pack.ids[lane], &hits.decided(lane))
             };
             if answered {
                 return true;
             }
         }
         false
+    }
+
+    /// Keeps triangle `prim`'s hit, decided by a SIMD pass at `nested_limit`, if it holds
+    /// at this search's bound for `prim` (what `test_pack_lane` would find); true when the
+    /// query is answered.
+    #[inline(always)]
+    pub(crate) fn keep_decided(&mut self, prim: u32, decided: &DecidedHit) -> bool {
+        match decided.within(self.limit_for(prim)) {
+            Some(h) => self.keep(Hit::new(
+                prim,
+                ShapeHit {
+                    t: h.t,
+                    u: h.b1,
+                    v: h.b2,
+                },
+            )),
+            None => false,
+        }
     }
 
     /// The scalar test of triangle `lane` of `pack`, which a first pass kept (uncounted:

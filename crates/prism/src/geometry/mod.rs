@@ -19,7 +19,7 @@ pub use mesh::{MeshError, TriangleMesh};
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::{intersect_triangle, TriangleHit};
-pub use triangle_pack::{PackRay, TrianglePack};
+pub use triangle_pack::{DecidedHit, PackRay, TrianglePack};
 
 use crate::math::{Aabb, Ray, TraceRay, Vec2, Vec3};
 

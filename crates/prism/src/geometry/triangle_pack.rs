@@ -257,21 +257,50 @@ impl PackHits {
         b2: Vec4::ZERO,
     };
 
-    /// Lane `lane`'s hit (one of `hit`) if it also holds at the tighter bound `t_max`:
-    /// what `intersect_triangle(ray, …, t_max)` reports, for the comparisons of the bound
-    /// are made again on the lane's own values.
+    /// Lane `lane`'s values (a lane of `hit`), for `DecidedHit::within`.
     #[inline(always)]
-    pub fn within(&self, lane: usize, t_max: f32) -> Option<TriangleHit> {
-        let (det, t_scaled, t) = (self.det[lane], self.t_scaled[lane], self.t[lane]);
-        let beyond = if det < 0.0 {
-            t_scaled < t_max * det
-        } else {
-            t_scaled > t_max * det
-        };
-        (!beyond && t < t_max).then(|| TriangleHit {
-            t,
+    pub fn decided(&self, lane: usize) -> DecidedHit {
+        DecidedHit {
+            det: self.det[lane],
+            t_scaled: self.t_scaled[lane],
+            t: self.t[lane],
             b1: self.b1[lane],
             b2: self.b2[lane],
+        }
+    }
+}
+
+/// One lane's hit, decided by a SIMD pass of the watertight test at some bound: the
+/// values the scalar test would compute, from which the hit at a tighter bound follows.
+#[derive(Clone, Copy, Debug)]
+pub struct DecidedHit {
+    /// The determinant (sum of the edge functions).
+    pub det: f32,
+    /// The distance times the determinant, before the division.
+    pub t_scaled: f32,
+    /// The distance.
+    pub t: f32,
+    /// The barycentric coordinate of the second vertex.
+    pub b1: f32,
+    /// The barycentric coordinate of the third vertex.
+    pub b2: f32,
+}
+
+impl DecidedHit {
+    /// The hit if it also holds at the tighter bound `t_max`: what `intersect_triangle(ray,
+    /// …, t_max)` reports, for the comparisons of the bound are made again on the lane's
+    /// own values.
+    #[inline(always)]
+    pub fn within(&self, t_max: f32) -> Option<TriangleHit> {
+        let beyond = if self.det < 0.0 {
+            self.t_scaled < t_max * self.det
+        } else {
+            self.t_scaled > t_max * self.det
+        };
+        (!beyond && self.t < t_max).then_some(TriangleHit {
+            t: self.t,
+            b1: self.b1,
+            b2: self.b2,
         })
     }
 }
@@ -420,14 +449,18 @@ mod tests {
                         decided += 1;
                         let scalar = |bound| intersect_triangle(&ray, v[0], v[1], v[2], bound);
                         let found = (hits.hit & (1 << lane) != 0)
-                            .then(|| hits.within(lane, t_max))
+                            .then(|| hits.decided(lane).within(t_max))
                             .flatten();
                         assert_eq!(found, scalar(t_max), "case {case} lane {lane} at {t_max}");
                         let Some(h) = found else { continue };
                         hit += 1;
                         // Tighter bounds: around the hit itself, where rounding decides.
                         for bound in [next_up(h.t), h.t, next_down(h.t), 0.5 * h.t] {
-                            assert_eq!(hits.within(lane, bound), scalar(bound), "case {case}");
+                            assert_eq!(
+                                hits.decided(lane).within(bound),
+                                scalar(bound),
+                                "case {case}"
+                            );
                         }
                     }
                 }

@@ -18,7 +18,7 @@ use super::wide::WideNode;
 use super::Bvh;
 use crate::accel::query::HitSearch;
 use crate::accel::{Hit, QueryMode, CULL_SLACK, PACKET_MAX};
-use crate::geometry::{Geometry, PackRay, TrianglePack};
+use crate::geometry::{DecidedHit, Geometry, PackRay, TrianglePack};
 use crate::math::TraceRay;
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
@@ -289,6 +289,14 @@ impl PacketSearch {
         }
         (self.t_max, self.t_min) = (t_max, t_min);
         self.done == self.all
+    }
+
+    /// Ray i keeps triangle `prim`'s hit if it holds at its own bound: `decided` by a SIMD
+    /// pass at `nested[i]`.
+    #[inline(always)]
+    pub(super) fn keep_decided(&mut self, i: usize, prim: u32, decided: &DecidedHit) {
+        let answered = self.searches[i].keep_decided(prim, decided);
+        self.settle(i, answered);
     }
 
     /// The scalar test of triangle `lane` of `pack` for ray i, which a first pass kept.

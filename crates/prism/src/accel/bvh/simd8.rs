@@ -91,7 +91,8 @@ mod x86 {
     use crate::accel::bvh::packet::Packet4;
     use crate::accel::bvh::traverse::{CullBound, Visit};
     use crate::accel::query::HitSearch;
-    use crate::geometry::ShapeKind;
+    use crate::geometry::{DecidedHit, ShapeKind};
+    use crate::math::robust::gamma;
     use crate::math::TraceRay;
     use crate::stats::Stats;
     use std::arch::x86_64::*;
@@ -293,20 +294,23 @@ mod x86 {
         out
     }
 
-    /// The rays of `rays_in` that triangle `lane` of `pack` may hit before their bound
-    /// for a first pass (`nested`): `TrianglePack::candidates`' operations, in the same
-    /// order, one triangle against eight rays sharing the axis permutation `k`, so each
-    /// ray keeps exactly the triangles its own first pass keeps.
+    /// Triangle `lane` of `pack` against the rays of `rays` (a bit per ray), which share
+    /// the axis permutation `k`, eight rays per step: the whole watertight test as
+    /// `TrianglePack::hits` runs it for one ray and four triangles (the same operations in
+    /// the same order, the division and pbrt's bound on t included) at each ray's
+    /// `nested` bound. A hit so decided is kept if it holds at the ray's own bound
+    /// (`HitSearch::keep_decided`); rays with an exact zero edge function (which the
+    /// scalar test re-evaluates in f64) or a value that is not finite take the scalar test.
     #[target_feature(enable = "avx2,popcnt")]
     #[inline]
-    fn triangle_candidates(
+    fn test_triangle(
         pack: &TrianglePack,
         lane: usize,
         k: [usize; 3],
-        rays_in: u64,
+        rays: u64,
         soa: &RaySoa<'_>,
-        nested: &[f32; 64],
-    ) -> u64 {
+        search: &mut PacketSearch,
+    ) {
         let v = pack.lanes_by_vertex();
         let vertex = |i: usize| k.map(|axis| _mm256_set1_ps(v[i][axis][lane]));
         let (pa, pb, pc) = (vertex(0), vertex(1), vertex(2));
@@ -314,11 +318,28 @@ mod x86 {
             // SAFETY: `at + 8 <= 64`; unaligned load.
             unsafe { _mm256_loadu_ps(v.as_ptr().add(at)) }
         };
+        let store = |v: __m256| {
+            let mut out = [0.0f32; 8];
+            // SAFETY: `out` holds eight f32s; unaligned store.
+            unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };
+            out
+        };
         let zero = _mm256_setzero_ps();
-        let mut out = 0u64;
+        let sign = _mm256_set1_ps(-0.0);
+        let abs = |x| _mm256_andnot_ps(sign, x);
+        let splat = |x: f32| _mm256_set1_ps(x);
+        let (add, sub, mul) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps);
+        let eq = |x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero);
+        let lt = |x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero);
+        let gt = |x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero);
+        let or = |x, y| _mm256_or_ps(x, y);
+        let and = |x, y| _mm256_and_ps(x, y);
+        let abs_max =
+            |x: [__m256; 3]| _mm256_max_ps(_mm256_max_ps(abs(x[0]), abs(x[1])), abs(x[2]));
+        let prim = pack.ids[lane];
         for group in 0..8 {
             let at = 8 * group;
-            let wanted = (rays_in >> at) & 0xff;
+            let wanted = (rays >> at) & 0xff;
             if wanted == 0 {
                 continue;
             }
@@ -328,36 +349,22 @@ mod x86 {
                 load(&soa.shear[1], at),
                 load(&soa.shear[2], at),
             );
-            let rel = |p: &[__m256; 3]| [0, 1, 2].map(|a| _mm256_sub_ps(p[a], o[a]));
+            let rel = |p: &[__m256; 3]| [0, 1, 2].map(|a| sub(p[a], o[a]));
             let (a, b, c) = (rel(&pa), rel(&pb), rel(&pc));
-            let sheared = |p: &[__m256; 3]| {
-                (
-                    _mm256_sub_ps(p[0], _mm256_mul_ps(sx, p[2])),
-                    _mm256_sub_ps(p[1], _mm256_mul_ps(sy, p[2])),
-                )
-            };
+            let sheared = |p: &[__m256; 3]| (sub(p[0], mul(sx, p[2])), sub(p[1], mul(sy, p[2])));
             let (ax, ay) = sheared(&a);
             let (bx, by) = sheared(&b);
             let (cx, cy) = sheared(&c);
-            let u = _mm256_sub_ps(_mm256_mul_ps(cx, by), _mm256_mul_ps(cy, bx));
-            let v = _mm256_sub_ps(_mm256_mul_ps(ax, cy), _mm256_mul_ps(ay, cx));
-            let w = _mm256_sub_ps(_mm256_mul_ps(bx, ay), _mm256_mul_ps(by, ax));
-            let eq = |x| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, zero);
-            let lt = |x| _mm256_cmp_ps::<_CMP_LT_OQ>(x, zero);
-            let gt = |x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero);
-            let or = |x, y| _mm256_or_ps(x, y);
-            let and = |x, y| _mm256_and_ps(x, y);
+            let u = sub(mul(cx, by), mul(cy, bx));
+            let v = sub(mul(ax, cy), mul(ay, cx));
+            let w = sub(mul(bx, ay), mul(by, ax));
             let exact_zero = or(or(eq(u), eq(v)), eq(w));
             let outside = and(or(or(lt(u), lt(v)), lt(w)), or(or(gt(u), gt(v)), gt(w)));
-            let det = _mm256_add_ps(_mm256_add_ps(u, v), w);
-            let az = _mm256_mul_ps(sz, a[2]);
-            let bz = _mm256_mul_ps(sz, b[2]);
-            let cz = _mm256_mul_ps(sz, c[2]);
-            let t_scaled = _mm256_add_ps(
-                _mm256_add_ps(_mm256_mul_ps(u, az), _mm256_mul_ps(v, bz)),
-                _mm256_mul_ps(w, cz),
-            );
-            let limit = _mm256_mul_ps(load(nested, at), det);
+            let det = add(add(u, v), w);
+            let (az, bz, cz) = (mul(sz, a[2]), mul(sz, b[2]), mul(sz, c[2]));
+            let t_scaled = add(add(mul(u, az), mul(v, bz)), mul(w, cz));
+            let nested = load(&search.nested, at);
+            let limit = mul(nested, det);
             let behind_or_beyond = or(
                 and(
                     lt(det),
@@ -374,11 +381,75 @@ mod x86 {
                     ),
                 ),
             );
-            let rejected = _mm256_movemask_ps(or(or(outside, behind_or_beyond), eq(det)))
-                & !_mm256_movemask_ps(exact_zero);
-            out |= ((!rejected as u64) & wanted) << at;
+            let rejected = _mm256_movemask_ps(or(or(outside, behind_or_beyond), eq(det))) as u64;
+            let exact_zero = _mm256_movemask_ps(exact_zero) as u64 & wanted;
+            let open = !rejected & !exact_zero & wanted;
+            let mut undecided = exact_zero;
+            if open != 0 {
+                // The division and pbrt-v4's bound on the rounding of t, as the scalar test.
+                let inv = _mm256_div_ps(splat(1.0), det);
+                let t = mul(t_scaled, inv);
+                let (max_x, max_y, max_z) = (
+                    abs_max([ax, bx, cx]),
+                    abs_max([ay, by, cy]),
+                    abs_max([az, bz, cz]),
+                );
+                let delta_z = mul(splat(gamma(3)), max_z);
+                let delta_x = mul(splat(gamma(5)), add(max_x, max_z));
+                let delta_y = mul(splat(gamma(5)), add(max_y, max_z));
+                let delta_e = mul(
+                    splat(2.0),
+                    add(
+                        add(mul(mul(splat(gamma(2)), max_x), max_y), mul(delta_y, max_x)),
+                        mul(delta_x, max_y),
+                    ),
+                );
+                let max_e = abs_max([u, v, w]);
+                let delta_t = mul(
+                    mul(
+                        splat(3.0),
+                        add(
+                            add(mul(mul(splat(gamma(3)), max_e), max_z), mul(delta_e, max_z)),
+                            mul(delta_z, max_e),
+                        ),
+                    ),
+                    abs(inv),
+                );
+                let infinity = splat(f32::INFINITY);
+                let finite = and(
+                    _mm256_cmp_ps::<_CMP_LT_OQ>(abs(t), infinity),
+                    _mm256_cmp_ps::<_CMP_LT_OQ>(abs(delta_t), infinity),
+                );
+                let within = and(
+                    _mm256_cmp_ps::<_CMP_LT_OQ>(t, nested),
+                    _mm256_cmp_ps::<_CMP_GT_OQ>(t, delta_t),
+                );
+                let finite = _mm256_movemask_ps(finite) as u64;
+                let mut hit = open & finite & _mm256_movemask_ps(within) as u64;
+                undecided |= open & !finite;
+                if hit != 0 {
+                    let (det, t_scaled, t) = (store(det), store(t_scaled), store(t));
+                    let (b1, b2) = (store(mul(v, inv)), store(mul(w, inv)));
+                    while hit != 0 {
+                        let j = hit.trailing_zeros() as usize;
+                        hit &= hit - 1;
+                        let decided = DecidedHit {
+                            det: det[j],
+                            t_scaled: t_scaled[j],
+                            t: t[j],
+                            b1: b1[j],
+                            b2: b2[j],
+                        };
+                        search.keep_decided(at + j, prim, &decided);
+                    }
+                }
+            }
+            while undecided != 0 {
+                let j = undecided.trailing_zeros() as usize;
+                undecided &= undecided - 1;
+                search.test_pack_lane(at + j, pack, lane, soa.ray(at + j));
+            }
         }
-        out
     }
 
     /// `super::traverse_packet` compiled for AVX2.
@@ -444,8 +515,7 @@ mod x86 {
     /// Tests the triangles of `pack` for the rays of `rays` still searching, which share
     /// the axis permutation `k`: the triangles' boxes against the packet's interval first
     /// (a triangle none of the rays can reach is skipped for all of them), then one
-    /// triangle against eight rays (`triangle_candidates`), then the scalar test per kept
-    /// ray.
+    /// triangle against eight rays (`test_triangle`).
     #[target_feature(enable = "avx2,popcnt")]
     #[inline]
     fn test_pack(
@@ -473,13 +543,7 @@ mod x86 {
         while lanes != 0 {
             let lane = lanes.trailing_zeros() as usize;
             lanes &= lanes - 1;
-            let open = rays & search.open();
-            let mut kept = triangle_candidates(pack, lane, k, open, soa, &search.nested);
-            while kept != 0 {
-                let i = kept.trailing_zeros() as usize;
-                kept &= kept - 1;
-                search.test_pack_lane(i, pack, lane, soa.ray(i));
-            }
+            test_triangle(pack, lane, k, rays & search.open(), soa, search);
         }
     }
 
