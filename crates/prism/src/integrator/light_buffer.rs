@@ -321,9 +321,12 @@ impl Tree {
 
 impl LightBuffer {
     /// The resolution the buffer takes when none is asked for: √n / 2 cells along a
-    /// window's side, within 16 and 96.
+    /// window's side, within 16 and 32. Finer cells hold deeper subtrees but cost memory
+    /// the walk then misses in the CPU cache: on SPD gears (36,610 triangles) 24 cells
+    /// gave 0.98× the BVH's speed and 96 (6.6 MiB) 0.87×; on the other SPD scenes 32 to
+    /// 64 were best, 128 and 256 slower (prism bench, docs/shadows.md).
     pub fn auto_resolution(primitives: usize) -> u32 {
-        ((primitives as f64).sqrt() * 0.5).round().clamp(16.0, 96.0) as u32
+        ((primitives as f64).sqrt() * 0.5).round().clamp(16.0, 32.0) as u32
     }
 
     /// Builds the buffer of the light at `light` over the BVH of `intersector` (which its

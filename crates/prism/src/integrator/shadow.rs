@@ -17,8 +17,8 @@
 //!   directional lights and lights whose buffer would pass the memory budget keep the
 //!   accelerator;
 //! - `both`: the light buffer, whose cells' covering primitives come first, then the cache;
-//! - `auto`: what is predicted to pay: today the cache alone (measured in docs/shadows.md,
-//!   no light buffer beats the BVH with the cache on the SPD scenes).
+//! - `auto`: what is predicted to pay: today `both` (measured in docs/shadows.md: the
+//!   buffer with the cache beat the BVH, and the cache alone, on the SPD scenes).
 
 use super::light_buffer::{BufferParams, LightBuffer, LightBufferInfo};
 use crate::accel::{Bvh, Hit, HitSearch, QueryMode, PACKET_MAX};
@@ -51,8 +51,9 @@ pub enum ShadowMethod {
     LightBuffer,
     /// The cache first, then the light buffer.
     Both,
-    /// The method prism expects to be fastest for the scene; today the cache, which was
-    /// never more than 10 % slower than any-hit in the measurements of docs/shadows.md.
+    /// The method prism expects to be fastest for the scene; today the light buffer with
+    /// the cache (as `both`, at its default resolution), which was never slower than
+    /// any-hit in the measurements of docs/shadows.md.
     Auto,
 }
 
@@ -74,8 +75,14 @@ impl ShadowMethod {
         )
     }
 
+    /// Whether the method takes the light buffer's keys.
     fn uses_light_buffer(self) -> bool {
         matches!(self, ShadowMethod::LightBuffer | ShadowMethod::Both)
+    }
+
+    /// Whether it builds light buffers (`auto` too, with their defaults).
+    fn builds_buffers(self) -> bool {
+        self.uses_light_buffer() || self == ShadowMethod::Auto
     }
 }
 
@@ -212,7 +219,7 @@ impl<'a> Shadows<'a> {
             .count()
             .max(1);
         for light in lights {
-            let (buffer, why) = match (spec.method.uses_light_buffer(), position(light)) {
+            let (buffer, why) = match (spec.method.builds_buffers(), position(light)) {
                 (false, _) => (None, None),
                 (true, None) => (
                     None,
