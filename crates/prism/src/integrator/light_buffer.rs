@@ -373,7 +373,7 @@ impl LightBuffer {
             });
         }
         let width = bvh.entry_width().min(MAX_WIDTH);
-        // The leaves nearest the light, in an entry node of their own (1).
+        // The leaves nearest the light, in an entry node of their own: entry node 1.
         near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let near_first = near.first().map_or(f64::INFINITY, |n| n.0 as f64);
         let near_rest = near.get(width).map_or(f64::INFINITY, |n| n.0 as f64);
@@ -450,7 +450,6 @@ impl LightBuffer {
             }
         });
         let filled = (cell_count - 1).max(1) as f64;
-        // (1) The near node is entry node 1.
         let half = near_first * FOOTPRINT_SLACK / 8.0;
         Ok(LightBuffer {
             light: l,
