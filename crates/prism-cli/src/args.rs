@@ -188,10 +188,10 @@ pub(crate) struct RenderArgs {
 
     /// Who answers shadow rays, METHOD[:KEY=VALUE,...]: any-hit (the accelerator, the
     /// default), cache (the last blocker per light and depth tried first, after a blocked
-    /// ray), light-buffer (Haines & Greenberg's direction cube per point light; keys res =
-    /// cells along a face window's side, budget = MiB for all lights, walk = the longest
-    /// list walk before the accelerator answers), both, or auto (what is predicted to pay:
-    /// today the cache). Every method gives the same image.
+    /// ray), light-buffer (Haines & Greenberg's direction cube per point light, its cells
+    /// holding BVH subtrees; keys res = cells along a face window's side, budget = MiB for
+    /// all lights), both, or auto (what is predicted to pay: today both). Every method
+    /// gives the same image.
     #[arg(long, value_name = "SPEC")]
     pub shadows: Option<prism::integrator::ShadowSpec>,
 

@@ -82,9 +82,9 @@ impl Report {
                 "light_buffers": result.light_buffers.iter().map(|b| b.map(|b| json!({
                     "resolution": b.resolution,
                     "cells": b.cells,
-                    "entries": b.entries,
-                    "mean_list": b.mean_list,
-                    "max_list": b.max_list,
+                    "entry_nodes": b.entry_nodes,
+                    "mean_subtrees": b.mean_subtrees,
+                    "leaf_share": b.leaf_share,
                     "memory_bytes": b.memory_bytes,
                     "build_ms": b.build_time.as_secs_f64() * 1e3,
                 }))).collect::<Vec<_>>(),
@@ -229,12 +229,6 @@ fn shadow_lines(options: &RenderOptions, result: &RenderResult) -> Vec<String> {
         ));
         lines.push(format!(
             "{:<18} {:>14} {:>7.1}% of shadow rays",
-            "  cover answers",
-            s.light_buffer_covered,
-            100.0 * s.light_buffer_covered as f64 / rays
-        ));
-        lines.push(format!(
-            "{:<18} {:>14} {:>7.1}% of shadow rays",
             "  to the accel",
             s.light_buffer_fallbacks,
             100.0 * s.light_buffer_fallbacks as f64 / rays
@@ -243,17 +237,13 @@ fn shadow_lines(options: &RenderOptions, result: &RenderResult) -> Vec<String> {
     for (i, b) in result.light_buffers.iter().enumerate() {
         if let Some(b) = b {
             lines.push(format!(
-                "  light {i} buffer   {} cells ({}² a face), {} entries (mean list {:.1}, max {}; \
-                 {} cells occupied, {} covered, {} cut at walk {}), {:.1} MiB, built in {:.1} ms",
+                "  light {i} buffer   {} cells ({}² a face), {} entry nodes (mean {:.1} subtrees \
+                 a cell, {:.0} % leaves), {:.1} MiB, built in {:.1} ms",
                 b.cells,
                 b.resolution,
-                b.entries,
-                b.mean_list,
-                b.max_list,
-                b.occupied_cells,
-                b.covered_cells,
-                b.cut_cells,
-                b.max_walk,
+                b.entry_nodes,
+                b.mean_subtrees,
+                100.0 * b.leaf_share,
                 b.memory_bytes as f64 / (1 << 20) as f64,
                 b.build_time.as_secs_f64() * 1e3
             ));

@@ -46,9 +46,8 @@ pub struct Stats {
     pub shadow_cache_hits: u64,
     /// Shadow rays answered by a light buffer.
     pub light_buffer_queries: u64,
-    /// Of those, the ones its cell's covering primitive answered (one test).
-    pub light_buffer_covered: u64,
-    /// Of those, the ones whose walk would have been too long: the accelerator answered.
+    /// Of those, the ones whose line passes the light too far off for its cell to hold
+    /// everything it may meet near the light: the accelerator answered.
     pub light_buffer_fallbacks: u64,
     /// Beams traced by the beam tracer (the view's tile beams included); its reflected and
     /// refracted beams are also counted as `reflected_rays` and `refracted_rays`.
@@ -105,7 +104,6 @@ impl AddAssign for Stats {
         self.shadow_node_visits += o.shadow_node_visits;
         self.shadow_cache_hits += o.shadow_cache_hits;
         self.light_buffer_queries += o.light_buffer_queries;
-        self.light_buffer_covered += o.light_buffer_covered;
         self.light_buffer_fallbacks += o.light_buffer_fallbacks;
         self.beams += o.beams;
         self.beam_fragments += o.beam_fragments;

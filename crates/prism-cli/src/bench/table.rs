@@ -98,15 +98,14 @@ pub(super) fn scene_block(scene: &SceneResult) -> String {
 }
 
 /// The shadow methods' lines of a scene (none unless `--shadows` asked for them): build
-/// time, memory, work per shadow ray, the share of rays blocked, answered by the cache, by a
-/// light buffer cell's covering primitive and handed by a buffer to the accelerator, and
-/// throughput against the first method's.
+/// time, memory, work per shadow ray, the share of rays blocked, answered by the cache and
+/// handed by a buffer to the accelerator, and throughput against the first method's.
 pub(super) fn shadow_block(s: &SceneResult) -> String {
     let Some(first) = s.shadow_methods.first() else {
         return String::new();
     };
     let mut out = format!(
-        "  {:<26} {:>9} {:>9} {:>9} {:>9} {:>7} {:>7} {:>7} {:>7} {:>9} {:>8}\n",
+        "  {:<26} {:>9} {:>9} {:>9} {:>9} {:>7} {:>7} {:>7} {:>9} {:>8}\n",
         "shadow method",
         "build ms",
         "MiB",
@@ -114,14 +113,13 @@ pub(super) fn shadow_block(s: &SceneResult) -> String {
         "nodes/S",
         "blocked",
         "cache",
-        "cover",
         "accel",
         "MS/s",
         "vs first"
     );
     for m in &s.shadow_methods {
         out += &format!(
-            "  {:<26} {:>9.1} {:>9.2} {:>9.2} {:>9.2} {:>6.1}% {:>6.1}% {:>6.1}% {:>6.1}% {:>9.2} \
+            "  {:<26} {:>9.1} {:>9.2} {:>9.2} {:>9.2} {:>6.1}% {:>6.1}% {:>6.1}% {:>9.2} \
              {:>7.0}%{}\n",
             m.method,
             m.build_ms,
@@ -130,7 +128,6 @@ pub(super) fn shadow_block(s: &SceneResult) -> String {
             m.node_visits_per_ray,
             100.0 * m.blocked as f64 / m.rays.max(1) as f64,
             100.0 * m.cache_hit_rate,
-            100.0 * m.covered_rate,
             100.0 * m.fallback_rate,
             m.mrays_per_s,
             100.0 * m.mrays_per_s / first.mrays_per_s.max(1e-12),

@@ -29,9 +29,7 @@ pub struct ShadowMeasured {
     pub node_visits_per_ray: f64,
     /// Share of the rays the shadow cache answered alone.
     pub cache_hit_rate: f64,
-    /// Share of the rays a light buffer cell's covering primitive answered (one test).
-    pub covered_rate: f64,
-    /// Share of the rays a light buffer handed to the accelerator (walk too long).
+    /// Share of the rays a light buffer handed to the accelerator (passing near the light).
     pub fallback_rate: f64,
     /// Median of the timed samples.
     pub mrays_per_s: f64,
@@ -77,7 +75,6 @@ pub fn measure_shadow_methods(
                 tests_per_ray: stats.primitive_tests as f64 / n,
                 node_visits_per_ray: stats.node_visits as f64 / n,
                 cache_hit_rate: stats.shadow_cache_hits as f64 / n,
-                covered_rate: stats.light_buffer_covered as f64 / n,
                 fallback_rate: stats.light_buffer_fallbacks as f64 / n,
                 mrays_per_s: 0.0,
                 mismatch: blocked != reference,

@@ -88,6 +88,12 @@ pub trait Accel: Send + Sync {
     fn describe(&self) -> String {
         self.info().to_string()
     }
+
+    /// The method as a BVH of boxes, for structures that start its walk below the root
+    /// (the light buffer's cells); None for every other method.
+    fn as_bvh(&self) -> Option<&Bvh> {
+        None
+    }
 }
 
 /// Most rays in one packet (`Accel::query_packet`): an 8 × 8 block of camera rays.
@@ -121,6 +127,11 @@ impl SceneIntersector {
             accel: spec.build(geometry, bounded),
             unbounded,
         }
+    }
+
+    /// The unbounded primitives (planes), which every query tests beside the accelerator.
+    pub(crate) fn unbounded(&self) -> &[u32] {
+        &self.unbounded
     }
 
     /// The nearest hit along `ray` with `0 < t < t_max`, planes included (see

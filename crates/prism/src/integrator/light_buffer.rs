@@ -1,121 +1,91 @@
 //! The light buffer (Haines & Greenberg, "The Light Buffer: A Shadow-Testing Accelerator",
 //! IEEE CG&A 1986): for a point light, a cube of directions around it, each face a grid of
-//! cells, each cell the list of primitives seen through it, nearest to the light first. A
-//! shadow ray looks up the cell of its direction and tests only that list, stopping at the
-//! first entry that begins beyond the shaded point.
+//! cells, each cell what may be seen through it. A shadow ray looks up the cell of its
+//! direction and tests only that.
+//!
+//! Here a cell holds the scene BVH's subtrees instead of a list of primitives (the issue
+//! allows it): the deepest few subtrees (at most a node's width, 8 with AVX2) whose boxes
+//! together hold every primitive that may be seen through the cell, as one *entry node* in
+//! the tree's own layout. A query is the BVH's own walk started at the cell's entry node:
+//! it skips the upper levels, whose boxes a shadow ray mostly passes through, and a cell
+//! that sees much costs a partial walk rather than a long list. The paper's list, its
+//! order by distance and the walk limit of the previous buffer fall away: the walk's box
+//! tests cull what lies beyond the shaded point, nearest first.
 //!
 //! prism's buffer must answer exactly what the BVH answers, so it is built conservatively:
 //!
-//! - a primitive's footprint on a face comes from the eight corners of its bounding box
+//! - a subtree's footprint on a face comes from the eight corners of its bounding box
 //!   (in f64), widened by `FOOTPRINT_SLACK` on every side, and a box that holds the light
 //!   covers every cell;
 //! - a shadow ray starts at an offset surface point, so its line passes the light at a
 //!   small distance δ rather than through it; its points at distance r from the light are
-//!   seen δ/r away from its cell's direction. The slack covers that for r ≥ 4δ/slack; the
-//!   primitives nearer than that to the light (the `by_distance` prefix, usually none) are
-//!   tested for every query;
-//! - candidates are tested with the accelerators' own `HitSearch`, whose tie rule makes the
-//!   nearest hit among any superset of the primitives a ray meets the brute-force one.
+//!   seen δ/r away from its cell's direction. The slack covers that for r ≥ 4δ/slack; a
+//!   query for which some leaf lies nearer than that to the light (usually none) asks the
+//!   whole BVH instead;
+//! - each face's cells span only its *window*, the part of the face some leaf's footprint
+//!   reaches (a far light sees the scene in a narrow cone); a direction outside every
+//!   window meets no bounded primitive, and takes the nearest cell of its face (any
+//!   superset of nothing will do);
+//! - the lookup (in f32) and the footprints (in f64) share one monotone rule from face
+//!   coordinate to cell; their difference, ~10⁻⁷ in face coordinates, is far inside the
+//!   slack;
+//! - the walk is the BVH's own (`Bvh::query_entry`): its box tests, leaf tests and tie
+//!   rule, on a superset of the primitives the ray may meet.
 //!
-//! - each face's cells span only its *window*, the part of the face some footprint reaches
-//!   (a far light sees the scene in a narrow cone); directions outside every window meet no
-//!   bounded primitive;
-//! - a walk tests an entry's bounding box first (the BVH's own conservative slab test), so
-//!   a flat receiver's box, wholly below its offset shadow rays, costs no primitive test.
-//!
-//! Three refinements trade the lists' work for the accelerator's or for one test:
-//!
-//! - **walk limit**: lists keep at most `max_walk` entries; a query that would walk more
-//!   (its point lies beyond the last kept entry) asks the accelerator instead, so a grazing
-//!   light over a terrain no longer walks hundreds of triangles;
-//! - **covered cells** (the paper's refinement): a cell whose every direction, widened by
-//!   the slack, meets one opaque triangle or sphere remembers the nearest such one. A point
-//!   farther than it tests it *first*, and a hit answers the query. The paper answers such a
-//!   point "in shadow" without a test; here the test stays, because the f32 ray–triangle and
-//!   ray–sphere tests cannot be proven to hit near an outline, at every scale, from the
-//!   geometry alone, and exactness comes first. Transparent primitives never cover.
-//! - polygons facing away from the light are *not* left out: prism's shadow rays are
-//!   blocked by back faces too, and leaving them out is exact only for closed meshes and a
-//!   light outside them, which prism does not know.
-//!
-//! Every answer is therefore some primitive's own test or the accelerator's: exactness does
-//! not rest on the cover or the limit being right, only on the footprints.
+//! So every answer is the BVH's own over fewer subtrees: exactness rests only on the
+//! footprints. Polygons facing away from the light are not left out (prism's shadow rays
+//! are blocked by back faces too).
 
+use crate::accel::bvh::{Bvh, EntryNodes, Subtree};
 use crate::accel::{Hit, HitSearch, QueryMode, SceneIntersector};
-use crate::geometry::{Geometry, Shape};
+use crate::geometry::Geometry;
 use crate::math::{Aabb, Ray, TraceRay, Vec3};
 use crate::stats::Stats;
+use arrayvec::ArrayVec;
 use glam::DVec3;
+use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
 /// Widening of every footprint, in face coordinates (tangents, −1 to 1 across a face).
 const FOOTPRINT_SLACK: f64 = 1e-3;
 /// Relative error allowed for in distances from the light (f32 hit points and directions).
 const DISTANCE_SLACK: f64 = 1e-5;
-
-/// One list entry: a primitive and its nearest distance from the light. A walk tests the
-/// primitive's bounding box (`PrimBounds`) first, as a BVH tests a leaf's box (the same
-/// conservative test): a flat receiver's own box, say, lies wholly below its offset shadow
-/// rays.
-#[derive(Clone, Copy, Debug)]
-struct Entry {
-    prim: u32,
-    near: f32,
-}
-
-/// Every primitive's bounding box (empty for planes), by primitive id: one copy shared by
-/// the buffers of all lights, small next to their lists.
-pub(crate) type PrimBounds = std::sync::Arc<[Aabb]>;
-
-/// The bounds `LightBuffer` tests entries with.
-pub(crate) fn prim_bounds(geometry: &Geometry) -> PrimBounds {
-    (0..geometry.primitives.len() as u32)
-        .map(|p| geometry.bounds(p).unwrap_or(Aabb::EMPTY))
-        .collect()
-}
-
-/// One cell: its list (`entries[start..start + len]`, nearest first, at most `max_walk`
-/// long), the nearest distance of the first entry left out (a query reaching it would walk
-/// too far, and asks the accelerator), and its covering primitive: an opaque triangle or
-/// sphere that every direction of the cell (widened by the slack) meets, with its farthest
-/// distance from the light (rounded up). A point farther than `cover_far` tests it first;
-/// only a hint, the answer is that test's.
-#[derive(Clone, Copy, Debug)]
-struct Cell {
-    start: u32,
-    len: u32,
-    limit: f32,
-    cover_far: f32,
-    cover: u32,
-}
-
-const EMPTY_CELL: Cell = Cell {
-    start: 0,
-    len: 0,
-    limit: f32::INFINITY,
-    cover_far: f32::INFINITY,
-    cover: u32::MAX,
-};
+/// The widest entry node (an 8-wide BVH's).
+const MAX_WIDTH: usize = 8;
 
 /// How a buffer is built.
-pub struct BufferParams<'a> {
+#[derive(Clone, Copy, Debug)]
+pub struct BufferParams {
     /// Cells along a face's window side.
     pub res: u32,
-    /// The most its lists may take.
+    /// The most its cells and entry nodes may take.
     pub budget_bytes: u64,
-    /// The longest walk a query takes; lists keep no more entries than this.
-    pub max_walk: usize,
-    /// The primitives that may cover a cell (transparent ones may not).
-    pub opaque: &'a dyn Fn(u32) -> bool,
-    /// The primitives' boxes, if already made (`prim_bounds`) for another light.
-    pub bounds: Option<PrimBounds>,
 }
 
-/// Why a light has no buffer (its shadow rays then use the BVH).
+/// Why a light has no buffer (its shadow rays then use the accelerator).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Unbuilt {
-    /// The cell lists would pass the memory budget.
-    OverBudget { entries: u64, budget_bytes: u64 },
+    /// The cells and their entry nodes would pass the memory budget.
+    OverBudget { bytes: u64, budget_bytes: u64 },
+    /// The scene's accelerator is not a BVH of boxes, whose subtrees cells hold.
+    NotBvh,
+}
+
+impl std::fmt::Display for Unbuilt {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Unbuilt::OverBudget {
+                bytes,
+                budget_bytes,
+            } => write!(
+                f,
+                "its cells would take {} MiB, past the budget of {} MiB for it",
+                bytes.div_ceil(1 << 20),
+                budget_bytes >> 20
+            ),
+            Unbuilt::NotBvh => write!(f, "the accelerator is not a BVH of boxes"),
+        }
+    }
 }
 
 /// The part of one face, in face coordinates, that some footprint reaches: its res × res
@@ -163,64 +133,13 @@ impl Window {
         (((t - self.lo[a]) * self.scale[a]).floor() as i64).clamp(0, res as i64 - 1) as u32
     }
 
+    #[cfg(test)]
     fn contains(&self, a: usize, t: f64) -> bool {
         t >= self.lo[a] && t <= self.hi[a]
     }
-
-    /// Face coordinates of cell `i`'s ends along axis `a`.
-    fn cell_span(&self, a: usize, i: u32) -> (f64, f64) {
-        (
-            self.lo[a] + i as f64 / self.scale[a],
-            self.lo[a] + (i + 1) as f64 / self.scale[a],
-        )
-    }
 }
 
-/// A light buffer around one point: res × res cells on each face some primitive is seen on.
-pub struct LightBuffer {
-    light: DVec3,
-    res: u32,
-    windows: [Window; 6],
-    bounds: PrimBounds,
-    cells: Vec<Cell>,
-    entries: Vec<Entry>,
-    /// Every bounded primitive, nearest first: the ones very near the light are tested for
-    /// every query.
-    by_distance: Vec<Entry>,
-    /// Planes have no footprint: every query tests them, as `SceneIntersector` does.
-    unbounded: Vec<u32>,
-    /// A query that would test more entries than this asks the accelerator instead.
-    max_walk: usize,
-    build_time: Duration,
-}
-
-/// What `prism info` and the statistics say about a buffer.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct LightBufferInfo {
-    /// Cells along each side of a direction-cube face.
-    pub resolution: u32,
-    /// Cells over all six faces.
-    pub cells: usize,
-    /// Entries over all cells (a primitive counts once per cell it covers).
-    pub entries: usize,
-    /// Mean list length over all cells (`entries / cells`).
-    pub mean_list: f64,
-    /// Longest list of one cell.
-    pub max_list: usize,
-    /// Cells wholly covered by one opaque triangle or sphere.
-    pub covered_cells: usize,
-    /// Cells with at least one entry.
-    pub occupied_cells: usize,
-    /// Cells whose lists were cut at `max_walk` entries.
-    pub cut_cells: usize,
-    /// Longest walk before a query asks the accelerator instead.
-    pub max_walk: usize,
-    /// Bytes the buffer's offsets and lists take.
-    pub memory_bytes: usize,
-    /// How long building it took.
-    pub build_time: Duration,
-}
-
+#[cfg(test)]
 /// The face of direction `d` (from the light) and its face coordinates (u, v).
 fn face_coords(d: DVec3) -> (usize, f64, f64) {
     let a = d.abs();
@@ -242,12 +161,6 @@ fn face_axes(face: usize) -> (usize, usize, usize, f64) {
         _ => (2, 0, 1),
     };
     (axis, u, v, if face % 2 == 0 { 1.0 } else { -1.0 })
-}
-
-/// Point `p` (relative to the light) in face `face`'s frame: (depth, u, v).
-fn in_face(face: usize, p: DVec3) -> (f64, f64, f64) {
-    let (axis, u, v, sign) = face_axes(face);
-    (sign * p[axis], p[u], p[v])
 }
 
 /// For face `face`, the (depth, u, v) ranges of box `[lo, hi]` (relative to the light) in
@@ -302,310 +215,316 @@ fn near_distance(lo: DVec3, hi: DVec3) -> f32 {
     d as f32
 }
 
-/// The farthest distance from the origin to box `[lo, hi]`, rounded up.
-fn far_distance(lo: DVec3, hi: DVec3) -> f32 {
-    let d = lo.abs().max(hi.abs()).length() * (1.0 + DISTANCE_SLACK);
-    d as f32
+/// What a query walks besides its cell (`LightBuffer::near_light`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Near {
+    /// Nothing.
+    None,
+    /// The entry node of the leaves nearest the light.
+    Node,
+    /// The whole BVH instead.
+    Bvh,
 }
 
-/// What one face-coordinate rectangle of directions must lie within to be covered by a
-/// primitive, as seen from the light.
-enum Silhouette {
-    /// A triangle wholly in front of the face: its corners projected onto it.
-    Triangle([[f64; 2]; 3]),
-    /// A sphere not holding the light: its centre (relative to the light) and the cosine
-    /// of its angular radius.
-    Sphere(DVec3, f64),
+/// One face's cells as the lookup sees them, in f32: cell (iu, iv) of a face is
+/// `base + iv · res + iu`, with iu = ⌊(u − lo) · scale⌋ clamped to the window.
+#[derive(Clone, Copy, Debug)]
+struct Face {
+    lo: [f32; 2],
+    scale: [f32; 2],
+    /// The last cell index along a side (res − 1; 0 for a face without cells, whose one
+    /// cell is the empty one at 0).
+    last: i32,
+    base: u32,
 }
 
-impl Silhouette {
-    fn of(geometry: &Geometry, prim: u32, light: DVec3, face: usize) -> Option<Silhouette> {
-        match &geometry.primitives[prim as usize].shape {
-            Shape::Triangle { mesh, index } => {
-                let vs = geometry.meshes[*mesh as usize].vertices(*index);
-                let mut p = [[0.0; 2]; 3];
-                for (k, v) in vs.iter().enumerate() {
-                    let (w, u, v) = in_face(face, v.as_dvec3() - light);
-                    if w <= 0.0 {
-                        return None;
-                    }
-                    p[k] = [u / w, v / w];
-                }
-                let area = cross2(p[0], p[1], p[2]);
-                if area.is_nan() || area == 0.0 {
-                    return None;
-                }
-                if area < 0.0 {
-                    p.swap(1, 2);
-                }
-                Some(Silhouette::Triangle(p))
-            }
-            Shape::Sphere(s) => {
-                let c = s.center.as_dvec3() - light;
-                let r = s.radius.abs() as f64;
-                let d = c.length();
-                (d > r * 1.001).then(|| Silhouette::Sphere(c, (1.0 - (r / d).powi(2)).sqrt()))
-            }
-            _ => None,
+/// A light buffer around one point: res × res cells on each face some primitive is seen on,
+/// each the index of its entry node.
+pub struct LightBuffer {
+    light: DVec3,
+    light_f32: Vec3,
+    /// (nearest · slack / 8)², rounded down: `near_light`'s quick bound.
+    quick: f32,
+    res: u32,
+    faces: [Face; 6],
+    /// Per cell, its entry node (cells that see the same subtrees share one).
+    cells: Vec<u32>,
+    entries: EntryNodes,
+    /// The nearest distance of any leaf from the light: a query whose line passes the light
+    /// so far off that points this near could be seen from another cell also walks
+    /// `near_entry`, the entry node of the leaves nearest the light (a node's width of
+    /// them: a light inside a room sees the leaf of its walls, whose box holds it, in
+    /// every direction) ...
+    near_first: f64,
+    near_entry: u32,
+    /// ... and one that passes it so far off that the nearest leaf left out of that node,
+    /// this far away, could be seen from another cell asks the whole BVH.
+    near_rest: f64,
+    /// Mean subtrees per cell and the share of them that are leaves.
+    mean_subtrees: f64,
+    leaf_share: f64,
+    build_time: Duration,
+}
+
+/// What `prism info` and the statistics say about a buffer.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LightBufferInfo {
+    /// Cells along each side of a direction-cube face's window.
+    pub resolution: u32,
+    /// Cells over all faces.
+    pub cells: usize,
+    /// Distinct entry nodes (cells seeing the same subtrees share one).
+    pub entry_nodes: usize,
+    /// Mean subtrees per cell.
+    pub mean_subtrees: f64,
+    /// Share of the cells' subtrees that are leaves.
+    pub leaf_share: f64,
+    /// Bytes the cells and entry nodes take.
+    pub memory_bytes: usize,
+    /// How long building it took.
+    pub build_time: Duration,
+}
+
+/// The subtrees of a BVH, parents before children: what the cells choose from.
+struct Tree {
+    subtrees: Vec<Subtree>,
+    /// Per subtree, where its children lie in `subtrees` (empty for a leaf).
+    children: Vec<std::ops::Range<u32>>,
+    /// Per subtree, its box's surface area: the larger, the more rays enter it.
+    area: Vec<f32>,
+    /// The root's subtrees.
+    top: std::ops::Range<u32>,
+}
+
+impl Tree {
+    fn of(bvh: &Bvh) -> Tree {
+        let mut subtrees = bvh.root_subtrees();
+        let top = 0..subtrees.len() as u32;
+        let mut children = Vec::new();
+        let mut i = 0;
+        while i < subtrees.len() {
+            let kids = bvh.subtrees_of(&subtrees[i]);
+            let first = subtrees.len() as u32;
+            children.push(first..first + kids.len() as u32);
+            subtrees.extend(kids);
+            i += 1;
+        }
+        let area = subtrees.iter().map(|s| s.bounds.surface_area()).collect();
+        Tree {
+            subtrees,
+            children,
+            area,
+            top,
         }
     }
-
-    /// Whether every direction of the rectangle (u0, u1) × (v0, v1) on face `face` is
-    /// within the silhouette (its four corners, both shapes being convex).
-    fn covers(&self, face: usize, u: (f64, f64), v: (f64, f64)) -> bool {
-        let corners = [[u.0, v.0], [u.1, v.0], [u.0, v.1], [u.1, v.1]];
-        match self {
-            Silhouette::Triangle(p) => corners.iter().all(|&c| {
-                cross2(p[0], p[1], c) > 0.0
-                    && cross2(p[1], p[2], c) > 0.0
-                    && cross2(p[2], p[0], c) > 0.0
-            }),
-            Silhouette::Sphere(centre, cos_radius) => {
-                let (axis, ua, va, sign) = face_axes(face);
-                corners.iter().all(|&[cu, cv]| {
-                    let mut d = DVec3::ZERO;
-                    d[axis] = sign;
-                    d[ua] = cu;
-                    d[va] = cv;
-                    d.normalize().dot(*centre) > cos_radius * centre.length()
-                })
-            }
-        }
-    }
-}
-
-/// Twice the signed area of triangle (a, b, c).
-fn cross2(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
-    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-}
-
-/// The work a shadow query would take, before any test.
-struct Plan<'a> {
-    /// The primitives near the light that every query tests.
-    prefix: &'a [Entry],
-    /// The cell's entries that begin before the shaded point.
-    list: &'a [Entry],
-    /// Whether the walk would pass the buffer's `max_walk`.
-    too_long: bool,
-    /// The cell's covering primitive, when the point lies beyond it.
-    hint: Option<u32>,
 }
 
 impl LightBuffer {
     /// The resolution the buffer takes when none is asked for: √n / 2 cells along a
-    /// window's side, within 16 and 96. The windows put the cells where the scene is, lists
-    /// are cut at the walk limit and their boxes filter the tests, so finer cells buy few
-    /// tests and cost cache misses: on the SPD scenes 48 cells beat 96, which beat 362
-    /// (the old 4·√n), everywhere (prism bench, docs/shadows.md).
+    /// window's side, within 16 and 32. Finer cells hold deeper subtrees but cost memory
+    /// the walk then misses in the CPU cache: on SPD gears (36,610 triangles) 24 cells
+    /// gave 0.98× the BVH's speed and 96 (6.6 MiB) 0.87×; on the other SPD scenes 32 to
+    /// 64 were best, 128 and 256 slower (prism bench, docs/shadows.md).
     pub fn auto_resolution(primitives: usize) -> u32 {
-        ((primitives as f64).sqrt() * 0.5).round().clamp(16.0, 96.0) as u32
+        ((primitives as f64).sqrt() * 0.5).round().clamp(16.0, 32.0) as u32
     }
 
-    /// The longest walk a query takes before it asks the accelerator instead, when none is
-    /// asked for: ⌈log₂ n⌉ / 2 entries, at least 2, as an estimate of what a BVH's any-hit
-    /// query costs in primitive tests (its node visits grow as log n, and on the SPD scenes
-    /// about four node visits cost one entry's test; tuned on them).
-    pub fn auto_max_walk(primitives: usize) -> usize {
-        let log = usize::BITS - primitives.max(1).leading_zeros();
-        (log as usize).div_ceil(2).max(2)
-    }
-
-    /// Builds the buffer of the light at `light` over every primitive of `geometry`, with
-    /// whole lists (no walk limit) and every primitive taken as opaque, or says why not: its
-    /// lists would take more than `budget_bytes`.
+    /// Builds the buffer of the light at `light` over the BVH of `intersector` (which its
+    /// queries must be given), or says why not.
     pub fn build(
-        geometry: &Geometry,
-        light: Vec3,
-        res: u32,
-        budget_bytes: u64,
-    ) -> Result<LightBuffer, Unbuilt> {
-        let params = BufferParams {
-            res,
-            budget_bytes,
-            max_walk: usize::MAX,
-            opaque: &|_| true,
-            bounds: None,
-        };
-        Self::build_with(geometry, light, &params)
-    }
-
-    /// Builds the buffer of the light at `light` as `params` say.
-    pub fn build_with(
-        geometry: &Geometry,
+        intersector: &SceneIntersector,
         light: Vec3,
         params: &BufferParams,
     ) -> Result<LightBuffer, Unbuilt> {
         let start = Instant::now();
-        let res = params.res.max(1);
-        let keep = params.max_walk.min(u32::MAX as usize) as u32;
+        let bvh = intersector.accel.as_bvh().ok_or(Unbuilt::NotBvh)?;
+        let res = params.res.clamp(1, u16::MAX as u32);
         let l = light.as_dvec3();
-        let mut by_distance = Vec::new();
-        let mut unbounded = Vec::new();
-        // (entry, far distance, face, footprint) per face a primitive may be seen on.
-        let mut prints: Vec<(Entry, f32, usize, [f64; 4])> = Vec::new();
+        let tree = Tree::of(bvh);
+        let n = tree.subtrees.len();
+        // Per face, each subtree's footprint; the windows span the leaves' footprints.
         let mut windows = [Window::EMPTY; 6];
-        for prim in 0..geometry.primitives.len() as u32 {
-            let Some(b) = geometry.bounds(prim) else {
-                unbounded.push(prim);
-                continue;
-            };
-            let (lo, hi) = relative_box(b, l);
-            let entry = Entry {
-                prim,
-                near: near_distance(lo, hi),
-            };
-            by_distance.push(entry);
-            for (face, window) in windows.iter_mut().enumerate() {
-                if let Some(p) = footprint(face, lo, hi) {
-                    window.include(p);
-                    prints.push((entry, far_distance(lo, hi), face, p));
+        let mut prints: Vec<[Option<[f64; 4]>; 6]> = Vec::with_capacity(n);
+        let mut near: Vec<(f32, u32)> = Vec::new();
+        for (i, s) in tree.subtrees.iter().enumerate() {
+            let (lo, hi) = relative_box(s.bounds, l);
+            let p: [Option<[f64; 4]>; 6] = std::array::from_fn(|face| footprint(face, lo, hi));
+            if s.is_leaf() {
+                near.push((near_distance(lo, hi), i as u32));
+                for (w, p) in windows.iter_mut().zip(&p) {
+                    if let Some(p) = p {
+                        w.include(*p);
+                    }
                 }
             }
+            prints.push(p);
         }
-        let mut cell_count = 0;
+        // Cell 0 is the one cell of every face without a window, and sees nothing; entry
+        // node 0 is empty, 1 the near node.
+        let mut cell_count = 1;
         for w in &mut windows {
             cell_count += w.finish(res, cell_count);
         }
-        // Nearest first: each cell's list fills in order, and the first entry that finds
-        // it full is the nearest one left out.
-        let by_near = |a: &Entry, b: &Entry| a.near.total_cmp(&b.near).then(a.prim.cmp(&b.prim));
-        prints.sort_unstable_by(|a, b| by_near(&a.0, &b.0).then(a.2.cmp(&b.2)));
-        let cells_of = |face: usize, p: [f64; 4]| {
-            let w = &windows[face];
-            [
-                w.index(0, p[0], res),
-                w.index(0, p[1], res),
-                w.index(1, p[2], res),
-                w.index(1, p[3], res),
-            ]
-        };
-        let cell_at = |face: usize, iu: u32, iv: u32| windows[face].base + (iv * res + iu) as usize;
-        let mut cells = vec![EMPTY_CELL; cell_count];
-        let mut total: u64 = 0;
-        let budget_entries = params.budget_bytes / std::mem::size_of::<Entry>() as u64;
-        for &(_, _, face, p) in &prints {
-            let [iu0, iu1, iv0, iv1] = cells_of(face, p);
-            for iv in iv0..=iv1 {
-                for iu in iu0..=iu1 {
-                    let cell = &mut cells[cell_at(face, iu, iv)];
-                    if cell.len < keep {
-                        cell.len += 1;
-                        total += 1;
-                    }
-                }
-            }
-            if total > budget_entries {
-                return Err(Unbuilt::OverBudget {
-                    entries: total,
-                    budget_bytes: params.budget_bytes,
-                });
-            }
+        let cell_bytes = cell_count as u64 * 4;
+        if cell_bytes > params.budget_bytes {
+            return Err(Unbuilt::OverBudget {
+                bytes: cell_bytes,
+                budget_bytes: params.budget_bytes,
+            });
         }
-        let mut next = 0;
-        for cell in &mut cells {
-            cell.start = next;
-            next += cell.len;
-            cell.len = 0;
-        }
-        let mut entries = vec![Entry { prim: 0, near: 0.0 }; total as usize];
-        for &(entry, far, face, p) in &prints {
-            let [iu0, iu1, iv0, iv1] = cells_of(face, p);
-            let silhouette = (params.opaque)(entry.prim)
-                .then(|| Silhouette::of(geometry, entry.prim, l, face))
-                .flatten();
-            let w = &windows[face];
-            for iv in iv0..=iv1 {
-                for iu in iu0..=iu1 {
-                    let cell = &mut cells[cell_at(face, iu, iv)];
-                    if cell.len < keep {
-                        entries[(cell.start + cell.len) as usize] = entry;
-                        cell.len += 1;
-                    } else if cell.limit == f32::INFINITY {
-                        cell.limit = entry.near;
+        let width = bvh.entry_width().min(MAX_WIDTH);
+        // The leaves nearest the light, in an entry node of their own: entry node 1.
+        near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let near_first = near.first().map_or(f64::INFINITY, |n| n.0 as f64);
+        let near_rest = near.get(width).map_or(f64::INFINITY, |n| n.0 as f64);
+        let mut near_list: ArrayVec<u32, MAX_WIDTH> =
+            near.iter().take(width).map(|n| n.1).collect();
+        near_list.sort_unstable();
+        let mut cells = vec![0u32; cell_count];
+        let mut lists: Vec<ArrayVec<u32, MAX_WIDTH>> = vec![ArrayVec::new(), near_list];
+        let mut known: HashMap<ArrayVec<u32, MAX_WIDTH>, u32> = HashMap::new();
+        known.insert(ArrayVec::new(), 0);
+        let (mut subtree_sum, mut leaf_sum) = (0usize, 0usize);
+        for (face, w) in windows.iter().enumerate() {
+            if w.lo[0] > w.hi[0] {
+                continue;
+            }
+            // Each subtree's rectangle of cells on this face (iu0, iu1, iv0, iv1), or None.
+            let rects: Vec<Option<[u32; 4]>> = prints
+                .iter()
+                .map(|p| {
+                    p[face].map(|p| {
+                        [
+                            w.index(0, p[0], res),
+                            w.index(0, p[1], res),
+                            w.index(1, p[2], res),
+                            w.index(1, p[3], res),
+                        ]
+                    })
+                })
+                .collect();
+            for iv in 0..res {
+                for iu in 0..res {
+                    let list = cut(&tree, &rects, iu, iv, width);
+                    subtree_sum += list.len();
+                    leaf_sum += list
+                        .iter()
+                        .filter(|&&s| tree.subtrees[s as usize].is_leaf())
+                        .count();
+                    let next = lists.len() as u32;
+                    let id = *known.entry(list.clone()).or_insert(next);
+                    if id == next {
+                        lists.push(list);
                     }
-                    if let Some(s) = &silhouette {
-                        if far < cell.cover_far {
-                            let (u0, u1) = w.cell_span(0, iu);
-                            let (v0, v1) = w.cell_span(1, iv);
-                            let e = FOOTPRINT_SLACK;
-                            if s.covers(face, (u0 - e, u1 + e), (v0 - e, v1 + e)) {
-                                cell.cover_far = far;
-                                cell.cover = entry.prim;
-                            }
-                        }
-                    }
+                    cells[w.base + (iv * res + iu) as usize] = id;
                 }
             }
         }
-        by_distance.sort_unstable_by(by_near);
+        let bytes = cell_bytes + (lists.len() * 32 * width) as u64;
+        if bytes > params.budget_bytes {
+            return Err(Unbuilt::OverBudget {
+                bytes,
+                budget_bytes: params.budget_bytes,
+            });
+        }
+        let subtree_lists: Vec<Vec<Subtree>> = lists
+            .iter()
+            .map(|l| l.iter().map(|&s| tree.subtrees[s as usize]).collect())
+            .collect();
+        let entries = bvh.entry_nodes(subtree_lists.iter().map(Vec::as_slice));
+        let faces = windows.map(|w| {
+            if w.lo[0] > w.hi[0] {
+                Face {
+                    lo: [0.0; 2],
+                    scale: [0.0; 2],
+                    last: 0,
+                    base: 0,
+                }
+            } else {
+                Face {
+                    lo: w.lo.map(|x| x as f32),
+                    scale: w.scale.map(|x| x as f32),
+                    last: res as i32 - 1,
+                    base: w.base as u32,
+                }
+            }
+        });
+        let filled = (cell_count - 1).max(1) as f64;
+        let half = near_first * FOOTPRINT_SLACK / 8.0;
         Ok(LightBuffer {
             light: l,
+            light_f32: light,
+            quick: (half * half * 0.99) as f32,
             res,
-            windows,
-            bounds: params
-                .bounds
-                .clone()
-                .unwrap_or_else(|| prim_bounds(geometry)),
+            faces,
             cells,
             entries,
-            by_distance,
-            unbounded,
-            max_walk: params.max_walk,
+            near_first,
+            near_entry: 1,
+            near_rest,
+            mean_subtrees: subtree_sum as f64 / filled,
+            leaf_share: leaf_sum as f64 / subtree_sum.max(1) as f64,
             build_time: start.elapsed(),
         })
     }
 
-    /// The cell of direction `d` (from the light); None outside every face's window, where
-    /// no bounded primitive may be seen.
-    fn cell_of(&self, d: DVec3) -> Option<usize> {
-        let (face, u, v) = face_coords(d);
-        let w = &self.windows[face];
-        if !(w.contains(0, u) && w.contains(1, v)) {
-            return None;
-        }
-        let res = self.res;
-        Some(w.base + (w.index(1, v, res) * res + w.index(0, u, res)) as usize)
+    /// The entry node of the direction from the light back along `tr`'s ray: its face is
+    /// the ray's dominant axis (`TraceRay::kz`, chosen by the same comparisons as
+    /// `face_coords`), and 1 / |dir[kz]| is already `shear.z`; no division, no branch
+    /// but the face's.
+    #[inline(always)]
+    fn entry_of(&self, tr: &TraceRay) -> u32 {
+        let d = tr.ray.dir;
+        let kz = tr.kz;
+        // Looking back at the ray's origin from the light: direction −dir.
+        let face = 2 * kz + usize::from(d[kz] > 0.0);
+        let (u_axis, v_axis) = [(1, 2), (2, 0), (0, 1)][kz];
+        let inv = tr.shear.z.abs();
+        let f = &self.faces[face];
+        // `as` truncates towards zero and saturates (NaN to 0); below 0 is clamped anyway.
+        let iu = (((-d[u_axis] * inv - f.lo[0]) * f.scale[0]) as i32).clamp(0, f.last);
+        let iv = (((-d[v_axis] * inv - f.lo[1]) * f.scale[1]) as i32).clamp(0, f.last);
+        let cell = f.base as usize + (iv * (f.last + 1) + iu) as usize;
+        self.cells[cell]
     }
 
-    /// What a query along `ray` (towards the light) would test.
-    fn plan(&self, ray: &Ray) -> Plan<'_> {
+    /// What a query along `ray` must walk besides its cell: its line passes the light at
+    /// some distance δ, and points of it nearer than 4δ / slack to the light (and before
+    /// the shaded point) may be seen from another cell. Usually no leaf is that near; if
+    /// only leaves of the near node are, the query walks it too; otherwise it asks the BVH.
+    #[inline(always)]
+    fn near_light(&self, ray: &Ray) -> Near {
+        // The usual case in f32: δ ≤ |q × dir| + 2·10⁻⁶ |q| (10⁻⁶ for the f32 direction as
+        // below, and as much again for this f32 arithmetic, whose errors are relative to
+        // |q|: q = origin − light is one correctly rounded subtraction), both terms below
+        // half of near_first · slack / 4 (`self.quick`, rounded down).
+        let q = ray.origin - self.light_f32;
+        let cross2 = q.cross(ray.dir).length_squared();
+        let reach2 = q.length_squared();
+        if cross2 < self.quick && reach2 * 4e-12 < self.quick {
+            return Near::None;
+        }
         let q = ray.origin.as_dvec3() - self.light;
         let dir = ray.dir.as_dvec3();
         let reach = q.length();
         // How far the ray's line passes from the light, with room for the f32 direction.
         let delta = q.cross(dir).length() + reach * 1e-6;
-        // Nearer than this to the light, a point of the ray may be seen from another cell.
-        let near_limit = (4.0 * delta / FOOTPRINT_SLACK) as f32;
-        let far_limit = (reach * (1.0 + DISTANCE_SLACK) + delta) as f32;
-        let prefix = match self.by_distance.first() {
-            Some(e) if e.near <= near_limit && e.near <= far_limit => {
-                let limit = near_limit.min(far_limit);
-                let n = self.by_distance.partition_point(|e| e.near <= limit);
-                &self.by_distance[..n]
-            }
-            _ => &[],
-        };
-        let (list, cut, hint) = match self.cell_of(-dir) {
-            Some(c) => {
-                let cell = &self.cells[c];
-                let kept = &self.entries[cell.start as usize..(cell.start + cell.len) as usize];
-                let n = kept.partition_point(|e| e.near <= far_limit);
-                let hint = ((cell.cover_far as f64) < reach).then_some(cell.cover);
-                (&kept[..n], cell.limit <= far_limit, hint)
-            }
-            None => (&[][..], false, None),
-        };
-        Plan {
-            prefix,
-            list,
-            too_long: cut || prefix.len() + list.len() > self.max_walk,
-            hint,
+        let near_limit = 4.0 * delta / FOOTPRINT_SLACK;
+        let far_limit = reach * (1.0 + DISTANCE_SLACK) + delta;
+        let limit = near_limit.min(far_limit);
+        if self.near_first > limit {
+            Near::None
+        } else if self.near_rest > limit {
+            Near::Node
+        } else {
+            Near::Bvh
         }
     }
 
     /// The hit a ray from `ray.origin` towards the light meets before `t_max`: the nearest
     /// (`QueryMode::Nearest`) or any (`QueryMode::Any`), exactly as `accel`'s queries
-    /// answer. The ray must point at this buffer's light.
+    /// answer. The ray must point at this buffer's light, and `accel` be the one the buffer
+    /// was built over.
     pub fn query(
         &self,
         geometry: &Geometry,
@@ -615,95 +534,101 @@ impl LightBuffer {
         mode: QueryMode,
         stats: &mut Stats,
     ) -> Option<Hit> {
+        let bvh = accel.accel.as_bvh().expect("a buffer is built over a BVH");
         match mode {
-            QueryMode::Any => self.any_hit(geometry, accel, ray, t_max, None, stats),
-            QueryMode::Nearest => self.nearest(geometry, accel, ray, t_max, stats),
+            QueryMode::Any => self.any_hit(geometry, accel, bvh, ray, t_max, None, stats),
+            QueryMode::Nearest => self.nearest(geometry, accel, bvh, ray, t_max, stats),
         }
     }
 
-    /// An any-hit query, as `accel.any_hit` answers it: first the cell's covering primitive
-    /// (if the point lies beyond it), then `remembered` (the shadow cache's blocker; a hit
-    /// counts as a cache hit), then the walk, or the accelerator when the walk would be
-    /// longer than `max_walk`. Every answer is some primitive's own test.
+    /// An any-hit query, as `accel.any_hit` answers it: first `remembered` (the shadow
+    /// cache's blocker; a hit counts as a cache hit), the planes, then the walk from the
+    /// cell's entry node of `bvh` (`accel`'s).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn any_hit(
         &self,
         geometry: &Geometry,
         accel: &SceneIntersector,
+        bvh: &Bvh,
         ray: &Ray,
         t_max: f32,
         remembered: Option<u32>,
         stats: &mut Stats,
     ) -> Option<Hit> {
         let tr = TraceRay::new(*ray);
-        let plan = self.plan(ray);
         let mut search = HitSearch::new(t_max, QueryMode::Any);
-        if let Some(prim) = plan.hint {
-            if search.test(geometry, &tr, prim, stats) {
-                stats.light_buffer_covered += 1;
-                return search.best();
-            }
-        }
-        if let Some(prim) = remembered.filter(|&p| Some(p) != plan.hint) {
+        if let Some(prim) = remembered {
             if search.test(geometry, &tr, prim, stats) {
                 stats.shadow_cache_hits += 1;
                 return search.best();
             }
         }
-        if plan.too_long {
+        let near = self.near_light(ray);
+        if near == Near::Bvh {
             stats.light_buffer_fallbacks += 1;
             return accel.any_hit(geometry, ray, t_max, stats);
         }
-        // The planes first, as `SceneIntersector::any_hit` does: a few tests that may spare
-        // the lists.
-        for &prim in &self.unbounded {
+        for &prim in accel.unbounded() {
             if search.test_unbounded(geometry, &tr, prim, stats) {
                 return search.best();
             }
         }
-        for e in plan.prefix.iter().chain(plan.list) {
-            stats.node_visits += 1;
-            if self.bounds[e.prim as usize]
-                .hit(tr.ray.origin, tr.inv_dir, t_max)
-                .is_some()
-                && search.test(geometry, &tr, e.prim, stats)
-            {
-                return search.best();
+        let mut walk = |entry| {
+            bvh.query_entry(
+                self.entries.get(entry),
+                geometry,
+                &tr,
+                t_max,
+                QueryMode::Any,
+                stats,
+            )
+        };
+        if near == Near::Node {
+            if let Some(hit) = walk(self.near_entry) {
+                return Some(hit);
             }
         }
-        None
+        walk(self.entry_of(&tr))
     }
 
     /// The nearest hit, as `accel.intersect` answers it.
-    fn nearest(
+    pub(crate) fn nearest(
         &self,
         geometry: &Geometry,
         accel: &SceneIntersector,
+        bvh: &Bvh,
         ray: &Ray,
         t_max: f32,
         stats: &mut Stats,
     ) -> Option<Hit> {
-        let plan = self.plan(ray);
-        if plan.too_long {
+        let near = self.near_light(ray);
+        if near == Near::Bvh {
             stats.light_buffer_fallbacks += 1;
             return accel.intersect(geometry, ray, t_max, stats);
         }
         let tr = TraceRay::new(*ray);
-        let mut bounded = HitSearch::new(t_max, QueryMode::Nearest);
-        for e in plan.prefix.iter().chain(plan.list) {
-            stats.node_visits += 1;
-            let limit = bounded.nested_limit();
-            if self.bounds[e.prim as usize]
-                .hit(tr.ray.origin, tr.inv_dir, limit)
-                .is_some()
-            {
-                bounded.test(geometry, &tr, e.prim, stats);
+        let mut search = HitSearch::new(t_max, QueryMode::Nearest);
+        let mut entries = ArrayVec::<u32, 2>::new();
+        entries.push(self.entry_of(&tr));
+        if near == Near::Node {
+            entries.push(self.near_entry);
+        }
+        for entry in entries {
+            let bounded = bvh.query_entry(
+                self.entries.get(entry),
+                geometry,
+                &tr,
+                search.nested_limit(),
+                QueryMode::Nearest,
+                stats,
+            );
+            // The nearer of the two walks' hits, ties to the lower id (`offer`).
+            if let Some(hit) = bounded {
+                search.offer(hit);
             }
         }
-        let mut search = HitSearch::new(t_max, QueryMode::Nearest);
-        if let Some(hit) = bounded.best() {
-            search.offer(hit);
-        }
-        for &prim in &self.unbounded {
+        for &prim in accel.unbounded() {
             search.test_unbounded(geometry, &tr, prim, stats);
         }
         search.best()
@@ -711,27 +636,56 @@ impl LightBuffer {
 
     /// The buffer's figures, for `prism info` and the statistics.
     pub fn info(&self) -> LightBufferInfo {
-        let cells = self.cells.len();
         LightBufferInfo {
             resolution: self.res,
-            cells,
-            entries: self.entries.len(),
-            mean_list: self.entries.len() as f64 / cells.max(1) as f64,
-            max_list: self.cells.iter().map(|c| c.len as usize).max().unwrap_or(0),
-            covered_cells: self.cells.iter().filter(|c| c.cover != u32::MAX).count(),
-            occupied_cells: self.cells.iter().filter(|c| c.len > 0).count(),
-            cut_cells: self
-                .cells
-                .iter()
-                .filter(|c| c.limit < f32::INFINITY)
-                .count(),
-            max_walk: self.max_walk,
-            memory_bytes: self.entries.len() * std::mem::size_of::<Entry>()
-                + self.cells.len() * std::mem::size_of::<Cell>()
-                + self.by_distance.len() * std::mem::size_of::<Entry>(),
+            cells: self.cells.len(),
+            entry_nodes: self.entries.len(),
+            mean_subtrees: self.mean_subtrees,
+            leaf_share: self.leaf_share,
+            memory_bytes: self.cells.len() * 4 + self.entries.memory_bytes(),
             build_time: self.build_time,
         }
     }
+}
+
+/// The subtrees cell (iu, iv) of a face holds, at most `width`: from the root's, each
+/// replaced by those of its children whose footprints (`rects`) reach the cell, the one
+/// with the largest box first, while they fit. Sorted, so equal cells share an entry node.
+fn cut(
+    tree: &Tree,
+    rects: &[Option<[u32; 4]>],
+    iu: u32,
+    iv: u32,
+    width: usize,
+) -> ArrayVec<u32, MAX_WIDTH> {
+    let meets = |s: u32| {
+        rects[s as usize]
+            .is_some_and(|[u0, u1, v0, v1]| u0 <= iu && iu <= u1 && v0 <= iv && iv <= v1)
+    };
+    let mut list: ArrayVec<u32, MAX_WIDTH> = tree.top.clone().filter(|&s| meets(s)).collect();
+    loop {
+        // The interior subtree with the largest box whose children in the cell fit.
+        let mut best: Option<(usize, f32)> = None;
+        for (k, &s) in list.iter().enumerate() {
+            let kids = tree.children[s as usize].clone();
+            if kids.is_empty() || best.is_some_and(|(_, a)| a >= tree.area[s as usize]) {
+                continue;
+            }
+            let n = kids.filter(|&c| meets(c)).count();
+            if list.len() - 1 + n <= width {
+                best = Some((k, tree.area[s as usize]));
+            }
+        }
+        let Some((k, _)) = best else { break };
+        let s = list.swap_remove(k);
+        for c in tree.children[s as usize].clone() {
+            if meets(c) {
+                list.push(c);
+            }
+        }
+    }
+    list.sort_unstable();
+    list
 }
 
 /// Box `b` relative to the light, in f64.
@@ -784,24 +738,5 @@ mod tests {
         assert_eq!(empty.finish(100, 7), 0);
         assert_eq!((w.index(0, p[0], 100), w.index(0, p[1], 100)), (0, 99));
         assert!(w.contains(0, 0.0) && !w.contains(0, 0.06));
-    }
-
-    #[test]
-    fn a_triangle_covers_the_cells_inside_its_outline_only() {
-        // A big triangle at z = 1 over the light: covers the centre of the +z face, not a
-        // rectangle that pokes out of its hypotenuse.
-        let mut g = Geometry::default();
-        let positions = vec![
-            Vec3::new(-1.0, -1.0, 1.0),
-            Vec3::new(1.0, -1.0, 1.0),
-            Vec3::new(-1.0, 1.0, 1.0),
-        ];
-        let mesh = crate::geometry::TriangleMesh::new(positions, vec![[0, 1, 2]], None, None);
-        g.add_mesh(mesh.unwrap(), 0);
-        let s = Silhouette::of(&g, 0, DVec3::ZERO, 4).unwrap();
-        assert!(s.covers(4, (-0.5, -0.1), (-0.5, -0.1)));
-        assert!(!s.covers(4, (-0.5, 0.1), (-0.5, 0.1)));
-        // Seen from the other side of its plane, it is on no face in front of the light.
-        assert!(Silhouette::of(&g, 0, DVec3::new(0.0, 0.0, 2.0), 4).is_none());
     }
 }

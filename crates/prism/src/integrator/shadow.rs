@@ -17,11 +17,11 @@
 //!   directional lights and lights whose buffer would pass the memory budget keep the
 //!   accelerator;
 //! - `both`: the light buffer, whose cells' covering primitives come first, then the cache;
-//! - `auto`: what is predicted to pay: today the cache alone (measured in docs/shadows.md,
-//!   no light buffer beats the BVH with the cache on the SPD scenes).
+//! - `auto`: what is predicted to pay: today `both` (measured in docs/shadows.md: the
+//!   buffer with the cache beat the BVH, and the cache alone, on the SPD scenes).
 
-use super::light_buffer::{prim_bounds, BufferParams, LightBuffer, LightBufferInfo, Unbuilt};
-use crate::accel::{Hit, HitSearch, QueryMode, PACKET_MAX};
+use super::light_buffer::{BufferParams, LightBuffer, LightBufferInfo};
+use crate::accel::{Bvh, Hit, HitSearch, QueryMode, PACKET_MAX};
 use crate::geometry::{SurfacePoint, Uv};
 use crate::light::{Light, LightSample};
 use crate::math::robust::offset_ray_origin;
@@ -51,8 +51,9 @@ pub enum ShadowMethod {
     LightBuffer,
     /// The cache first, then the light buffer.
     Both,
-    /// The method prism expects to be fastest for the scene; today the cache, which was
-    /// never more than 10 % slower than any-hit in the measurements of docs/shadows.md.
+    /// The method prism expects to be fastest for the scene; today the light buffer with
+    /// the cache (as `both`, at its default resolution), which was never slower than
+    /// any-hit in the measurements of docs/shadows.md.
     Auto,
 }
 
@@ -74,8 +75,14 @@ impl ShadowMethod {
         )
     }
 
+    /// Whether the method takes the light buffer's keys.
     fn uses_light_buffer(self) -> bool {
         matches!(self, ShadowMethod::LightBuffer | ShadowMethod::Both)
+    }
+
+    /// Whether it builds light buffers (`auto` too, with their defaults).
+    fn builds_buffers(self) -> bool {
+        self.uses_light_buffer() || self == ShadowMethod::Auto
     }
 }
 
@@ -89,9 +96,6 @@ pub struct ShadowSpec {
     pub res: u32,
     /// The light buffers' memory budget in MiB; 0 takes the default.
     pub budget_mib: u32,
-    /// The longest list walk before a query asks the accelerator; 0 chooses from the
-    /// primitive count.
-    pub walk: u32,
 }
 
 impl ShadowSpec {
@@ -100,14 +104,6 @@ impl ShadowSpec {
         match self.res {
             0 => LightBuffer::auto_resolution(primitives),
             r => r,
-        }
-    }
-
-    /// The longest walk a buffer over `primitives` takes.
-    pub fn max_walk(&self, primitives: usize) -> usize {
-        match self.walk {
-            0 => LightBuffer::auto_max_walk(primitives),
-            w => w as usize,
         }
     }
 
@@ -155,11 +151,10 @@ impl FromStr for ShadowSpec {
             match key {
                 "res" => spec.res = number(1..=1024)?,
                 "budget" => spec.budget_mib = number(1..=1 << 20)?,
-                "walk" => spec.walk = number(1..=1 << 30)?,
                 _ => {
                     return Err(format!(
                         "unknown key '{key}' in '{s}': light-buffer takes res (cells along a \
-                         face's side), budget (MiB) and walk (the longest list walk)"
+                         face's side) and budget (MiB)"
                     ))
                 }
             }
@@ -178,9 +173,6 @@ impl fmt::Display for ShadowSpec {
         }
         if self.budget_mib != 0 {
             params.push(format!("budget={}", self.budget_mib));
-        }
-        if self.walk != 0 {
-            params.push(format!("walk={}", self.walk));
         }
         if !params.is_empty() {
             write!(f, ":{}", params.join(","))?;
@@ -220,14 +212,6 @@ impl<'a> Shadows<'a> {
         let mut unbuilt = Vec::with_capacity(lights.len());
         let geometry = &scene.scene.geometry;
         let res = spec.resolution(geometry.primitives.len());
-        let max_walk = spec.max_walk(geometry.primitives.len());
-        // Transparent surfaces never cover a cell (shadow rays pass through them).
-        let materials = &scene.scene.materials;
-        let bounds = prim_bounds(geometry);
-        let opaque = |prim: u32| {
-            let m = geometry.primitives[prim as usize].material as usize;
-            materials[m].transmit.max_element() <= 0.0
-        };
         // The budget is shared out among the lights that want a buffer.
         let wanting = lights
             .iter()
@@ -235,7 +219,7 @@ impl<'a> Shadows<'a> {
             .count()
             .max(1);
         for light in lights {
-            let (buffer, why) = match (spec.method.uses_light_buffer(), position(light)) {
+            let (buffer, why) = match (spec.method.builds_buffers(), position(light)) {
                 (false, _) => (None, None),
                 (true, None) => (
                     None,
@@ -245,22 +229,12 @@ impl<'a> Shadows<'a> {
                     let params = BufferParams {
                         res,
                         budget_bytes: spec.budget_bytes() / wanting as u64,
-                        max_walk,
-                        opaque: &opaque,
-                        bounds: Some(bounds.clone()),
                     };
-                    match LightBuffer::build_with(geometry, p, &params) {
+                    match LightBuffer::build(&scene.intersector, p, &params) {
                         Ok(b) => (Some(b), None),
-                        Err(Unbuilt::OverBudget {
-                            entries,
-                            budget_bytes,
-                        }) => (
+                        Err(why) => (
                             None,
-                            Some(format!(
-                                "its lists would hold over {entries} entries, past the budget \
-                                 of {} MiB for it: its shadow rays use the accelerator",
-                                budget_bytes >> 20
-                            )),
+                            Some(format!("{why}: its shadow rays use the accelerator")),
                         ),
                     }
                 }
@@ -286,14 +260,20 @@ impl<'a> Shadows<'a> {
         t_max: f32,
         stats: &mut Stats,
     ) -> bool {
-        let query = Query {
-            scene: self.scene,
-            buffer: self.buffers.get(light).and_then(Option::as_ref),
-        };
+        let query = self.query(light);
         if self.spec.method.uses_cache() {
             cached_any_hit(&query, light, depth, ray, t_max, stats)
         } else {
             query.any(ray, t_max, stats).is_some()
+        }
+    }
+
+    /// Who answers the queries of the scene's `light`-th light.
+    fn query(&self, light: usize) -> Query<'_> {
+        let buffer = self.buffers.get(light).and_then(Option::as_ref);
+        Query {
+            scene: self.scene,
+            buffer: buffer.zip(self.scene.intersector.accel.as_bvh()),
         }
     }
 
@@ -430,10 +410,7 @@ impl<'a> Shadows<'a> {
         stats.shadow_rays += 1;
         let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
         let origin = offset_ray_origin(sp.p, sp.p_error, ng, light.to_light);
-        let query = Query {
-            scene,
-            buffer: self.buffers.get(index).and_then(Option::as_ref),
-        };
+        let query = self.query(index);
         let v = if scene.has_transmissive {
             transmittance(&query, origin, light.to_light, light.distance, stats)
         } else {
@@ -461,17 +438,18 @@ fn position(light: &Light) -> Option<Vec3> {
 /// One shadow query, answered by the light's buffer or by the accelerator.
 struct Query<'a> {
     scene: &'a PreparedScene<'a>,
-    buffer: Option<&'a LightBuffer>,
+    /// The light's buffer and the BVH it was built over.
+    buffer: Option<(&'a LightBuffer, &'a Bvh)>,
 }
 
 impl Query<'_> {
     fn any(&self, ray: &Ray, t_max: f32, stats: &mut Stats) -> Option<Hit> {
         let geometry = &self.scene.scene.geometry;
         match self.buffer {
-            Some(b) => {
+            Some((b, bvh)) => {
                 stats.light_buffer_queries += 1;
                 let accel = &self.scene.intersector;
-                b.any_hit(geometry, accel, ray, t_max, None, stats)
+                b.any_hit(geometry, accel, bvh, ray, t_max, None, stats)
             }
             None => self.scene.intersector.any_hit(geometry, ray, t_max, stats),
         }
@@ -480,10 +458,10 @@ impl Query<'_> {
     fn nearest(&self, ray: &Ray, t_max: f32, stats: &mut Stats) -> Option<Hit> {
         let geometry = &self.scene.scene.geometry;
         match self.buffer {
-            Some(b) => {
+            Some((b, bvh)) => {
                 stats.light_buffer_queries += 1;
                 let accel = &self.scene.intersector;
-                b.query(geometry, accel, ray, t_max, QueryMode::Nearest, stats)
+                b.nearest(geometry, accel, bvh, ray, t_max, stats)
             }
             None => self
                 .scene
@@ -523,11 +501,11 @@ fn cached_any_hit(
     let remembered = (remembered != u32::MAX).then_some(remembered);
     let geometry = &query.scene.scene.geometry;
     let answer = match query.buffer {
-        // The buffer asks its cell's covering primitive first, then the remembered one.
-        Some(b) => {
+        // The buffer asks the remembered blocker first.
+        Some((b, bvh)) => {
             stats.light_buffer_queries += 1;
             let accel = &query.scene.intersector;
-            b.any_hit(geometry, accel, ray, t_max, remembered, stats)
+            b.any_hit(geometry, accel, bvh, ray, t_max, remembered, stats)
         }
         None => {
             if let Some(prim) = remembered {
@@ -626,7 +604,7 @@ mod tests {
             "light-buffer",
             "both",
             "auto",
-            "light-buffer:res=64,budget=32,walk=3",
+            "light-buffer:res=64,budget=32",
         ] {
             let spec: ShadowSpec = text.parse().unwrap();
             assert_eq!(spec.to_string(), text);

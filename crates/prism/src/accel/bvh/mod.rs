@@ -8,6 +8,7 @@ mod options;
 mod packet;
 mod reinsert;
 mod simd8;
+mod subtree;
 mod traverse;
 mod wide;
 
@@ -16,6 +17,7 @@ use crate::math::{Aabb, Vec3};
 use wide::{Wide8Node, WideNode};
 
 pub use options::{BvhBuilder, BvhOptions, NodeWidth};
+pub use subtree::{Entry, EntryNodes, Subtree};
 
 /// A node is 32 bytes, two to a cache line. Interior nodes have `count == 0` and their
 /// children at `first` and `first + 1`; leaves hold `prims[first .. first + count]`.

@@ -390,6 +390,7 @@ pub(super) fn query(
         let packet = Packet4::new(bounds);
         walk(
             &bvh.wide,
+            &bvh.wide[0],
             // Interval culling only: every child goes on with all the rays that reached it.
             |node: &WideNode, s: &PacketSearch, entering: u64| {
                 let (hit, t) = packet.hit(node, s.t_max());

@@ -32,12 +32,14 @@ pub(super) fn available() -> bool {
     }
 }
 
-/// Walks `nodes` (root at 0) for `ray`, handing leaves to `leaf`, which returns true when
-/// the query is answered. `nodes` must come from a `Bvh` built while `available()` was
-/// true (the only way `Bvh::wide8` is filled).
+/// Walks `nodes` for `ray` from `root` (`nodes[0]`, or an entry node of some of its
+/// subtrees), handing leaves to `leaf`, which returns true when the query is answered.
+/// `nodes` must come from a `Bvh` built while `available()` was true (the only way
+/// `Bvh::wide8` is filled).
 #[inline(always)]
 pub(super) fn traverse(
     nodes: &[Wide8Node],
+    root: &Wide8Node,
     ray: &TraceRay,
     search: &mut HitSearch,
     stats: &mut Stats,
@@ -47,11 +49,11 @@ pub(super) fn traverse(
     {
         debug_assert!(available());
         // SAFETY: `nodes` is non-empty only when AVX2 was detected (see above).
-        unsafe { x86::traverse(nodes, ray, search, stats, leaf) }
+        unsafe { x86::traverse(nodes, root, ray, search, stats, leaf) }
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        let _ = (nodes, ray, search, stats, leaf);
+        let _ = (nodes, root, ray, search, stats, leaf);
         unreachable!("8-wide nodes are only built on x86-64 with AVX2")
     }
 }
@@ -470,6 +472,7 @@ mod x86 {
         let box_test = Packet4::new(*bounds);
         crate::accel::bvh::traverse::walk(
             nodes,
+            &nodes[0],
             // Each child the packet may enter goes on with the rays that do enter it.
             |node: &Wide8Node, s: &PacketSearch, rays: u64| {
                 let (mut some, entries, everyone) = packet.hit(node, s.t_max(), s.t_min());
@@ -554,6 +557,7 @@ mod x86 {
     #[target_feature(enable = "avx2,popcnt")]
     pub(super) unsafe fn traverse(
         nodes: &[Wide8Node],
+        root: &Wide8Node,
         ray: &TraceRay,
         search: &mut HitSearch,
         stats: &mut Stats,
@@ -562,6 +566,7 @@ mod x86 {
         let ray8 = Ray8::new(ray);
         crate::accel::bvh::traverse::walk(
             nodes,
+            root,
             |node: &Wide8Node, s: &HitSearch, ()| {
                 let (hit, entries) = ray8.hit(node, s.t_max());
                 Visit {

@@ -4,7 +4,7 @@
 //! Nearest-hit queries shrink `t_max` as hits are found, so far subtrees get culled.
 
 use super::leaves::PACKED;
-use super::wide::{LeafSlots, WideNode, WideRay};
+use super::wide::{LeafSlots, Wide8Node, WideNode, WideRay};
 use super::{Bvh, Node, MAX_DEPTH};
 use crate::accel::query::HitSearch;
 use crate::accel::stack::TraversalStack;
@@ -37,49 +37,24 @@ impl Accel for Bvh {
         // The root box first: a cheap way out for rays that miss the scene.
         stats.node_visits += 1;
         node_hit(root, ray, t_max)?;
-        let mut search = HitSearch::new(t_max, mode);
-        let leaf = LeafQuery {
-            prims: &self.prims,
-            packs: &self.packs,
-            geometry,
-            ray,
-            pack_ray: &PackRay::new(ray),
-        };
         if root.is_leaf() {
+            let mut search = HitSearch::new(t_max, mode);
+            let leaf = LeafQuery {
+                prims: &self.prims,
+                packs: &self.packs,
+                geometry,
+                ray,
+                pack_ray: &PackRay::new(ray),
+            };
             leaf.test(root.first, root.count, &mut search, stats);
             return search.best();
         }
-
-        if !self.wide8.is_empty() {
-            super::simd8::traverse(
-                &self.wide8,
-                ray,
-                &mut search,
-                stats,
-                |c, n, _, (), s, st| leaf.test(c, n, s, st),
-            );
-            return search.best();
-        }
-
-        let wide_ray = WideRay::new(ray);
-        walk(
-            &self.wide,
-            |node: &WideNode, s: &HitSearch, ()| {
-                let t = node.hit(&wide_ray, s.t_max());
-                let mut entries = [0.0; 8];
-                entries[..4].copy_from_slice(&t.to_array());
-                Visit {
-                    children: node.children(),
-                    hit: t.cmplt(Vec4::INFINITY).bitmask(),
-                    entries,
-                    rays: [(); 8],
-                }
-            },
-            &mut search,
-            stats,
-            |c, n, _, (), s, st| leaf.test(c, n, s, st),
-        );
-        search.best()
+        let root = if self.wide8.is_empty() {
+            Root::Four(&self.wide[0])
+        } else {
+            Root::Eight(&self.wide8[0])
+        };
+        self.walk_from(root, geometry, ray, t_max, mode, stats)
     }
 
     fn query_packet(
@@ -96,6 +71,74 @@ impl Accel for Bvh {
 
     fn info(&self) -> AccelInfo {
         self.info()
+    }
+
+    fn as_bvh(&self) -> Option<&Bvh> {
+        Some(self)
+    }
+}
+
+/// Where a walk starts: a node of the tree's own layout (its root, or an entry node made of
+/// some of its subtrees, `subtree.rs`).
+#[derive(Clone, Copy)]
+pub(super) enum Root<'a> {
+    Four(&'a WideNode),
+    Eight(&'a Wide8Node),
+}
+
+impl Bvh {
+    /// The query below `root`: what `query` answers over the primitives of the subtrees
+    /// `root` holds.
+    #[inline(always)]
+    pub(super) fn walk_from(
+        &self,
+        root: Root,
+        geometry: &Geometry,
+        ray: &TraceRay,
+        t_max: f32,
+        mode: QueryMode,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
+        let mut search = HitSearch::new(t_max, mode);
+        let leaf = LeafQuery {
+            prims: &self.prims,
+            packs: &self.packs,
+            geometry,
+            ray,
+            pack_ray: &PackRay::new(ray),
+        };
+        match root {
+            Root::Eight(node) => super::simd8::traverse(
+                &self.wide8,
+                node,
+                ray,
+                &mut search,
+                stats,
+                |c, n, _, (), s, st| leaf.test(c, n, s, st),
+            ),
+            Root::Four(node) => {
+                let wide_ray = WideRay::new(ray);
+                walk(
+                    &self.wide,
+                    node,
+                    |node: &WideNode, s: &HitSearch, ()| {
+                        let t = node.hit(&wide_ray, s.t_max());
+                        let mut entries = [0.0; 8];
+                        entries[..4].copy_from_slice(&t.to_array());
+                        Visit {
+                            children: node.children(),
+                            hit: t.cmplt(Vec4::INFINITY).bitmask(),
+                            entries,
+                            rays: [(); 8],
+                        }
+                    },
+                    &mut search,
+                    stats,
+                    |c, n, _, (), s, st| leaf.test(c, n, s, st),
+                );
+            }
+        }
+        search.best()
     }
 }
 
@@ -141,7 +184,8 @@ pub(super) struct Visit<R> {
     pub rays: [R; 8],
 }
 
-/// The stack walk both wide layouts and packets share: visit a node (`visit`, the
+/// The stack walk both wide layouts and packets share, from `root` (the tree's node 0, or
+/// an entry node made of some of its subtrees, `subtree.rs`): visit a node (`visit`, the
 /// layout's SIMD box test, with the rays that reached it), descend into the nearest child
 /// hit, push the others farthest first (ties keep lane order), hand leaves to `leaf` with
 /// their entry distance and rays (true when the query is answered), and skip deferred
@@ -150,6 +194,7 @@ pub(super) struct Visit<R> {
 #[inline(always)]
 pub(super) fn walk<N: LeafSlots, S: CullBound>(
     nodes: &[N],
+    root: &N,
     visit: impl Fn(&N, &S, S::Rays) -> Visit<S::Rays>,
     search: &mut S,
     stats: &mut Stats,
@@ -159,13 +204,19 @@ pub(super) fn walk<N: LeafSlots, S: CullBound>(
     // A visit defers at most seven, and a wide tree is no deeper than the binary one.
     let mut stack = TraversalStack::<(u32, u32, f32, S::Rays), { 7 * MAX_DEPTH }>::new();
     let (mut child, mut count, mut enter, mut rays) = (0u32, 0u32, 0.0f32, search.all_rays());
+    let mut at_root = true;
     loop {
         if count > 0 {
             if leaf(child, count, enter, rays, search, stats) {
                 return;
             }
         } else {
-            let node = &nodes[child as usize];
+            let node = if at_root {
+                at_root = false;
+                root
+            } else {
+                &nodes[child as usize]
+            };
             let Visit {
                 children,
                 hit: mut mask,

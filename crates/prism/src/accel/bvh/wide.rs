@@ -12,7 +12,7 @@
 //! tests its eight boxes at once.
 
 use super::Node;
-use crate::math::TraceRay;
+use crate::math::{Aabb, TraceRay, Vec3};
 use glam::Vec4;
 
 /// Up to four children. Lane k of each vector holds child k's box; unused lanes hold an
@@ -141,6 +141,58 @@ impl LeafSlots for Wide8Node {
     #[inline(always)]
     fn children_and_counts(&self) -> (&[u32], &[u32]) {
         (&self.child, &self.count)
+    }
+}
+
+/// A wide node's lanes one at a time, as (box, child, count) with `child` and `count` as in
+/// the node: what `subtree.rs` reads subtrees from and builds entry nodes of.
+pub(super) trait Lanes: Sized {
+    /// Lanes per node.
+    const WIDTH: usize;
+    /// Lane `k`, None when unused.
+    fn lane(&self, k: usize) -> Option<(Aabb, u32, u32)>;
+    /// A node of `lanes` (at most `WIDTH`), the other lanes unused.
+    fn of_lanes(lanes: &[(Aabb, u32, u32)]) -> Self;
+}
+
+impl Lanes for WideNode {
+    const WIDTH: usize = 4;
+    fn lane(&self, k: usize) -> Option<(Aabb, u32, u32)> {
+        let min = Vec3::new(self.min[0][k], self.min[1][k], self.min[2][k]);
+        let max = Vec3::new(self.max[0][k], self.max[1][k], self.max[2][k]);
+        (min.x < f32::INFINITY).then_some((Aabb { min, max }, self.child[k], self.count[k]))
+    }
+    fn of_lanes(lanes: &[(Aabb, u32, u32)]) -> Self {
+        let mut w = WideNode::EMPTY;
+        for (k, &(b, child, count)) in lanes.iter().enumerate() {
+            for axis in 0..3 {
+                w.min[axis][k] = b.min[axis];
+                w.max[axis][k] = b.max[axis];
+            }
+            (w.child[k], w.count[k]) = (child, count);
+        }
+        w
+    }
+}
+
+impl Lanes for Wide8Node {
+    const WIDTH: usize = 8;
+    fn lane(&self, k: usize) -> Option<(Aabb, u32, u32)> {
+        let b = &self.bounds;
+        let min = Vec3::new(b[0][k], b[1][k], b[2][k]);
+        let max = Vec3::new(b[3][k], b[4][k], b[5][k]);
+        (min.x < f32::INFINITY).then_some((Aabb { min, max }, self.child[k], self.count[k]))
+    }
+    fn of_lanes(lanes: &[(Aabb, u32, u32)]) -> Self {
+        let mut w = Wide8Node::EMPTY;
+        for (k, &(b, child, count)) in lanes.iter().enumerate() {
+            for axis in 0..3 {
+                w.bounds[axis][k] = b.min[axis];
+                w.bounds[3 + axis][k] = b.max[axis];
+            }
+            (w.child[k], w.count[k]) = (child, count);
+        }
+        w
     }
 }
 
