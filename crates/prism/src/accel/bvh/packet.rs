@@ -62,11 +62,12 @@ impl PacketBounds {
         };
         for a in 0..3 {
             let (o, inv) = (&soa.origin[a][..n], &soa.inv_dir[a][..n]);
-            // Folds the compiler can vectorise; NaN and ±∞ show in the sum.
+            // Folds the compiler can vectorise (a float sum, which once caught NaN and ±∞
+            // here, cannot be reordered: a chain of 64 dependent additions per axis).
             let lo = inv.iter().fold(f32::INFINITY, |m, &v| m.min(v));
             let hi = inv.iter().fold(f32::NEG_INFINITY, |m, &v| m.max(v));
-            let sum: f32 = inv.iter().sum();
-            if !sum.is_finite() || !(lo > 0.0 || hi < 0.0) {
+            let finite = inv.iter().fold(true, |all, v| all & v.is_finite());
+            if !finite || !(lo > 0.0 || hi < 0.0) {
                 return None;
             }
             let o_lo = o.iter().fold(f32::INFINITY, |m, &v| m.min(v));
