@@ -190,6 +190,10 @@ impl SceneIntersector {
             &mut answers[..n],
             stats,
         );
+        // The accelerator's answers are final unless a plane may come nearer.
+        if self.unbounded.is_empty() {
+            return;
+        }
         for ((tr, answer), &t_max) in traced.iter().zip(answers.iter_mut()).zip(t_max) {
             let mut search = HitSearch::new(t_max, QueryMode::Nearest);
             if let Some(hit) = *answer {
