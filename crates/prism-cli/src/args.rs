@@ -190,7 +190,7 @@ pub(crate) struct RenderArgs {
     /// default), cache (the last blocker per light and depth tried first, after a blocked
     /// ray), light-buffer (Haines & Greenberg's direction cube per point light, its cells
     /// holding BVH subtrees; keys res = cells along a face window's side, budget = MiB for
-    /// all lights), both, or auto (what is predicted to pay: today both). Every method
+    /// all lights), both, or auto (what is predicted to pay in a render: today any-hit, in packets). Every method
     /// gives the same image.
     #[arg(long, value_name = "SPEC")]
     pub shadows: Option<prism::integrator::ShadowSpec>,

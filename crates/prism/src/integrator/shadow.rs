@@ -16,9 +16,10 @@
 //! - `light-buffer`: a light buffer per point or spot light (`light_buffer.rs`);
 //!   directional lights and lights whose buffer would pass the memory budget keep the
 //!   accelerator;
-//! - `both`: the light buffer, whose cells' covering primitives come first, then the cache;
-//! - `auto`: what is predicted to pay: today `both` (measured in docs/shadows.md: the
-//!   buffer with the cache beat the BVH, and the cache alone, on the SPD scenes).
+//! - `both`: the light buffer, then the cache;
+//! - `auto`: what is predicted to pay in a render: today `any-hit` (measured in
+//!   docs/shadows.md: `both` beats the BVH on single rays, but renders send any-hit
+//!   shadow rays in packets, which beat both on every SPD scene).
 
 use super::light_buffer::{BufferParams, LightBuffer, LightBufferInfo};
 use crate::accel::{Bvh, Hit, HitSearch, QueryMode, PACKET_MAX};
@@ -51,9 +52,10 @@ pub enum ShadowMethod {
     LightBuffer,
     /// The cache first, then the light buffer.
     Both,
-    /// The method prism expects to be fastest for the scene; today the light buffer with
-    /// the cache (as `both`, at its default resolution), which was never slower than
-    /// any-hit in the measurements of docs/shadows.md.
+    /// The method prism expects to make renders fastest; today `any-hit`: rays in
+    /// packets beat the cache and the light buffer, which go one ray at a time, in whole
+    /// renders of every SPD scene measured in docs/shadows.md (even where `both` wins on
+    /// single rays).
     Auto,
 }
 
@@ -69,20 +71,12 @@ named_kinds! {
 
 impl ShadowMethod {
     fn uses_cache(self) -> bool {
-        matches!(
-            self,
-            ShadowMethod::Cache | ShadowMethod::Both | ShadowMethod::Auto
-        )
+        matches!(self, ShadowMethod::Cache | ShadowMethod::Both)
     }
 
     /// Whether the method takes the light buffer's keys.
     fn uses_light_buffer(self) -> bool {
         matches!(self, ShadowMethod::LightBuffer | ShadowMethod::Both)
-    }
-
-    /// Whether it builds light buffers (`auto` too, with their defaults).
-    fn builds_buffers(self) -> bool {
-        self.uses_light_buffer() || self == ShadowMethod::Auto
     }
 }
 
@@ -219,7 +213,7 @@ impl<'a> Shadows<'a> {
             .count()
             .max(1);
         for light in lights {
-            let (buffer, why) = match (spec.method.builds_buffers(), position(light)) {
+            let (buffer, why) = match (spec.method.uses_light_buffer(), position(light)) {
                 (false, _) => (None, None),
                 (true, None) => (
                     None,
