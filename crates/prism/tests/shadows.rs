@@ -10,7 +10,7 @@ mod common;
 use common::oracle::{random_ray, TestScene};
 use common::{icosphere, Rng};
 use prism::accel::{AccelSpec, QueryMode, SceneIntersector};
-use prism::geometry::{AaBox, Plane, Shape, Sphere};
+use prism::geometry::{AaBox, Geometry, Plane, Shape, Sphere};
 use prism::integrator::{BufferParams, LightBuffer, ShadowSpec};
 use prism::math::robust::offset_ray_origin;
 use prism::math::{Aabb, Ray, Vec3};
@@ -98,6 +98,27 @@ fn border_points(rng: &mut Rng, light: Vec3, reach: f32, res: u32) -> Vec<Vec3> 
         out.push(light + d.normalize() * reach * rng.range(0.01, 1.0));
     }
     out
+}
+
+/// Whether `ray` (towards the light, `distance` long) is blocked, once the buffer has
+/// answered it as the accelerator does in both query modes (the buffer's counts go to
+/// `stats`).
+fn agrees(
+    buffer: &LightBuffer,
+    g: &Geometry,
+    intersector: &SceneIntersector,
+    ray: &Ray,
+    distance: f32,
+    stats: &mut Stats,
+    what: &str,
+) -> bool {
+    let any = buffer.query(g, intersector, ray, distance, QueryMode::Any, stats);
+    let blocked = intersector.occluded(g, ray, distance, &mut Stats::default());
+    assert_eq!(any.is_some(), blocked, "{what}");
+    let nearest = buffer.query(g, intersector, ray, distance, QueryMode::Nearest, stats);
+    let expected = intersector.intersect(g, ray, distance, &mut Stats::default());
+    assert_eq!(nearest, expected, "{what}");
+    blocked
 }
 
 /// A buffer of `res` cells a side, within a generous budget.
@@ -276,19 +297,8 @@ fn a_tree_of_one_leaf_answers_as_the_accelerator() {
             let distance = d.length();
             let ray = Ray::new(p, d / distance);
             let mut stats = Stats::default();
-            let a = buffer.query(g, &intersector, &ray, distance, QueryMode::Any, &mut stats);
-            let b = intersector.occluded(g, &ray, distance, &mut stats);
-            assert_eq!(a.is_some(), b, "scale {scale}, point {p}");
-            let n = buffer.query(
-                g,
-                &intersector,
-                &ray,
-                distance,
-                QueryMode::Nearest,
-                &mut stats,
-            );
-            assert_eq!(n, intersector.intersect(g, &ray, distance, &mut stats));
-            blocked += b as usize;
+            let what = format!("scale {scale}, point {p}");
+            blocked += agrees(&buffer, g, &intersector, &ray, distance, &mut stats, &what) as usize;
         }
         assert!(blocked > 50, "scale {scale}: {blocked} blocked");
     }
@@ -458,22 +468,9 @@ fn leaves_near_the_light_are_walked_when_a_ray_passes_it_off() {
                 let p = Vec3::new(x * delta, y * delta, 5.0) * scale;
                 let ray = Ray::new(p, -Vec3::Z);
                 let distance = p.z;
-                let a = buffer.query(g, &intersector, &ray, distance, QueryMode::Any, &mut stats);
-                let b = intersector.occluded(g, &ray, distance, &mut Stats::default());
-                assert_eq!(a.is_some(), b, "scale {scale}, point {p}");
-                let n = buffer.query(
-                    g,
-                    &intersector,
-                    &ray,
-                    distance,
-                    QueryMode::Nearest,
-                    &mut stats,
-                );
-                assert_eq!(
-                    n,
-                    intersector.intersect(g, &ray, distance, &mut Stats::default())
-                );
-                blocked += b as usize;
+                let what = format!("scale {scale}, point {p}");
+                blocked +=
+                    agrees(&buffer, g, &intersector, &ray, distance, &mut stats, &what) as usize;
             }
         }
         assert_eq!(blocked, 9, "scale {scale}: every ray meets the small box");

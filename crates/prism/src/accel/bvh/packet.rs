@@ -367,13 +367,7 @@ pub(super) fn query(
         }
     };
     let first_pack_ray = PackRay::new(&rays[0]);
-    let leaf = LeafQuery {
-        prims: &bvh.prims,
-        packs: &bvh.packs,
-        geometry,
-        ray: &rays[0],
-        pack_ray: &first_pack_ray,
-    };
+    let leaf = bvh.leaf_query(geometry, &rays[0], &first_pack_ray);
     let mut search = PacketSearch::new(t_max, mode);
     if !bvh.wide8.is_empty() {
         super::simd8::traverse_packet(

@@ -39,13 +39,8 @@ impl Accel for Bvh {
         node_hit(root, ray, t_max)?;
         if root.is_leaf() {
             let mut search = HitSearch::new(t_max, mode);
-            let leaf = LeafQuery {
-                prims: &self.prims,
-                packs: &self.packs,
-                geometry,
-                ray,
-                pack_ray: &PackRay::new(ray),
-            };
+            let pack_ray = PackRay::new(ray);
+            let leaf = self.leaf_query(geometry, ray, &pack_ray);
             leaf.test(root.first, root.count, &mut search, stats);
             return search.best();
         }
@@ -100,13 +95,8 @@ impl Bvh {
         stats: &mut Stats,
     ) -> Option<Hit> {
         let mut search = HitSearch::new(t_max, mode);
-        let leaf = LeafQuery {
-            prims: &self.prims,
-            packs: &self.packs,
-            geometry,
-            ray,
-            pack_ray: &PackRay::new(ray),
-        };
+        let pack_ray = PackRay::new(ray);
+        let leaf = self.leaf_query(geometry, ray, &pack_ray);
         match root {
             Root::Eight(node) => super::simd8::traverse(
                 &self.wide8,
@@ -265,6 +255,25 @@ pub(super) fn walk<N: LeafSlots, S: CullBound>(
                 (child, count, enter, rays) = (c, n, t_enter, still);
                 break;
             }
+        }
+    }
+}
+
+impl Bvh {
+    /// The leaf tests of this tree for `ray` (`pack_ray` its constants for the packs).
+    #[inline(always)]
+    pub(super) fn leaf_query<'a>(
+        &'a self,
+        geometry: &'a Geometry,
+        ray: &'a TraceRay,
+        pack_ray: &'a PackRay,
+    ) -> LeafQuery<'a> {
+        LeafQuery {
+            prims: &self.prims,
+            packs: &self.packs,
+            geometry,
+            ray,
+            pack_ray,
         }
     }
 }
