@@ -5,160 +5,15 @@
 //! (default docs/images/beam-vs-supersampling.svg). Run by bench/beam.sh.
 //!
 //! Scenes: the checkerboard (beam tolerance 1e-3 at 160 × 90: its horizon holds unboundedly
-//! many squares), the polygon Cornell box with a mirror of tests/beam.rs, built here the
-//! same way, and SPD tetra (../shared/scenes/spd/tetra.nff, skipped when absent).
+//! many squares), the built-in mirror-room (flat walls and a mirror, as tests/beam.rs uses
+//! it), and SPD tetra (../shared/scenes/spd/tetra.nff, skipped when absent).
 
-use prism::camera::{Camera, Projection};
-use prism::geometry::TriangleMesh;
-use prism::light::Light;
-use prism::math::{Color, Vec3};
 use prism::options::{IntegratorKind, RenderOptions};
 use prism::render::{render, render_beam};
 use prism::sampling::SamplerKind;
 use prism::scene::{builtin, Scene};
-use prism::shading::{Material, Texture};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
-
-fn quad(s: &mut Scene, c: [Vec3; 4], m: u32) {
-    let mesh = TriangleMesh::new(c.to_vec(), vec![[0, 1, 2], [0, 2, 3]], None, None).unwrap();
-    s.geometry.add_mesh(mesh, m);
-}
-
-fn cornell() -> Scene {
-    let mut s = Scene {
-        camera: Camera {
-            eye: Vec3::new(0.0, 1.0, 3.2),
-            look_at: Vec3::new(0.0, 1.0, 0.0),
-            up: Vec3::Y,
-            fov_degrees: 50.0,
-            projection: Projection::Perspective,
-        },
-        background: Color::splat(0.1),
-        ambient: Color::ONE,
-        lights: vec![Light::Point {
-            position: Vec3::new(0.0, 1.0, 3.2),
-            color: Color::splat(0.9),
-        }],
-        ..Scene::default()
-    };
-    let diffuse = |s: &mut Scene, c: Color, reflect: f32| {
-        s.add_material(Material {
-            color: Texture::Solid(c),
-            ambient: 0.2,
-            diffuse: if reflect > 0.0 { 0.1 } else { 0.8 },
-            reflect,
-            ..Material::default()
-        })
-    };
-    let w = diffuse(&mut s, Color::splat(0.75), 0.0);
-    let r = diffuse(&mut s, Color::new(0.75, 0.1, 0.1), 0.0);
-    let g = diffuse(&mut s, Color::new(0.1, 0.75, 0.1), 0.0);
-    let m = diffuse(&mut s, Color::splat(0.1), 0.8);
-    let v = Vec3::new;
-    quad(
-        &mut s,
-        [
-            v(-1., 0., -1.),
-            v(1., 0., -1.),
-            v(1., 0., 1.),
-            v(-1., 0., 1.),
-        ],
-        w,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 2., -1.),
-            v(-1., 2., 1.),
-            v(1., 2., 1.),
-            v(1., 2., -1.),
-        ],
-        w,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 0., -1.),
-            v(-1., 2., -1.),
-            v(1., 2., -1.),
-            v(1., 0., -1.),
-        ],
-        w,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 0., -1.),
-            v(-1., 0., 1.),
-            v(-1., 2., 1.),
-            v(-1., 2., -1.),
-        ],
-        r,
-    );
-    quad(
-        &mut s,
-        [v(1., 0., -1.), v(1., 2., -1.), v(1., 2., 1.), v(1., 0., 1.)],
-        g,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 0., 3.5),
-            v(1., 0., 3.5),
-            v(1., 2., 3.5),
-            v(-1., 2., 3.5),
-        ],
-        w,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 0., 1.),
-            v(-1., 0., 3.5),
-            v(-1., 2., 3.5),
-            v(-1., 2., 1.),
-        ],
-        r,
-    );
-    quad(
-        &mut s,
-        [v(1., 0., 1.), v(1., 2., 1.), v(1., 2., 3.5), v(1., 0., 3.5)],
-        g,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 0., 1.),
-            v(1., 0., 1.),
-            v(1., 0., 3.5),
-            v(-1., 0., 3.5),
-        ],
-        w,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 2., 1.),
-            v(-1., 2., 3.5),
-            v(1., 2., 3.5),
-            v(1., 2., 1.),
-        ],
-        w,
-    );
-    quad(
-        &mut s,
-        [
-            v(-0.6, 0.4, -0.97),
-            v(0.6, 0.4, -0.9),
-            v(0.6, 1.6, -0.9),
-            v(-0.6, 1.6, -0.97),
-        ],
-        m,
-    );
-    s.options.max_depth = 3;
-    s
-}
 
 struct Row {
     scene: String,
@@ -180,7 +35,13 @@ fn main() {
             90,
             1e-3,
         ),
-        ("cornell (flat, mirror)".into(), cornell(), 256, 256, 1e-4),
+        (
+            "mirror-room".into(),
+            builtin::find("mirror-room").unwrap(),
+            256,
+            256,
+            1e-4,
+        ),
     ];
     let tetra = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../../shared/scenes/spd/tetra.nff");

@@ -8,7 +8,6 @@ mod common;
 
 use prism::camera::{Camera, Projection};
 use prism::geometry::TriangleMesh;
-use prism::light::Light;
 use prism::math::{Color, Vec3};
 use prism::options::{IntegratorKind, RenderOptions};
 use prism::render::{render, render_beam, BeamRender, Film, RenderError};
@@ -67,154 +66,12 @@ fn quad(scene: &mut Scene, corners: [Vec3; 4], material: u32) {
     scene.geometry.add_mesh(mesh, material);
 }
 
-fn diffuse(scene: &mut Scene, name: &str, c: Color) -> u32 {
-    scene.add_material(Material {
-        name: name.into(),
-        color: prism::shading::Texture::Solid(c),
-        ambient: 0.2,
-        diffuse: 0.8,
-        ..Material::default()
-    })
-}
-
-/// A closed room of flat walls (2 units wide) with a mirror in front of the back wall,
-/// lit by a point light at the eye: no shadow the eye sees, directly or in the mirror, so
-/// every pixel piece's light is smooth and its centroid's value is the piece's mean to
-/// second order (shadow boundaries inside a piece are point-sampled; tetra has those).
+/// The built-in `mirror-room`: flat walls and a tilted mirror, lit from the eye, so no
+/// shadow the eye sees, directly or in the mirror, and every pixel piece's light is smooth:
+/// its centroid's value is the piece's mean to second order (shadow boundaries inside a
+/// piece are point-sampled; tetra has those).
 fn cornell() -> Scene {
-    let mut s = Scene {
-        camera: Camera {
-            eye: Vec3::new(0.0, 1.0, 3.2),
-            look_at: Vec3::new(0.0, 1.0, 0.0),
-            up: Vec3::Y,
-            fov_degrees: 50.0,
-            projection: Projection::Perspective,
-        },
-        background: Color::new(0.1, 0.1, 0.1),
-        ambient: Color::ONE,
-        lights: vec![Light::Point {
-            position: Vec3::new(0.0, 1.0, 3.2),
-            color: Color::splat(0.9),
-        }],
-        ..Scene::default()
-    };
-    let white = diffuse(&mut s, "white", Color::splat(0.75));
-    let red = diffuse(&mut s, "red", Color::new(0.75, 0.1, 0.1));
-    let green = diffuse(&mut s, "green", Color::new(0.1, 0.75, 0.1));
-    let mirror = s.add_material(Material {
-        name: "mirror".into(),
-        color: prism::shading::Texture::Solid(Color::splat(0.1)),
-        ambient: 0.1,
-        diffuse: 0.1,
-        reflect: 0.8,
-        ..Material::default()
-    });
-    let v = Vec3::new;
-    quad(
-        &mut s,
-        [
-            v(-1., 0., -1.),
-            v(1., 0., -1.),
-            v(1., 0., 1.),
-            v(-1., 0., 1.),
-        ],
-        white,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 2., -1.),
-            v(-1., 2., 1.),
-            v(1., 2., 1.),
-            v(1., 2., -1.),
-        ],
-        white,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 0., -1.),
-            v(-1., 2., -1.),
-            v(1., 2., -1.),
-            v(1., 0., -1.),
-        ],
-        white,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 0., -1.),
-            v(-1., 0., 1.),
-            v(-1., 2., 1.),
-            v(-1., 2., -1.),
-        ],
-        red,
-    );
-    quad(
-        &mut s,
-        [v(1., 0., -1.), v(1., 2., -1.), v(1., 2., 1.), v(1., 0., 1.)],
-        green,
-    );
-    // The wall behind the camera, which the mirror shows.
-    quad(
-        &mut s,
-        [
-            v(-1., 0., 3.5),
-            v(1., 0., 3.5),
-            v(1., 2., 3.5),
-            v(-1., 2., 3.5),
-        ],
-        white,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 0., 1.),
-            v(-1., 0., 3.5),
-            v(-1., 2., 3.5),
-            v(-1., 2., 1.),
-        ],
-        red,
-    );
-    quad(
-        &mut s,
-        [v(1., 0., 1.), v(1., 2., 1.), v(1., 2., 3.5), v(1., 0., 3.5)],
-        green,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 0., 1.),
-            v(1., 0., 1.),
-            v(1., 0., 3.5),
-            v(-1., 0., 3.5),
-        ],
-        white,
-    );
-    quad(
-        &mut s,
-        [
-            v(-1., 2., 1.),
-            v(-1., 2., 3.5),
-            v(1., 2., 3.5),
-            v(1., 2., 1.),
-        ],
-        white,
-    );
-    // The mirror, a little in front of the back wall, tilted so its image is not the room
-    // straight back.
-    quad(
-        &mut s,
-        [
-            v(-0.6, 0.4, -0.97),
-            v(0.6, 0.4, -0.9),
-            v(0.6, 1.6, -0.9),
-            v(-0.6, 1.6, -0.97),
-        ],
-        mirror,
-    );
-    s.options.max_depth = 3;
-    s
+    builtin::find("mirror-room").expect("a built-in")
 }
 
 /// Two mirrors meeting at a right angle over a coloured floor: rays and beams reflect

@@ -18,21 +18,7 @@ pub(crate) fn pixel_pieces(
     let x0 = lo.x.floor().max(0.0) as u32;
     let x1 = (hi.x.ceil().max(0.0) as u32).min(width);
     for y in y0..y1 {
-        let mut row = cell.clone();
-        if y > y0 {
-            row = row.clip(&Affine2 {
-                a: 0.0,
-                b: 1.0,
-                c: -(y as f64),
-            });
-        }
-        if y + 1 < y1 {
-            row = row.clip(&Affine2 {
-                a: 0.0,
-                b: -1.0,
-                c: (y + 1) as f64,
-            });
-        }
+        let row = band(cell, Axis::Y, y, y0, y1);
         if row.is_empty() {
             continue;
         }
@@ -40,26 +26,43 @@ pub(crate) fn pixel_pieces(
         let rx0 = (rlo.x.floor().max(x0 as f64) as u32).min(x1);
         let rx1 = (rhi.x.ceil().max(0.0) as u32).min(x1);
         for x in rx0..rx1 {
-            let mut piece = row.clone();
-            if x > rx0 {
-                piece = piece.clip(&Affine2 {
-                    a: 1.0,
-                    b: 0.0,
-                    c: -(x as f64),
-                });
-            }
-            if x + 1 < rx1 {
-                piece = piece.clip(&Affine2 {
-                    a: -1.0,
-                    b: 0.0,
-                    c: (x + 1) as f64,
-                });
-            }
+            let piece = band(&row, Axis::X, x, rx0, rx1);
             if piece.area() > 0.0 {
                 f(x, y, piece);
             }
         }
     }
+}
+
+#[derive(Clone, Copy)]
+enum Axis {
+    X,
+    Y,
+}
+
+/// `cell` cut to the band `k ≤ coordinate ≤ k + 1` of `axis`, where `first..end` are the
+/// bands the cell spans: its outer sides need no cut (the cell lies inside them).
+fn band(cell: &Convex, axis: Axis, k: u32, first: u32, end: u32) -> Convex {
+    let (below, above) = match axis {
+        Axis::X => ((1.0, 0.0), (-1.0, 0.0)),
+        Axis::Y => ((0.0, 1.0), (0.0, -1.0)),
+    };
+    let mut out = cell.clone();
+    if k > first {
+        out = out.clip(&Affine2 {
+            a: below.0,
+            b: below.1,
+            c: -(k as f64),
+        });
+    }
+    if k + 1 < end {
+        out = out.clip(&Affine2 {
+            a: above.0,
+            b: above.1,
+            c: (k + 1) as f64,
+        });
+    }
+    out
 }
 
 #[cfg(test)]

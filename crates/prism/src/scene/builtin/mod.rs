@@ -3,6 +3,7 @@
 mod checkerboard;
 mod cornell;
 mod cornell_light;
+mod mirror_room;
 mod pearls;
 mod random;
 mod shards;
@@ -56,6 +57,12 @@ pub const BUILTINS: &[Builtin] = &[
         description:
             "cornell-light with a mirror sphere and a glass sphere for blocks (path tracer)",
         build: || cornell_light::cornell_light(cornell_light::Variant::Glass),
+    },
+    Builtin {
+        name: "mirror-room",
+        description:
+            "flat walls and a tilted mirror lit from the eye: polygons only, for --integrator beam",
+        build: mirror_room::mirror_room,
     },
     Builtin {
         name: "sphereflake",
