@@ -30,6 +30,7 @@ pub use spec::{parse_params, AccelKind, AccelSpec};
 use crate::geometry::Geometry;
 use crate::math::{Ray, TraceRay};
 use crate::stats::Stats;
+use rayon::prelude::*;
 
 /// An acceleration structure: answers ray queries over the bounded primitives it was
 /// built on. A method implements `query` (and `info`); `intersect` and `occluded` are the
@@ -121,8 +122,11 @@ impl SceneIntersector {
     /// Builds the method `spec` names over the bounded primitives of `geometry` and keeps
     /// the unbounded ones (planes) aside.
     pub fn build(geometry: &Geometry, spec: &AccelSpec) -> Self {
-        let (bounded, unbounded): (Vec<u32>, Vec<u32>) =
-            (0..geometry.primitives.len() as u32).partition(|&i| geometry.bounds(i).is_some());
+        // In parallel: on a million triangles a serial pass is a millisecond of a build
+        // whose every other step uses both cores.
+        let (bounded, unbounded): (Vec<u32>, Vec<u32>) = (0..geometry.primitives.len() as u32)
+            .into_par_iter()
+            .partition(|&i| geometry.primitives[i as usize].shape.is_bounded());
         SceneIntersector {
             accel: spec.build(geometry, bounded),
             unbounded,

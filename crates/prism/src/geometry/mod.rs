@@ -125,6 +125,11 @@ impl Shape {
         }
     }
 
+    /// Whether `bounds` is `Some`, without computing the box.
+    pub fn is_bounded(&self) -> bool {
+        !matches!(self, Shape::Plane(_))
+    }
+
     /// World-space bounds; `None` for unbounded shapes, which accelerators keep aside.
     pub fn bounds(&self, meshes: &[TriangleMesh]) -> Option<Aabb> {
         match self {
@@ -282,5 +287,26 @@ mod tests {
     #[test]
     fn primitive_is_compact() {
         assert!(std::mem::size_of::<super::Primitive>() <= 32);
+    }
+
+    /// Accelerators sort primitives by `is_bounded` and then ask for `bounds`.
+    #[test]
+    fn is_bounded_says_whether_there_are_bounds() {
+        let mut kinds = Vec::new();
+        for name in crate::scene::builtin::names() {
+            let g = crate::scene::builtin::find(name)
+                .expect("built-in")
+                .geometry;
+            for (i, p) in g.primitives.iter().enumerate() {
+                assert_eq!(p.shape.is_bounded(), g.bounds(i as u32).is_some());
+                if !kinds.contains(&p.shape.kind()) {
+                    kinds.push(p.shape.kind());
+                }
+            }
+        }
+        assert!(
+            kinds.len() >= 3,
+            "the built-ins hold bounded and unbounded shapes: {kinds:?}"
+        );
     }
 }

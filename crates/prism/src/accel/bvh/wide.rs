@@ -13,7 +13,9 @@
 
 use super::Node;
 use crate::math::{Aabb, TraceRay, Vec3};
+use arrayvec::ArrayVec;
 use glam::Vec4;
+use rayon::prelude::*;
 
 /// Up to four children. Lane k of each vector holds child k's box; unused lanes hold an
 /// empty box (min +∞, max −∞) that no ray hits.
@@ -59,37 +61,7 @@ impl WideNode {
     /// Wide nodes for the tree `nodes` (root at 0). A root that is a leaf has none; the
     /// traversal treats it on its own.
     pub(super) fn from_tree(nodes: &[Node]) -> Vec<WideNode> {
-        let mut wide = Vec::new();
-        if nodes.first().is_none_or(Node::is_leaf) {
-            return wide;
-        }
-        wide.push(WideNode::EMPTY);
-        // (interior binary node, the wide slot its children go to)
-        let mut stack = vec![(0usize, 0usize)];
-        while let Some((node, slot)) = stack.pop() {
-            let children = collapse(nodes, node, 4);
-            let mut w = WideNode::EMPTY;
-            let mut interior = Vec::new();
-            for (k, &c) in children.iter().enumerate() {
-                let n = &nodes[c];
-                for axis in 0..3 {
-                    w.min[axis][k] = n.min[axis];
-                    w.max[axis][k] = n.max[axis];
-                }
-                if n.is_leaf() {
-                    w.child[k] = n.first;
-                    w.count[k] = n.count;
-                } else {
-                    w.child[k] = wide.len() as u32;
-                    wide.push(WideNode::EMPTY);
-                    interior.push((c, w.child[k] as usize));
-                }
-            }
-            wide[slot] = w;
-            // Reversed, so the first child's subtree is laid out right after this node.
-            stack.extend(interior.into_iter().rev());
-        }
-        wide
+        collapse_tree(nodes)
     }
 
     /// Entry distances of the children's boxes along `ray` within `t_max`; +∞ for a
@@ -223,7 +195,8 @@ impl Wide8Node {
         count: [0; 8],
     };
 
-    /// Sets lane `k` to node `n`'s box.
+    /// Sets lane `k` to node `n`'s box (the SIMD tests' nodes).
+    #[cfg(test)]
     pub(super) fn set_box(&mut self, k: usize, n: &Node) {
         for axis in 0..3 {
             self.bounds[axis][k] = n.min[axis];
@@ -233,57 +206,159 @@ impl Wide8Node {
 
     /// 8-wide nodes for the tree `nodes`, as `WideNode::from_tree` makes 4-wide ones.
     pub(super) fn from_tree(nodes: &[Node]) -> Vec<Wide8Node> {
-        let mut wide = Vec::new();
-        if nodes.first().is_none_or(Node::is_leaf) {
-            return wide;
-        }
-        wide.push(Wide8Node::EMPTY);
-        let mut stack = vec![(0usize, 0usize)];
-        while let Some((node, slot)) = stack.pop() {
-            let children = collapse(nodes, node, 8);
-            let mut w = Wide8Node::EMPTY;
-            let mut interior = Vec::new();
-            for (k, &c) in children.iter().enumerate() {
-                let n = &nodes[c];
-                w.set_box(k, n);
-                if n.is_leaf() {
-                    w.child[k] = n.first;
-                    w.count[k] = n.count;
-                } else {
-                    w.child[k] = wide.len() as u32;
-                    wide.push(Wide8Node::EMPTY);
-                    interior.push((c, w.child[k] as usize));
-                }
-            }
-            wide[slot] = w;
-            stack.extend(interior.into_iter().rev());
-        }
-        wide
+        collapse_tree(nodes)
     }
+}
+
+/// Levels of wide nodes whose subtrees are laid out in parallel: the root's (up to 8
+/// tasks). Each level below the first copies its subtrees once more into place.
+const PARALLEL_LEVELS: usize = 1;
+
+/// The wide nodes for the binary tree `nodes`, depth first: each node's interior children
+/// side by side, then the first child's descendants, then the second's, and so on, so a
+/// subtree stays close in memory. The root's subtrees are laid out in parallel, each with
+/// indices from 0, and shifted into place: the same nodes in the same order as a serial
+/// walk.
+fn collapse_tree<W: Lanes + LeafSlots + Copy>(nodes: &[Node]) -> Vec<W> {
+    if nodes.first().is_none_or(Node::is_leaf) {
+        return Vec::new();
+    }
+    let (root, mut wide) = lay_out::<W>(nodes, 0, 0, 1);
+    wide[0] = root;
+    wide
+}
+
+/// The wide node for interior binary node `node`, and after `reserved` empty slots its
+/// descendants: the node's interior children and the descendants index into that vector.
+fn lay_out<W: Lanes + LeafSlots + Copy>(
+    nodes: &[Node],
+    node: usize,
+    level: usize,
+    reserved: usize,
+) -> (W, Vec<W>) {
+    if level >= PARALLEL_LEVELS {
+        return lay_out_serially(nodes, node, reserved);
+    }
+    let mut interior: ArrayVec<usize, 8> = ArrayVec::new();
+    let first = reserved as u32;
+    let w = wide_node::<W>(nodes, node, |c| {
+        interior.push(c);
+        first + interior.len() as u32 - 1
+    });
+    let parts: Vec<(W, Vec<W>)> = interior
+        .par_iter()
+        .map(|&c| lay_out(nodes, c, level + 1, 0))
+        .collect();
+    let total = reserved + parts.len() + parts.iter().map(|(_, d)| d.len()).sum::<usize>();
+    let mut below = Vec::with_capacity(total);
+    below.resize(reserved, W::of_lanes(&[]));
+    // Each part's descendants land after the children and the parts before it.
+    let mut offsets = Vec::with_capacity(parts.len());
+    let mut offset = (reserved + parts.len()) as u32;
+    for (_, descendants) in &parts {
+        offsets.push(offset);
+        offset += descendants.len() as u32;
+    }
+    for ((child, _), &at) in parts.iter().zip(&offsets) {
+        below.push(shifted(*child, at));
+    }
+    for ((_, descendants), &at) in parts.iter().zip(&offsets) {
+        below.extend(descendants.iter().map(|&d| shifted(d, at)));
+    }
+    (w, below)
+}
+
+/// `lay_out` on one thread: a stack of (binary node, its slot among the descendants).
+fn lay_out_serially<W: Lanes + LeafSlots + Copy>(
+    nodes: &[Node],
+    node: usize,
+    reserved: usize,
+) -> (W, Vec<W>) {
+    let mut below: Vec<W> = vec![W::of_lanes(&[]); reserved];
+    let mut stack: Vec<(usize, usize)> = Vec::new();
+    let visit = |node: usize, below: &mut Vec<W>, stack: &mut Vec<(usize, usize)>| {
+        let mut interior: ArrayVec<(usize, usize), 8> = ArrayVec::new();
+        let w = wide_node::<W>(nodes, node, |c| {
+            below.push(W::of_lanes(&[]));
+            interior.push((c, below.len() - 1));
+            below.len() as u32 - 1
+        });
+        // Reversed, so the first child's subtree is laid out right after this node's.
+        stack.extend(interior.into_iter().rev());
+        w
+    };
+    let w = visit(node, &mut below, &mut stack);
+    while let Some((node, slot)) = stack.pop() {
+        below[slot] = visit(node, &mut below, &mut stack);
+    }
+    (w, below)
+}
+
+/// The wide node over `collapse`'s children of `node`: leaves keep their primitive range,
+/// and `place` gives each interior child (a binary node) its wide node's index.
+fn wide_node<W: Lanes>(nodes: &[Node], node: usize, mut place: impl FnMut(usize) -> u32) -> W {
+    let children = collapse(nodes, node, W::WIDTH);
+    let lanes: ArrayVec<(Aabb, u32, u32), 8> = children
+        .iter()
+        .map(|&c| {
+            let n = &nodes[c];
+            if n.is_leaf() {
+                (n.bounds(), n.first, n.count)
+            } else {
+                (n.bounds(), place(c), 0)
+            }
+        })
+        .collect();
+    W::of_lanes(&lanes)
+}
+
+/// `w` with its interior children's indices `by` places further on.
+fn shifted<W: Lanes + LeafSlots>(mut w: W, by: u32) -> W {
+    let used: ArrayVec<bool, 8> = (0..W::WIDTH).map(|k| w.lane(k).is_some()).collect();
+    let (child, count) = w.slots();
+    for k in 0..child.len() {
+        if used[k] && count[k] == 0 {
+            child[k] += by;
+        }
+    }
+    w
 }
 
 /// The binary nodes that become the children of the wide node for `root`: its two
 /// children, then repeatedly the interior one with the largest box replaced by its own two
-/// children, until there are `width` or only leaves. Order is kept left to right.
-fn collapse(nodes: &[Node], root: usize, width: usize) -> Vec<usize> {
+/// children, until there are `width` or only leaves. Order is kept left to right; of equal
+/// areas the rightmost opens first. Areas are computed once per node (the collapse runs
+/// serially over the whole tree after the parallel build, so it is kept cheap).
+fn collapse(nodes: &[Node], root: usize, width: usize) -> ArrayVec<usize, 8> {
+    debug_assert!(width <= 8);
+    // Interior children carry their area; leaves carry -∞ and are never opened.
+    let area = |i: usize| {
+        let n = &nodes[i];
+        if n.is_leaf() {
+            f32::NEG_INFINITY
+        } else {
+            Aabb::new(n.min, n.max).surface_area()
+        }
+    };
     let first = nodes[root].first as usize;
-    let mut children = vec![first, first + 1];
+    let mut children: ArrayVec<(usize, f32), 8> = ArrayVec::new();
+    children.extend([(first, area(first)), (first + 1, area(first + 1))]);
     while children.len() < width {
-        let area = |i: usize| {
-            let n = &nodes[i];
-            crate::math::Aabb::new(n.min, n.max).surface_area()
-        };
-        let open = children
-            .iter()
-            .enumerate()
-            .filter(|(_, &c)| !nodes[c].is_leaf())
-            .max_by(|a, b| area(*a.1).total_cmp(&area(*b.1)))
-            .map(|(k, _)| k);
+        let mut open: Option<usize> = None;
+        for (k, &(_, a)) in children.iter().enumerate() {
+            if a == f32::NEG_INFINITY {
+                continue;
+            }
+            if open.is_none_or(|o| a.total_cmp(&children[o].1).is_ge()) {
+                open = Some(k);
+            }
+        }
         let Some(k) = open else { break };
-        let f = nodes[children[k]].first as usize;
-        children.splice(k..=k, [f, f + 1]);
+        let f = nodes[children[k].0].first as usize;
+        children[k] = (f, area(f));
+        children.insert(k + 1, (f + 1, area(f + 1)));
     }
-    children
+    children.iter().map(|&(c, _)| c).collect()
 }
 
 /// A ray prepared for `WideNode::hit`: origin and inverse direction splatted per axis,
@@ -314,6 +389,36 @@ impl WideRay {
 mod tests {
     use super::*;
     use crate::math::{Aabb, Ray, Vec3};
+
+    /// The root's subtrees laid out in parallel and shifted into place give the nodes a
+    /// serial walk gives, in the same order.
+    #[test]
+    fn the_parallel_layout_is_the_serial_one() {
+        let u = |i: u32, k: u32| crate::math::hash::uniform(i, k, 0, 0, 3);
+        let bounds: Vec<Aabb> = (0..3000)
+            .map(|i| {
+                let lo = Vec3::new(u(i, 0), u(i, 1), u(i, 2)) * 100.0;
+                Aabb::new(lo, lo + Vec3::new(u(i, 3), u(i, 4), u(i, 5)))
+            })
+            .collect();
+        let bvh = crate::accel::bvh::Bvh::build_over_bounds(
+            (0..3000).collect(),
+            bounds,
+            &crate::accel::bvh::BvhOptions::default(),
+        );
+        let serial = |reserved| {
+            let (root, mut wide) = lay_out_serially::<Wide8Node>(&bvh.nodes, 0, reserved);
+            wide[0] = root;
+            wide
+        };
+        let parallel: Vec<Wide8Node> = collapse_tree(&bvh.nodes);
+        assert!(parallel.len() > 100);
+        assert_eq!(parallel, serial(1));
+        let parallel4: Vec<WideNode> = collapse_tree(&bvh.nodes);
+        let (root, mut serial4) = lay_out_serially::<WideNode>(&bvh.nodes, 0, 1);
+        serial4[0] = root;
+        assert_eq!(parallel4, serial4);
+    }
 
     fn leaf(min: Vec3, max: Vec3) -> Node {
         Node {

@@ -46,7 +46,7 @@ impl Bvh {
         } else {
             (prims, bounds)
         };
-        let all_triangles = prims.iter().all(|&p| {
+        let all_triangles = prims.par_iter().all(|&p| {
             matches!(
                 geometry.primitives[p as usize].shape,
                 crate::geometry::Shape::Triangle { .. }
