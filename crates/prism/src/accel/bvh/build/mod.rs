@@ -85,39 +85,29 @@ impl Bvh {
         test_block: usize,
     ) -> Bvh {
         let input = BuildPrims { bounds, test_block };
-        // Work on positions 0..n; map back to primitive ids at the end.
-        let mut order: Vec<u32> = (0..prims.len() as u32).collect();
         let threshold = options.parallel_threshold.max(1);
         let max_leaf_size = options.max_leaf_size.max(1);
-        // The top-down builders move references (box and position) rather than positions.
-        let top_down = |rule: &dyn Fn(&mut [PrimRef]) -> Vec<Node>, order: &mut [u32]| {
+        // The builders work on build positions 0..n; `ids` maps leaf order back to
+        // primitive ids. The top-down builders move references (box and position).
+        let top_down = |rule: &dyn Fn(&mut [PrimRef]) -> Vec<Node>| {
             let mut refs: Vec<PrimRef> = (input.bounds.par_iter().enumerate())
                 .map(|(i, b)| PrimRef::new(i as u32, b))
                 .collect();
             let nodes = rule(&mut refs);
-            order
-                .par_iter_mut()
-                .zip(&refs)
-                .for_each(|(slot, r)| *slot = r.index());
-            nodes
+            let ids = refs.par_iter().map(|r| prims[r.index() as usize]).collect();
+            (nodes, ids)
         };
-        let mut nodes = if order.is_empty() {
-            Vec::new()
+        let (mut nodes, ids): (Vec<Node>, Vec<u32>) = if prims.is_empty() {
+            (Vec::new(), Vec::new())
         } else {
             match options.builder {
                 BvhBuilder::Median => {
                     let rule = median::ObjectMedian { max_leaf_size };
-                    top_down(
-                        &|refs| topdown::build(&rule, &input, refs, threshold),
-                        &mut order,
-                    )
+                    top_down(&|refs| topdown::build(&rule, &input, refs, threshold))
                 }
                 BvhBuilder::Binned => {
                     let rule = binned::BinnedSah::new(options);
-                    top_down(
-                        &|refs| topdown::build(&rule, &input, refs, threshold),
-                        &mut order,
-                    )
+                    top_down(&|refs| topdown::build(&rule, &input, refs, threshold))
                 }
                 BvhBuilder::Sweep => {
                     let rule = sweep::FullSweepSah {
@@ -125,27 +115,27 @@ impl Bvh {
                         traversal_cost: options.traversal_cost,
                         parallel_threshold: threshold,
                     };
-                    top_down(
-                        &|refs| topdown::build(&rule, &input, refs, threshold),
+                    top_down(&|refs| topdown::build(&rule, &input, refs, threshold))
+                }
+                BvhBuilder::Lbvh => {
+                    let mut order: Vec<u32> = (0..prims.len() as u32).collect();
+                    let nodes = lbvh::build(
+                        &input,
                         &mut order,
+                        max_leaf_size,
+                        options.traversal_cost,
+                        threshold,
+                    );
+                    (
+                        nodes,
+                        order.par_iter().map(|&i| prims[i as usize]).collect(),
                     )
                 }
-                BvhBuilder::Lbvh => lbvh::build(
-                    &input,
-                    &mut order,
-                    max_leaf_size,
-                    options.traversal_cost,
-                    threshold,
-                ),
             }
         };
         if options.reinsert {
             nodes = reinsert::optimize(nodes);
         }
-        Bvh::from_tree(
-            nodes,
-            order.iter().map(|&i| prims[i as usize]).collect(),
-            options,
-        )
+        Bvh::from_tree(nodes, ids, options)
     }
 }
