@@ -19,6 +19,8 @@ pub struct ShadowRay {
     pub t_max: f32,
     /// The light it goes to (an index into the scene's lights).
     pub light: u32,
+    /// The pixel whose camera ray's hit it leaves from (row-major).
+    pub pixel: u32,
 }
 
 /// The fixed rays of one scene.
@@ -97,6 +99,7 @@ impl RaySet {
                         ray: Ray::new(origin, ls.to_light),
                         t_max: ls.distance,
                         light: index as u32,
+                        pixel: y * width + x,
                     });
                 }
             }

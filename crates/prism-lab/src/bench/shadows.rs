@@ -1,10 +1,14 @@
 //! Measuring shadow methods (`integrator::ShadowSpec`) on a fixed workload: the shadow rays
 //! of a `RaySet`, in pixel order as a render meets them, answered by each method in turns
 //! (sample r of every method before sample r + 1 of any), each held to the accelerator's
-//! answers.
+//! answers. Beside the methods, one ray at a time, the accelerator's any-hit query in
+//! packets, as a render traces the shadow rays of the any-hit method (`PacketShadows`).
 
 use super::{MeasureOptions, RaySet};
+use prism::accel::PACKET_MAX;
 use prism::integrator::{begin_piece, ShadowSpec, Shadows};
+use prism::math::Ray;
+use prism::options::PACKET_EDGE;
 use prism::scene::PreparedScene;
 use prism::stats::Stats;
 use serde::Serialize;
@@ -55,6 +59,7 @@ pub fn measure_shadow_methods(
         })
         .collect();
     let reference = answers(&Shadows::new(prepared, ShadowSpec::default()), rays).0;
+    let packets = PacketShadows::new(rays);
     let mut results: Vec<ShadowMeasured> = built
         .iter()
         .zip(specs)
@@ -87,12 +92,29 @@ pub fn measure_shadow_methods(
             }
         })
         .collect();
-    let mut samples: Vec<Vec<f64>> = vec![Vec::new(); specs.len()];
+    let (blocked, stats) = packets.answers(prepared);
+    let n = rays.shadow.len().max(1) as f64;
+    results.push(ShadowMeasured {
+        method: format!("any-hit, packets of {PACKET_MAX}"),
+        build_ms: 0.0,
+        memory_bytes: 0,
+        rays: rays.shadow.len(),
+        blocked: blocked.iter().filter(|&&b| b).count(),
+        tests_per_ray: stats.primitive_tests as f64 / n,
+        node_visits_per_ray: stats.node_visits as f64 / n,
+        cache_hit_rate: 0.0,
+        fallback_rate: 0.0,
+        mrays_per_s: 0.0,
+        mismatch: blocked != reference,
+        notes: Vec::new(),
+    });
+    let mut samples: Vec<Vec<f64>> = vec![Vec::new(); specs.len() + 1];
     let started = Instant::now();
     for _ in 0..options.repeat.max(1) {
         for (i, (shadows, _)) in built.iter().enumerate() {
             samples[i].push(sample(shadows, rays, options));
         }
+        samples[specs.len()].push(packets.sample(prepared, options));
         if started.elapsed() > options.trace_budget {
             break;
         }
@@ -134,4 +156,137 @@ fn sample(shadows: &Shadows, rays: &RaySet, options: &MeasureOptions) -> f64 {
     }
     let secs = watch.elapsed().as_secs_f64().max(1e-9);
     (passes * rays.shadow.len() as u64) as f64 / secs / 1e6
+}
+
+/// The shadow rays gathered into packets as a render makes them: the rays of one light from
+/// one `PACKET_EDGE` × `PACKET_EDGE` block of pixels, at most `PACKET_MAX` to a packet.
+struct PacketShadows {
+    /// The rays in packet order, their bounds, and each one's index in `RaySet::shadow`.
+    rays: Vec<Ray>,
+    t_max: Vec<f32>,
+    index: Vec<usize>,
+    /// Where each packet starts in `rays`, and where the last one ends.
+    starts: Vec<usize>,
+}
+
+impl PacketShadows {
+    fn new(set: &RaySet) -> PacketShadows {
+        let edge = PACKET_EDGE;
+        let blocks_across = set.width.div_ceil(edge).max(1);
+        let block = |pixel: u32| {
+            let (x, y) = (pixel % set.width.max(1), pixel / set.width.max(1));
+            (y / edge) * blocks_across + x / edge
+        };
+        // Stable: within a packet the rays keep pixel order, as in a block's camera packet.
+        let mut order: Vec<usize> = (0..set.shadow.len()).collect();
+        order.sort_by_key(|&i| (block(set.shadow[i].pixel), set.shadow[i].light));
+        let mut starts = Vec::new();
+        for (k, &i) in order.iter().enumerate() {
+            let r = &set.shadow[i];
+            let first = starts.last().map(|&s| order[s]);
+            let same = first.is_some_and(|f: usize| {
+                let f = &set.shadow[f];
+                block(f.pixel) == block(r.pixel) && f.light == r.light
+            });
+            if !same || k - starts.last().copied().unwrap_or(0) == PACKET_MAX {
+                starts.push(k);
+            }
+        }
+        starts.push(order.len());
+        PacketShadows {
+            rays: order.iter().map(|&i| set.shadow[i].ray).collect(),
+            t_max: order.iter().map(|&i| set.shadow[i].t_max).collect(),
+            index: order,
+            starts,
+        }
+    }
+
+    /// Answers every packet; `blocked[i]` is for `RaySet::shadow[i]`.
+    fn trace(&self, prepared: &PreparedScene, blocked: &mut [bool], stats: &mut Stats) {
+        let mut answers = [false; PACKET_MAX];
+        for w in self.starts.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            prepared.intersector.occluded_packet(
+                &prepared.scene.geometry,
+                &self.rays[a..b],
+                &self.t_max[a..b],
+                &mut answers[..b - a],
+                stats,
+            );
+            for (k, &answer) in answers[..b - a].iter().enumerate() {
+                blocked[self.index[a + k]] = answer;
+            }
+        }
+    }
+
+    fn answers(&self, prepared: &PreparedScene) -> (Vec<bool>, Stats) {
+        let mut stats = Stats::default();
+        let mut blocked = vec![false; self.index.len()];
+        self.trace(prepared, &mut blocked, &mut stats);
+        (blocked, stats)
+    }
+
+    /// Million rays per second over as many passes as last `min_sample`.
+    fn sample(&self, prepared: &PreparedScene, options: &MeasureOptions) -> f64 {
+        let watch = options.clock.start();
+        let mut passes = 0u64;
+        let mut stats = Stats::default();
+        let mut blocked = vec![false; self.index.len()];
+        loop {
+            self.trace(prepared, &mut blocked, &mut stats);
+            std::hint::black_box(&blocked);
+            passes += 1;
+            if watch.elapsed() >= options.min_sample {
+                break;
+            }
+        }
+        let secs = watch.elapsed().as_secs_f64().max(1e-9);
+        (passes * self.index.len() as u64) as f64 / secs / 1e6
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use prism::accel::AccelSpec;
+    use prism::scene::builtin;
+
+    /// Packets hold the rays of one light and one block of pixels, each ray once, and the
+    /// packet row answers as every method does.
+    #[test]
+    fn packets_group_a_block_and_a_light_and_answer_as_single_rays() {
+        let scene = builtin::find("pearls").expect("built-in scene");
+        let prepared = scene.prepare(&AccelSpec::default());
+        let rays = RaySet::generate(&prepared, 40, 30).expect("camera");
+        assert!(rays.shadow.len() > 100, "{} shadow rays", rays.shadow.len());
+        let packets = PacketShadows::new(&rays);
+        let mut seen = vec![false; rays.shadow.len()];
+        for w in packets.starts.windows(2) {
+            let members = &packets.index[w[0]..w[1]];
+            assert!(!members.is_empty() && members.len() <= PACKET_MAX);
+            let key = |i: usize| {
+                let r = &rays.shadow[i];
+                let (x, y) = (r.pixel % rays.width, r.pixel / rays.width);
+                (x / PACKET_EDGE, y / PACKET_EDGE, r.light)
+            };
+            assert!(members.iter().all(|&i| key(i) == key(members[0])));
+            assert!(members.windows(2).all(|p| p[0] < p[1]), "pixel order");
+            for &i in members {
+                assert!(!seen[i]);
+                seen[i] = true;
+            }
+        }
+        assert!(seen.iter().all(|&s| s));
+        let options = MeasureOptions {
+            repeat: 1,
+            min_sample: Duration::ZERO,
+            ..MeasureOptions::default()
+        };
+        let measured = measure_shadow_methods(&prepared, &rays, &[ShadowSpec::default()], &options);
+        assert_eq!(measured.len(), 2);
+        assert_eq!(measured[1].method, "any-hit, packets of 64");
+        assert!(measured.iter().all(|m| !m.mismatch && m.mrays_per_s > 0.0));
+        assert_eq!(measured[0].blocked, measured[1].blocked);
+        assert!(measured[1].blocked > 0);
+    }
 }
