@@ -126,8 +126,9 @@ impl SceneIntersector {
         // worker, not from a caller outside the pool that sleeps until each step is done
         // and is woken for the next (a wake-up each way per step, on a small mesh).
         rayon::scope(|_| {
-            // In parallel: on a million triangles a serial pass is a millisecond of a
-            // build whose every other step uses both cores.
+            // In parallel and without computing boxes: on the 100k-triangle blob the serial
+            // pass that asked each primitive for its box took a millisecond, while every
+            // other step of the build uses both cores.
             let (bounded, unbounded): (Vec<u32>, Vec<u32>) = (0..geometry.primitives.len() as u32)
                 .into_par_iter()
                 .partition(|&i| geometry.primitives[i as usize].shape.is_bounded());

@@ -32,9 +32,9 @@ pub(super) fn triangle_corners(geometry: &Geometry) -> Vec<Option<[Vec3; 3]>> {
 /// the nodes lie in memory (so neighbouring leaves' packs are neighbours too), and returns
 /// the packs. `prims` are the leaves' primitive ids, as `child`/`count` index them;
 /// `corners` is `triangle_corners`. Chunks of nodes find their packs in parallel, and the
-/// packs are then made in parallel straight into one vector (no per-chunk vectors to grow
-/// and join: on a million triangles those were 300 MB/s of fresh pages); the result does
-/// not depend on the thread count.
+/// packs are then made in parallel straight into one vector, each written once (per-chunk
+/// vectors, grown and then joined, wrote them two or three times into fresh pages); the
+/// result does not depend on the thread count.
 pub(super) fn pack_triangles<N: LeafSlots>(
     wide: &mut [N],
     prims: &[u32],
