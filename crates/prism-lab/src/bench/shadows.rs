@@ -177,18 +177,14 @@ impl PacketShadows {
             let (x, y) = (pixel % set.width.max(1), pixel / set.width.max(1));
             (y / edge) * blocks_across + x / edge
         };
+        let key = |i: usize| (block(set.shadow[i].pixel), set.shadow[i].light);
         // Stable: within a packet the rays keep pixel order, as in a block's camera packet.
         let mut order: Vec<usize> = (0..set.shadow.len()).collect();
-        order.sort_by_key(|&i| (block(set.shadow[i].pixel), set.shadow[i].light));
+        order.sort_by_key(|&i| key(i));
         let mut starts = Vec::new();
-        for (k, &i) in order.iter().enumerate() {
-            let r = &set.shadow[i];
-            let first = starts.last().map(|&s| order[s]);
-            let same = first.is_some_and(|f: usize| {
-                let f = &set.shadow[f];
-                block(f.pixel) == block(r.pixel) && f.light == r.light
-            });
-            if !same || k - starts.last().copied().unwrap_or(0) == PACKET_MAX {
+        for k in 0..order.len() {
+            let full = starts.last().is_some_and(|&s| k - s == PACKET_MAX);
+            if k == 0 || key(order[k]) != key(order[k - 1]) || full {
                 starts.push(k);
             }
         }

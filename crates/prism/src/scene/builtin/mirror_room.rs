@@ -43,26 +43,27 @@ pub(super) fn mirror_room() -> Scene {
     let green = material("green", Color::new(0.1, 0.75, 0.1), 0.2, 0.8, 0.0);
     let mirror = material("mirror", Color::splat(0.1), 0.1, 0.1, 0.8);
     let v = Vec3::new;
+    // Floor, ceiling, left and right wall of the room between depths z0 and z1, each
+    // wound to face into the room.
+    let shell = |z0: f32, z1: f32| {
+        [
+            [v(-1., 0., z0), v(1., 0., z0), v(1., 0., z1), v(-1., 0., z1)],
+            [v(-1., 2., z0), v(-1., 2., z1), v(1., 2., z1), v(1., 2., z0)],
+            [
+                v(-1., 0., z0),
+                v(-1., 0., z1),
+                v(-1., 2., z1),
+                v(-1., 2., z0),
+            ],
+            [v(1., 0., z0), v(1., 2., z0), v(1., 2., z1), v(1., 0., z1)],
+        ]
+    };
+    let [floor, ceiling, left, right] = shell(-1.0, 1.0);
+    let [floor_behind, ceiling_behind, left_behind, right_behind] = shell(1.0, 3.5);
     let quads = [
         // The room in front of the camera: floor, ceiling, back wall, left and right.
-        (
-            [
-                v(-1., 0., -1.),
-                v(1., 0., -1.),
-                v(1., 0., 1.),
-                v(-1., 0., 1.),
-            ],
-            white,
-        ),
-        (
-            [
-                v(-1., 2., -1.),
-                v(-1., 2., 1.),
-                v(1., 2., 1.),
-                v(1., 2., -1.),
-            ],
-            white,
-        ),
+        (floor, white),
+        (ceiling, white),
         (
             [
                 v(-1., 0., -1.),
@@ -72,19 +73,8 @@ pub(super) fn mirror_room() -> Scene {
             ],
             white,
         ),
-        (
-            [
-                v(-1., 0., -1.),
-                v(-1., 0., 1.),
-                v(-1., 2., 1.),
-                v(-1., 2., -1.),
-            ],
-            red,
-        ),
-        (
-            [v(1., 0., -1.), v(1., 2., -1.), v(1., 2., 1.), v(1., 0., 1.)],
-            green,
-        ),
+        (left, red),
+        (right, green),
         // The wall behind the camera, which the mirror shows, and the room up to it.
         (
             [
@@ -95,37 +85,10 @@ pub(super) fn mirror_room() -> Scene {
             ],
             white,
         ),
-        (
-            [
-                v(-1., 0., 1.),
-                v(-1., 0., 3.5),
-                v(-1., 2., 3.5),
-                v(-1., 2., 1.),
-            ],
-            red,
-        ),
-        (
-            [v(1., 0., 1.), v(1., 2., 1.), v(1., 2., 3.5), v(1., 0., 3.5)],
-            green,
-        ),
-        (
-            [
-                v(-1., 0., 1.),
-                v(1., 0., 1.),
-                v(1., 0., 3.5),
-                v(-1., 0., 3.5),
-            ],
-            white,
-        ),
-        (
-            [
-                v(-1., 2., 1.),
-                v(-1., 2., 3.5),
-                v(1., 2., 3.5),
-                v(1., 2., 1.),
-            ],
-            white,
-        ),
+        (left_behind, red),
+        (right_behind, green),
+        (floor_behind, white),
+        (ceiling_behind, white),
         // The mirror, a little in front of the back wall, tilted so its image is not the
         // room straight back.
         (
