@@ -73,7 +73,7 @@ fn instanced_strip_glb(strip: usize, nodes: usize) -> Vec<u8> {
         .flat_map(|c| c.to_le_bytes())
         .collect();
     bin.extend((0..strip).map(|i| (i % 3) as u8));
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let list = |item: &dyn Fn(usize) -> String| -> String {

@@ -160,7 +160,7 @@ fn pretty(doc: &Value) -> Vec<u8> {
 /// A GLB container: header, JSON chunk (space-padded), BIN chunk (zero-padded).
 fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
     let pad = |v: &mut Vec<u8>, with: u8| {
-        while v.len() % 4 != 0 {
+        while !v.len().is_multiple_of(4) {
             v.push(with);
         }
     };

@@ -2,13 +2,14 @@
 //! own query gives (the same hit, bit for bit, for nearest-hit packets; the same
 //! occluded/visible answer for any-hit packets), for coherent camera and shadow packets
 //! that take the packet walk and for incoherent ones that fall back to single rays, with
-//! both node widths, at 1e-3 and 1e3 scale; and coherent packets do visit fewer nodes.
+//! both node widths and both packet kernels (AVX2, AVX-512), at 1e-3 and 1e3 scale; and
+//! coherent packets do visit fewer nodes.
 
 mod common;
 
 use common::oracle::TestScene;
 use common::{icosphere, Rng};
-use prism::accel::{Accel, Bvh, BvhOptions, Hit, NodeWidth, QueryMode, PACKET_MAX};
+use prism::accel::{Accel, Avx512, Bvh, BvhOptions, Hit, NodeWidth, QueryMode, PACKET_MAX};
 use prism::geometry::{AaBox, Shape, Sphere};
 use prism::math::{Ray, TraceRay, Vec3};
 use prism::Stats;
@@ -113,6 +114,13 @@ fn check_packet(
 fn settings() -> Vec<(&'static str, BvhOptions)> {
     vec![
         ("8-wide where the CPU allows", BvhOptions::default()),
+        (
+            "8-wide, AVX2 packet kernels even where AVX-512 is available",
+            BvhOptions {
+                avx512: Avx512::Off,
+                ..BvhOptions::default()
+            },
+        ),
         (
             "4-wide",
             BvhOptions {
@@ -332,6 +340,10 @@ fn renders_are_identical_with_and_without_packets() {
         ),
         ("corners", Box::new(|o| o.sampler = SamplerKind::Corners)),
         ("adaptive", Box::new(|o| o.sampler = SamplerKind::Adaptive)),
+        (
+            "AVX2 packet kernels only",
+            Box::new(|o| o.accel = "bvh:avx512=off".parse().unwrap()),
+        ),
         (
             "4-wide, tiles of 5",
             Box::new(|o| {

@@ -160,7 +160,7 @@ fn face_axes(face: usize) -> (usize, usize, usize, f64) {
         1 => (1, 2, 0),
         _ => (2, 0, 1),
     };
-    (axis, u, v, if face % 2 == 0 { 1.0 } else { -1.0 })
+    (axis, u, v, if face.is_multiple_of(2) { 1.0 } else { -1.0 })
 }
 
 /// For face `face`, the (depth, u, v) ranges of box `[lo, hi]` (relative to the light) in

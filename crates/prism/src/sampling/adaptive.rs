@@ -651,7 +651,7 @@ mod tests {
         // Corners alternating like a checker one pixel wide: 24 changes in the 4×4 block,
         // more than any straight edge makes.
         let lookup = |x: u32, y: u32| {
-            Some(if (x / 4 + y / 4) % 2 == 0 {
+            Some(if (x / 4 + y / 4).is_multiple_of(2) {
                 Color::ONE
             } else {
                 Color::ZERO
@@ -693,7 +693,7 @@ mod tests {
         // A slanted edge, and a fine checker (texture) below y = 24 lattice steps.
         let lookup = |x: u32, y: u32| {
             let white = if y >= 24 {
-                (x / 3 + y / 3) % 2 == 0
+                (x / 3 + y / 3).is_multiple_of(2)
             } else {
                 2 * x + 3 * y < 70
             };

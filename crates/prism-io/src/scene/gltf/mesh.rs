@@ -143,7 +143,7 @@ fn assemble(mode: Mode, v: &[u32]) -> Result<Vec<[u32; 3]>, String> {
     let n = v.len();
     let triangles: Vec<[u32; 3]> = match mode {
         Mode::Triangles => {
-            if n % 3 != 0 {
+            if !n.is_multiple_of(3) {
                 return Err(format!(
                     "{n} vertex indices in TRIANGLES mode: expected a multiple of 3"
                 ));

@@ -16,7 +16,7 @@ use crate::accel::AccelInfo;
 use crate::math::{Aabb, Vec3};
 use wide::{Wide8Node, WideNode};
 
-pub use options::{BvhBuilder, BvhOptions, NodeWidth};
+pub use options::{Avx512, BvhBuilder, BvhOptions, NodeWidth};
 pub use subtree::{Entry, EntryNodes, Subtree};
 
 /// A node is 32 bytes, two to a cache line. Interior nodes have `count == 0` and their
@@ -85,6 +85,9 @@ pub struct Bvh {
     /// The same tree as 8-wide nodes (`wide.rs`, traversed by `simd8.rs`): built instead of
     /// `wide` when the CPU has AVX2 (`NodeWidth::Auto`), otherwise empty.
     wide8: Vec<Wide8Node>,
+    /// Whether packets walk `wide8` with the AVX-512 kernels (`BvhOptions::avx512`, and
+    /// only where the CPU has them).
+    packet_avx512: bool,
     /// Leaves of triangles only, their vertices in leaf order (`leaves.rs`); empty until
     /// `Bvh::build` packs them (a tree over boxes alone has none).
     packs: Vec<crate::geometry::TrianglePack>,
@@ -109,10 +112,13 @@ impl Bvh {
         } else {
             (WideNode::from_tree(&nodes), Vec::new())
         };
+        let packet_avx512 =
+            !wide8.is_empty() && options.avx512 == Avx512::Auto && simd8::avx512_available();
         Bvh {
             nodes,
             wide,
             wide8,
+            packet_avx512,
             packs: Vec::new(),
             prims,
             builder: options.builder,

@@ -60,6 +60,24 @@ named_kinds! {
     }
 }
 
+/// Whether packets of rays use AVX-512 where the CPU has it (`simd8/avx512.rs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Avx512 {
+    /// Sixteen rays per step in the 8-wide packet kernels where the CPU has AVX-512F
+    /// (detected at run time), else eight with AVX2.
+    #[default]
+    Auto,
+    /// Eight rays per step with AVX2 even where AVX-512 is available.
+    Off,
+}
+
+named_kinds! {
+    Avx512, "AVX-512 use" {
+        Auto => "auto",
+        Off => "off",
+    }
+}
+
 /// How a BVH is built; also the `bvh:` keys of `--accel` (see `Method`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BvhOptions {
@@ -86,6 +104,9 @@ pub struct BvhOptions {
     /// The traversal layout: 8-wide where AVX2 is available, or always 4-wide. The tree,
     /// and so every answer, is the same either way.
     pub width: NodeWidth,
+    /// Whether the 8-wide packet kernels take sixteen rays per step with AVX-512 where the
+    /// CPU has it. Answers are the same either way.
+    pub avx512: Avx512,
 }
 
 impl Default for BvhOptions {
@@ -100,6 +121,7 @@ impl Default for BvhOptions {
             volume: NodeVolume::Aabb,
             parallel_threshold: 4096,
             width: NodeWidth::Auto,
+            avx512: Avx512::Auto,
         }
     }
 }
@@ -159,6 +181,13 @@ impl Method for BvhOptions {
             accepts: Accepts::Choice(&NodeWidth::NAMES),
             get: |o| Value::Choice(o.width.index()),
             set: |o, v| o.width = NodeWidth::ALL[v.choice()],
+        },
+        Key {
+            name: "avx512",
+            help: "packets of rays with AVX-512 where the CPU has it (auto) or AVX2 only (off)",
+            accepts: Accepts::Choice(&Avx512::NAMES),
+            get: |o| Value::Choice(o.avx512.index()),
+            set: |o, v| o.avx512 = Avx512::ALL[v.choice()],
         },
         Key {
             name: "reinsert",

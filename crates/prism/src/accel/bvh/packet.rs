@@ -371,6 +371,7 @@ pub(super) fn query(
     let mut search = PacketSearch::new(t_max, mode);
     if !bvh.wide8.is_empty() {
         super::simd8::traverse_packet(
+            bvh.packet_avx512,
             &bvh.wide8,
             &bounds,
             &soa,

@@ -32,6 +32,18 @@ pub(super) fn available() -> bool {
     }
 }
 
+/// Whether this CPU can also take the 16-ray AVX-512 packet kernels (`simd8/avx512.rs`).
+pub(super) fn avx512_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        available() && avx512::available()
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
 /// Walks `nodes` for `ray` from `root` (`nodes[0]`, or an entry node of some of its
 /// subtrees), handing leaves to `leaf`, which returns true when the query is answered.
 /// `nodes` must come from a `Bvh` built while `available()` was true (the only way
@@ -62,9 +74,13 @@ pub(super) fn traverse(
 /// boxes once for the whole packet against its interval `bounds`, then each box that
 /// passes against the packet's rays eight at a time, so every child goes on with the rays
 /// that enter it. Leaves of triangle packs are tested one triangle against eight rays when
-/// the rays share an axis permutation; other leaves go to `leaf` with their rays.
+/// the rays share an axis permutation; other leaves go to `leaf` with their rays. With
+/// `avx512` (only where `avx512::available()`), the per-ray kernels take sixteen rays per
+/// step.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub(super) fn traverse_packet(
+    avx512: bool,
     nodes: &[Wide8Node],
     bounds: &PacketBounds,
     soa: &RaySoa<'_>,
@@ -76,15 +92,25 @@ pub(super) fn traverse_packet(
     #[cfg(target_arch = "x86_64")]
     {
         debug_assert!(available());
+        if avx512 {
+            debug_assert!(avx512::available());
+            // SAFETY: as below, and `avx512` is set only where AVX-512 was detected.
+            return unsafe {
+                x86::traverse_packet16(nodes, bounds, soa, packs, search, stats, leaf)
+            };
+        }
         // SAFETY: `nodes` is non-empty only when AVX2 was detected (see `traverse`).
         unsafe { x86::traverse_packet(nodes, bounds, soa, packs, search, stats, leaf) }
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        let _ = (nodes, bounds, soa, packs, search, stats, leaf);
+        let _ = (avx512, nodes, bounds, soa, packs, search, stats, leaf);
         unreachable!("8-wide nodes are only built on x86-64 with AVX2")
     }
 }
+
+#[cfg(target_arch = "x86_64")]
+pub(super) mod avx512;
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
@@ -182,8 +208,8 @@ mod x86 {
         origin_far: [__m256; 3],
         inv_lo: [__m256; 3],
         inv_hi: [__m256; 3],
-        near: [usize; 3],
-        far: [usize; 3],
+        pub(super) near: [usize; 3],
+        pub(super) far: [usize; 3],
         exit_scale: __m256,
     }
 
@@ -454,101 +480,124 @@ mod x86 {
         }
     }
 
-    /// `super::traverse_packet` compiled for AVX2.
-    ///
-    /// # Safety
-    /// The CPU must support AVX2 and POPCNT.
-    #[target_feature(enable = "avx2,popcnt")]
-    pub(super) unsafe fn traverse_packet(
-        nodes: &[Wide8Node],
-        bounds: &PacketBounds,
-        soa: &RaySoa<'_>,
-        packs: &[TrianglePack],
-        search: &mut PacketSearch,
-        stats: &mut Stats,
-        mut leaf: impl FnMut(u32, u32, f32, u64, &mut PacketSearch, &mut Stats),
-    ) {
-        let packet = Packet8::new(bounds);
-        let box_test = Packet4::new(*bounds);
-        crate::accel::bvh::traverse::walk(
-            nodes,
-            &nodes[0],
-            // Each child the packet may enter goes on with the rays that do enter it.
-            |node: &Wide8Node, s: &PacketSearch, rays: u64| {
-                let (mut some, entries, everyone) = packet.hit(node, s.t_max(), s.t_min());
-                let (mut hit, mut entering) = (0u32, [0u64; 8]);
-                while some != 0 {
-                    let k = some.trailing_zeros() as usize;
-                    some &= some - 1;
-                    entering[k] = if everyone >> k & 1 == 1 {
-                        rays
-                    } else {
-                        rays_entering(&packet, node, k, rays, soa, &s.bound)
-                    };
-                    if entering[k] != 0 {
-                        hit |= 1 << k;
-                    }
-                }
-                Visit {
-                    children: Ray8::children(node),
-                    hit,
-                    entries,
-                    rays: entering,
-                }
-            },
-            search,
-            stats,
-            |child, count, enter, rays, search: &mut PacketSearch, stats: &mut Stats| {
-                let rays = rays & search.open();
-                match soa.permutation {
-                    Some(k) if count & PACKED != 0 => {
-                        let first = child as usize;
-                        let n = (count & !PACKED) as usize;
-                        for pack in &packs[first..first + n] {
-                            test_pack(pack, k, rays, soa, &box_test, search, stats);
+    /// The packet walk and its leaf of triangle packs, made once per instruction set:
+    /// `$entering` and `$triangle` are the per-ray kernels (eight rays per step with AVX2,
+    /// sixteen with AVX-512), the rest is the same code compiled with `$features`.
+    macro_rules! packet_traversal {
+        ($traverse:ident, $test_pack:ident, $features:literal, $entering:path, $triangle:path) => {
+            /// `super::traverse_packet` compiled for this instruction set.
+            ///
+            /// # Safety
+            /// The CPU must support the instruction set (`available`, and
+            /// `avx512::available` for the AVX-512 variant).
+            #[target_feature(enable = $features)]
+            pub(super) unsafe fn $traverse(
+                nodes: &[Wide8Node],
+                bounds: &PacketBounds,
+                soa: &RaySoa<'_>,
+                packs: &[TrianglePack],
+                search: &mut PacketSearch,
+                stats: &mut Stats,
+                mut leaf: impl FnMut(u32, u32, f32, u64, &mut PacketSearch, &mut Stats),
+            ) {
+                let packet = Packet8::new(bounds);
+                let box_test = Packet4::new(*bounds);
+                crate::accel::bvh::traverse::walk(
+                    nodes,
+                    &nodes[0],
+                    // Each child the packet may enter goes on with the rays that do enter it.
+                    |node: &Wide8Node, s: &PacketSearch, rays: u64| {
+                        let (mut some, entries, everyone) = packet.hit(node, s.t_max(), s.t_min());
+                        let (mut hit, mut entering) = (0u32, [0u64; 8]);
+                        while some != 0 {
+                            let k = some.trailing_zeros() as usize;
+                            some &= some - 1;
+                            entering[k] = if everyone >> k & 1 == 1 {
+                                rays
+                            } else {
+                                $entering(&packet, node, k, rays, soa, &s.bound)
+                            };
+                            if entering[k] != 0 {
+                                hit |= 1 << k;
+                            }
                         }
-                    }
-                    _ => leaf(child, count, enter, rays, search, stats),
+                        Visit {
+                            children: Ray8::children(node),
+                            hit,
+                            entries,
+                            rays: entering,
+                        }
+                    },
+                    search,
+                    stats,
+                    |child, count, enter, rays, search: &mut PacketSearch, stats: &mut Stats| {
+                        let rays = rays & search.open();
+                        match soa.permutation {
+                            Some(k) if count & PACKED != 0 => {
+                                let first = child as usize;
+                                let n = (count & !PACKED) as usize;
+                                for pack in &packs[first..first + n] {
+                                    $test_pack(pack, k, rays, soa, &box_test, search, stats);
+                                }
+                            }
+                            _ => leaf(child, count, enter, rays, search, stats),
+                        }
+                        search.finish_leaf()
+                    },
+                )
+            }
+
+            /// Tests the triangles of `pack` for the rays of `rays` still searching, which
+            /// share the axis permutation `k`: the triangles' boxes against the packet's
+            /// interval first (a triangle none of the rays can reach is skipped for all of
+            /// them), then one triangle against several rays at a time (`$triangle`).
+            #[target_feature(enable = $features)]
+            #[inline]
+            fn $test_pack(
+                pack: &TrianglePack,
+                k: [usize; 3],
+                rays: u64,
+                soa: &RaySoa<'_>,
+                box_test: &Packet4,
+                search: &mut PacketSearch,
+                stats: &mut Stats,
+            ) {
+                let open = rays & search.open();
+                if open == 0 {
+                    return;
                 }
-                search.finish_leaf()
-            },
-        )
+                let v = pack.lanes_by_vertex();
+                let min = [0, 1, 2].map(|a| v[0][a].min(v[1][a]).min(v[2][a]));
+                let max = [0, 1, 2].map(|a| v[0][a].max(v[1][a]).max(v[2][a]));
+                let (mut lanes, _) = box_test.hit_boxes(min, max, search.t_max());
+                lanes &= (1 << pack.len()) - 1;
+                stats.count_tests(
+                    ShapeKind::Triangle,
+                    u64::from(lanes.count_ones()) * u64::from(open.count_ones()),
+                );
+                while lanes != 0 {
+                    let lane = lanes.trailing_zeros() as usize;
+                    lanes &= lanes - 1;
+                    $triangle(pack, lane, k, rays & search.open(), soa, search);
+                }
+            }
+        };
     }
 
-    /// Tests the triangles of `pack` for the rays of `rays` still searching, which share
-    /// the axis permutation `k`: the triangles' boxes against the packet's interval first
-    /// (a triangle none of the rays can reach is skipped for all of them), then one
-    /// triangle against eight rays (`test_triangle`).
-    #[target_feature(enable = "avx2,popcnt")]
-    #[inline]
-    fn test_pack(
-        pack: &TrianglePack,
-        k: [usize; 3],
-        rays: u64,
-        soa: &RaySoa<'_>,
-        box_test: &Packet4,
-        search: &mut PacketSearch,
-        stats: &mut Stats,
-    ) {
-        let open = rays & search.open();
-        if open == 0 {
-            return;
-        }
-        let v = pack.lanes_by_vertex();
-        let min = [0, 1, 2].map(|a| v[0][a].min(v[1][a]).min(v[2][a]));
-        let max = [0, 1, 2].map(|a| v[0][a].max(v[1][a]).max(v[2][a]));
-        let (mut lanes, _) = box_test.hit_boxes(min, max, search.t_max());
-        lanes &= (1 << pack.len()) - 1;
-        stats.count_tests(
-            ShapeKind::Triangle,
-            u64::from(lanes.count_ones()) * u64::from(open.count_ones()),
-        );
-        while lanes != 0 {
-            let lane = lanes.trailing_zeros() as usize;
-            lanes &= lanes - 1;
-            test_triangle(pack, lane, k, rays & search.open(), soa, search);
-        }
-    }
+    packet_traversal!(
+        traverse_packet,
+        test_pack,
+        "avx2,popcnt",
+        rays_entering,
+        test_triangle
+    );
+    packet_traversal!(
+        traverse_packet16,
+        test_pack16,
+        "avx2,popcnt,avx512f",
+        super::avx512::rays_entering,
+        super::avx512::test_triangle
+    );
 
     /// `super::traverse` compiled for AVX2.
     ///
@@ -636,7 +685,7 @@ mod x86 {
                     boxes.push(b);
                 }
                 let bound = |r: usize| {
-                    if r % 3 == 0 {
+                    if r.is_multiple_of(3) {
                         20.0 + r as f32
                     } else {
                         f32::INFINITY
