@@ -143,6 +143,14 @@ impl HitSearch {
         false
     }
 
+    /// Keeps `hit` on primitive `prim`, found by a SIMD pass at `nested_limit` with the
+    /// shape's own operations, if it holds at this search's bound for `prim` (what `test`
+    /// would find); true when the query is answered.
+    #[inline(always)]
+    pub(crate) fn keep_within(&mut self, prim: u32, hit: ShapeHit) -> bool {
+        hit.t < self.limit_for(prim) && self.keep(Hit::new(prim, hit))
+    }
+
     /// Keeps triangle `prim`'s hit, decided by a SIMD pass at `nested_limit`, if it holds
     /// at this search's bound for `prim` (what `test_pack_lane` would find); true when the
     /// query is answered.

@@ -59,10 +59,12 @@ impl TraceRay {
         if d[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        let shear = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
+        let inv_dir = d.recip();
+        // 1 / d[kz] is the inverse direction's own component: one division fewer.
+        let shear = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], inv_dir[kz]);
         TraceRay {
             ray,
-            inv_dir: d.recip(),
+            inv_dir,
             kx,
             ky,
             kz,

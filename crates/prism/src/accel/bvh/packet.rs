@@ -18,7 +18,7 @@ use super::wide::WideNode;
 use super::Bvh;
 use crate::accel::query::HitSearch;
 use crate::accel::{Hit, QueryMode, CULL_SLACK, PACKET_MAX};
-use crate::geometry::{DecidedHit, Geometry, PackRay, TrianglePack};
+use crate::geometry::{DecidedHit, Geometry, PackRay, ShapeHit, TrianglePack};
 use crate::math::TraceRay;
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
@@ -143,6 +143,7 @@ impl Packet4 {
 pub(super) struct RaySoa<'a> {
     rays: &'a [TraceRay],
     pub(super) origin: [[f32; PACKET_MAX]; 3],
+    pub(super) dir: [[f32; PACKET_MAX]; 3],
     pub(super) inv_dir: [[f32; PACKET_MAX]; 3],
     /// The origin permuted to (kx, ky, kz), as `PackRay` holds it.
     pub(super) permuted_origin: [[f32; PACKET_MAX]; 3],
@@ -165,24 +166,28 @@ impl<'a> RaySoa<'a> {
         let mut soa = RaySoa {
             rays,
             origin: [[0.0; PACKET_MAX]; 3],
+            dir: [[0.0; PACKET_MAX]; 3],
             inv_dir: [[0.0; PACKET_MAX]; 3],
             permuted_origin: [[0.0; PACKET_MAX]; 3],
             shear: [[0.0; PACKET_MAX]; 3],
-            permutation: first,
+            permutation: None,
         };
+        // The dominant axis and the winding decide the permutation; a flag folded with
+        // `&` (not an early `None`) keeps the loop free of a dependent branch per ray.
+        let mut shared = true;
         for (i, r) in rays.iter().enumerate() {
-            let o = r.ray.origin;
+            let (o, d) = (r.ray.origin, r.ray.dir);
             for a in 0..3 {
                 soa.origin[a][i] = o[a];
+                soa.dir[a][i] = d[a];
                 soa.inv_dir[a][i] = r.inv_dir[a];
             }
             soa.shear[0][i] = r.shear.x;
             soa.shear[1][i] = r.shear.y;
             soa.shear[2][i] = r.shear.z;
-            if first != Some([r.kx, r.ky, r.kz]) {
-                soa.permutation = None;
-            }
+            shared &= first == Some([r.kx, r.ky, r.kz]);
         }
+        soa.permutation = first.filter(|_| shared);
         if let Some(k) = soa.permutation {
             for (a, &ka) in k.iter().enumerate() {
                 soa.permuted_origin[a] = soa.origin[ka];
@@ -313,6 +318,48 @@ impl PacketSearch {
         self.settle(i, answered);
     }
 
+    /// The rays of `rays` still searching that may meet something in a leaf whose box
+    /// they enter no nearer than `enter` (the test `test_leaf_per_ray` makes per ray).
+    #[inline(always)]
+    pub(super) fn reaching(&self, rays: u64, enter: f32) -> u64 {
+        let (mut open, mut out) = (rays & self.open(), 0u64);
+        while open != 0 {
+            let i = open.trailing_zeros() as usize;
+            open &= open - 1;
+            if enter <= self.bound[i] * CULL_SLACK {
+                out |= 1 << i;
+            }
+        }
+        out
+    }
+
+    /// Primitive `prim` for each ray of `rays`, one at a time (shapes without a packet test).
+    #[inline(always)]
+    pub(super) fn test_per_ray(
+        &mut self,
+        geometry: &Geometry,
+        prim: u32,
+        rays: u64,
+        soa: &RaySoa<'_>,
+        stats: &mut Stats,
+    ) {
+        let mut open = rays;
+        while open != 0 {
+            let i = open.trailing_zeros() as usize;
+            open &= open - 1;
+            let answered = self.searches[i].test(geometry, soa.ray(i), prim, stats);
+            self.settle(i, answered);
+        }
+    }
+
+    /// Ray i keeps `hit` on primitive `prim` if it holds at its own bound: found by a SIMD
+    /// pass at `nested[i]` with the scalar test's operations.
+    #[inline(always)]
+    pub(super) fn keep_shape_hit(&mut self, i: usize, prim: u32, hit: ShapeHit) {
+        let answered = self.searches[i].keep_within(prim, hit);
+        self.settle(i, answered);
+    }
+
     /// Tests a leaf for the rays of `rays_in` (a bit per ray) that are still searching, one
     /// ray at a time; `enter` is a lower bound of their entry distances.
     #[inline(always)]
@@ -375,7 +422,7 @@ pub(super) fn query(
             &bvh.wide8,
             &bounds,
             &soa,
-            &bvh.packs,
+            &leaf,
             &mut search,
             stats,
             |c, n, enter, rays_in, s: &mut PacketSearch, st: &mut Stats| {

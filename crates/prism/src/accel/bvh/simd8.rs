@@ -14,6 +14,7 @@
 #![allow(unsafe_code)]
 
 use super::packet::{PacketBounds, PacketSearch, RaySoa};
+use super::traverse::LeafQuery;
 use super::wide::Wide8Node;
 use crate::accel::query::HitSearch;
 use crate::geometry::TrianglePack;
@@ -74,7 +75,9 @@ pub(super) fn traverse(
 /// boxes once for the whole packet against its interval `bounds`, then each box that
 /// passes against the packet's rays eight at a time, so every child goes on with the rays
 /// that enter it. Leaves of triangle packs are tested one triangle against eight rays when
-/// the rays share an axis permutation; other leaves go to `leaf` with their rays. With
+/// the rays share an axis permutation, spheres against eight rays in any leaf, other
+/// primitives ray by ray; leaves of packs the rays cannot share go to `leaf` with their
+/// rays. With
 /// `avx512` (only where `avx512::available()`), the per-ray kernels take sixteen rays per
 /// step.
 #[inline(always)]
@@ -84,7 +87,7 @@ pub(super) fn traverse_packet(
     nodes: &[Wide8Node],
     bounds: &PacketBounds,
     soa: &RaySoa<'_>,
-    packs: &[TrianglePack],
+    leaves: &LeafQuery<'_>,
     search: &mut PacketSearch,
     stats: &mut Stats,
     leaf: impl FnMut(u32, u32, f32, u64, &mut PacketSearch, &mut Stats),
@@ -96,15 +99,15 @@ pub(super) fn traverse_packet(
             debug_assert!(avx512::available());
             // SAFETY: as below, and `avx512` is set only where AVX-512 was detected.
             return unsafe {
-                x86::traverse_packet16(nodes, bounds, soa, packs, search, stats, leaf)
+                x86::traverse_packet16(nodes, bounds, soa, leaves, search, stats, leaf)
             };
         }
         // SAFETY: `nodes` is non-empty only when AVX2 was detected (see `traverse`).
-        unsafe { x86::traverse_packet(nodes, bounds, soa, packs, search, stats, leaf) }
+        unsafe { x86::traverse_packet(nodes, bounds, soa, leaves, search, stats, leaf) }
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        let _ = (avx512, nodes, bounds, soa, packs, search, stats, leaf);
+        let _ = (avx512, nodes, bounds, soa, leaves, search, stats, leaf);
         unreachable!("8-wide nodes are only built on x86-64 with AVX2")
     }
 }
@@ -114,12 +117,12 @@ pub(super) mod avx512;
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
-    use super::{PacketBounds, PacketSearch, RaySoa, TrianglePack, Wide8Node};
+    use super::{LeafQuery, PacketBounds, PacketSearch, RaySoa, TrianglePack, Wide8Node};
     use crate::accel::bvh::leaves::PACKED;
     use crate::accel::bvh::packet::Packet4;
     use crate::accel::bvh::traverse::{CullBound, Visit};
     use crate::accel::query::HitSearch;
-    use crate::geometry::{DecidedHit, ShapeKind};
+    use crate::geometry::{DecidedHit, Shape, ShapeHit, ShapeKind, Sphere};
     use crate::math::robust::gamma;
     use crate::math::TraceRay;
     use crate::stats::Stats;
@@ -480,11 +483,90 @@ mod x86 {
         }
     }
 
+    /// `sphere` (primitive `prim`) against the rays of `rays`, eight per step: lane by lane
+    /// the operations of `Sphere::intersect` in its order (`Vec3::dot` sums x, y, then z),
+    /// at each ray's `nested` bound; a hit so found is kept if it holds at the ray's own
+    /// bound for `prim` (`PacketSearch::keep_shape_hit`), as the scalar test decides it.
+    #[target_feature(enable = "avx2,popcnt")]
+    #[inline]
+    fn test_sphere(
+        sphere: &Sphere,
+        prim: u32,
+        rays: u64,
+        soa: &RaySoa<'_>,
+        search: &mut PacketSearch,
+        stats: &mut Stats,
+    ) {
+        stats.count_tests(ShapeKind::Sphere, u64::from(rays.count_ones()));
+        let load = |v: &[f32; 64], at: usize| {
+            // SAFETY: `at + 8 <= 64`; unaligned load.
+            unsafe { _mm256_loadu_ps(v.as_ptr().add(at)) }
+        };
+        let (add, sub, mul) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps);
+        let dot = |x: &[__m256; 3], y: &[__m256; 3]| {
+            add(add(mul(x[0], y[0]), mul(x[1], y[1])), mul(x[2], y[2]))
+        };
+        let centre = sphere.center.to_array().map(|v| _mm256_set1_ps(v));
+        let r2 = _mm256_set1_ps(sphere.radius * sphere.radius);
+        let (zero, sign) = (_mm256_setzero_ps(), _mm256_set1_ps(-0.0));
+        for group in 0..8 {
+            let at = 8 * group;
+            let wanted = (rays >> at) & 0xff;
+            if wanted == 0 {
+                continue;
+            }
+            let f = [0, 1, 2].map(|a| sub(load(&soa.origin[a], at), centre[a]));
+            let d = [0, 1, 2].map(|a| load(&soa.dir[a], at));
+            let b = dot(&f, &d);
+            let l = [0, 1, 2].map(|a| sub(f[a], mul(b, d[a])));
+            let disc = sub(r2, dot(&l, &l));
+            let c = sub(dot(&f, &f), r2);
+            // -b - copysign(sqrt(disc), b)
+            let root = _mm256_sqrt_ps(disc);
+            let signed_root = _mm256_or_ps(_mm256_andnot_ps(sign, root), _mm256_and_ps(sign, b));
+            let q = sub(_mm256_xor_ps(b, sign), signed_root);
+            let t0 = _mm256_div_ps(c, q);
+            let swap = _mm256_cmp_ps::<_CMP_GT_OQ>(t0, q);
+            let (near, far) = (_mm256_blendv_ps(t0, q, swap), _mm256_blendv_ps(q, t0, swap));
+            let near_ahead = _mm256_cmp_ps::<_CMP_GT_OQ>(near, zero);
+            let t = _mm256_blendv_ps(far, near, near_ahead);
+            let nested = load(&search.nested, at);
+            let hit = _mm256_and_ps(
+                _mm256_cmp_ps::<_CMP_GT_OQ>(t, zero),
+                _mm256_cmp_ps::<_CMP_LT_OQ>(t, nested),
+            );
+            let missed = _mm256_cmp_ps::<_CMP_LT_OQ>(disc, zero);
+            let mut hit = wanted & (_mm256_movemask_ps(_mm256_andnot_ps(missed, hit)) as u64);
+            if hit != 0 {
+                let mut ts = [0.0f32; 8];
+                // SAFETY: `ts` holds eight f32s; unaligned store.
+                unsafe { _mm256_storeu_ps(ts.as_mut_ptr(), t) };
+                while hit != 0 {
+                    let j = hit.trailing_zeros() as usize;
+                    hit &= hit - 1;
+                    let shape_hit = ShapeHit {
+                        t: ts[j],
+                        u: 0.0,
+                        v: 0.0,
+                    };
+                    search.keep_shape_hit(at + j, prim, shape_hit);
+                }
+            }
+        }
+    }
+
     /// The packet walk and its leaf of triangle packs, made once per instruction set:
     /// `$entering` and `$triangle` are the per-ray kernels (eight rays per step with AVX2,
     /// sixteen with AVX-512), the rest is the same code compiled with `$features`.
     macro_rules! packet_traversal {
-        ($traverse:ident, $test_pack:ident, $features:literal, $entering:path, $triangle:path) => {
+        (
+            $traverse:ident,
+            $test_pack:ident,
+            $features:literal,
+            $entering:path,
+            $triangle:path,
+            $sphere:path
+        ) => {
             /// `super::traverse_packet` compiled for this instruction set.
             ///
             /// # Safety
@@ -495,7 +577,7 @@ mod x86 {
                 nodes: &[Wide8Node],
                 bounds: &PacketBounds,
                 soa: &RaySoa<'_>,
-                packs: &[TrianglePack],
+                leaves: &LeafQuery<'_>,
                 search: &mut PacketSearch,
                 stats: &mut Stats,
                 mut leaf: impl FnMut(u32, u32, f32, u64, &mut PacketSearch, &mut Stats),
@@ -532,15 +614,36 @@ mod x86 {
                     stats,
                     |child, count, enter, rays, search: &mut PacketSearch, stats: &mut Stats| {
                         let rays = rays & search.open();
+                        let first = child as usize;
                         match soa.permutation {
                             Some(k) if count & PACKED != 0 => {
-                                let first = child as usize;
                                 let n = (count & !PACKED) as usize;
-                                for pack in &packs[first..first + n] {
+                                for pack in &leaves.packs[first..first + n] {
                                     $test_pack(pack, k, rays, soa, &box_test, search, stats);
                                 }
                             }
-                            _ => leaf(child, count, enter, rays, search, stats),
+                            _ if count & PACKED != 0 => {
+                                leaf(child, count, enter, rays, search, stats)
+                            }
+                            _ => {
+                                // Primitive by primitive, each against the rays still
+                                // searching: per ray the order of `LeafQuery::test`.
+                                let reaching = search.reaching(rays, enter);
+                                let prims = &leaves.prims[first..first + count as usize];
+                                for &prim in prims {
+                                    let rays = reaching & search.open();
+                                    if rays == 0 {
+                                        break;
+                                    }
+                                    let geometry = leaves.geometry;
+                                    match &geometry.primitives[prim as usize].shape {
+                                        Shape::Sphere(sphere) => {
+                                            $sphere(sphere, prim, rays, soa, search, stats)
+                                        }
+                                        _ => search.test_per_ray(geometry, prim, rays, soa, stats),
+                                    }
+                                }
+                            }
                         }
                         search.finish_leaf()
                     },
@@ -589,14 +692,16 @@ mod x86 {
         test_pack,
         "avx2,popcnt",
         rays_entering,
-        test_triangle
+        test_triangle,
+        test_sphere
     );
     packet_traversal!(
         traverse_packet16,
         test_pack16,
         "avx2,popcnt,avx512f",
         super::avx512::rays_entering,
-        super::avx512::test_triangle
+        super::avx512::test_triangle,
+        super::avx512::test_sphere
     );
 
     /// `super::traverse` compiled for AVX2.

@@ -6,8 +6,9 @@
 
 use super::x86::Packet8;
 use super::{PacketSearch, RaySoa, TrianglePack, Wide8Node};
-use crate::geometry::DecidedHit;
+use crate::geometry::{DecidedHit, ShapeHit, ShapeKind, Sphere};
 use crate::math::robust::gamma;
+use crate::stats::Stats;
 use std::arch::x86_64::*;
 
 /// Whether this CPU can take the 16-ray kernels (on top of `super::available()`).
@@ -191,6 +192,80 @@ pub(super) fn test_triangle(
             let j = undecided.trailing_zeros() as usize;
             undecided &= undecided - 1;
             search.test_pack_lane(at + j, pack, lane, soa.ray(at + j));
+        }
+    }
+}
+
+/// `x86::test_sphere` sixteen rays per step: `sphere` (primitive `prim`) against the rays
+/// of `rays`, lane by lane the operations of `Sphere::intersect`.
+#[target_feature(enable = "avx2,popcnt,avx512f")]
+#[inline]
+pub(super) fn test_sphere(
+    sphere: &Sphere,
+    prim: u32,
+    rays: u64,
+    soa: &RaySoa<'_>,
+    search: &mut PacketSearch,
+    stats: &mut Stats,
+) {
+    stats.count_tests(ShapeKind::Sphere, u64::from(rays.count_ones()));
+    let (add, sub, mul) = (_mm512_add_ps, _mm512_sub_ps, _mm512_mul_ps);
+    let dot = |x: &[__m512; 3], y: &[__m512; 3]| {
+        add(add(mul(x[0], y[0]), mul(x[1], y[1])), mul(x[2], y[2]))
+    };
+    // Sign-bit operations on the integer view (the float forms need AVX-512DQ).
+    let bits = _mm512_castps_si512;
+    let sign = _mm512_set1_epi32(i32::MIN);
+    let centre = sphere.center.to_array().map(|v| _mm512_set1_ps(v));
+    let r2 = _mm512_set1_ps(sphere.radius * sphere.radius);
+    let zero = _mm512_setzero_ps();
+    for group in 0..4 {
+        let at = 16 * group;
+        let wanted = (rays >> at) as u16;
+        if wanted == 0 {
+            continue;
+        }
+        let f = [0, 1, 2].map(|a| sub(load(&soa.origin[a], at), centre[a]));
+        let d = [0, 1, 2].map(|a| load(&soa.dir[a], at));
+        let b = dot(&f, &d);
+        let l = [0, 1, 2].map(|a| sub(f[a], mul(b, d[a])));
+        let disc = sub(r2, dot(&l, &l));
+        let c = sub(dot(&f, &f), r2);
+        // -b - copysign(sqrt(disc), b)
+        let root = _mm512_sqrt_ps(disc);
+        let signed_root = _mm512_castsi512_ps(_mm512_or_si512(
+            _mm512_andnot_si512(sign, bits(root)),
+            _mm512_and_si512(sign, bits(b)),
+        ));
+        let q = sub(
+            _mm512_castsi512_ps(_mm512_xor_si512(bits(b), sign)),
+            signed_root,
+        );
+        let t0 = _mm512_div_ps(c, q);
+        let swap = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(t0, q);
+        let (near, far) = (
+            _mm512_mask_blend_ps(swap, t0, q),
+            _mm512_mask_blend_ps(swap, q, t0),
+        );
+        let near_ahead = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(near, zero);
+        let t = _mm512_mask_blend_ps(near_ahead, far, near);
+        let nested = load(&search.nested, at);
+        let hit = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(t, zero)
+            & _mm512_cmp_ps_mask::<_CMP_LT_OQ>(t, nested)
+            & !_mm512_cmp_ps_mask::<_CMP_LT_OQ>(disc, zero);
+        let mut hit = u64::from(hit & wanted);
+        if hit != 0 {
+            let ts = store(t);
+            while hit != 0 {
+                let j = hit.trailing_zeros() as usize;
+                hit &= hit - 1;
+                let shape_hit = ShapeHit {
+                    t: ts[j],
+                    u: 0.0,
+                    v: 0.0,
+                };
+                search.keep_shape_hit(at + j, prim, shape_hit);
+            }
         }
     }
 }
