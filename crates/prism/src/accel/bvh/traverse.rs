@@ -300,9 +300,14 @@ impl LeafQuery<'_> {
     ) -> bool {
         if count & PACKED != 0 {
             let packs = &self.packs[first as usize..(first + (count & !PACKED)) as usize];
-            return packs
-                .iter()
-                .any(|pack| search.test_pack(pack, self.pack_ray, self.ray, stats));
+            // A plain loop, inlined into the walk (`Iterator::any` stayed a call, and the
+            // walk's ray constants were reloaded from the stack after each leaf).
+            for pack in packs {
+                if search.test_pack(pack, self.pack_ray, self.ray, stats) {
+                    return true;
+                }
+            }
+            return false;
         }
         self.prims[first as usize..(first + count) as usize]
             .iter()
