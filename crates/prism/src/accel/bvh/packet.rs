@@ -2,10 +2,13 @@
 //! together. A node visit tests the children's boxes once for the whole packet, against
 //! the interval of its origins and inverse directions (interval arithmetic, as Boulos et
 //! al. 2006 cull whole packets): a child none of the rays can enter is skipped for all of
-//! them with one SIMD test instead of one per ray. A leaf is tested ray by ray, with each
-//! ray's own search, skipping rays whose best hit already lies before the leaf, so every
-//! ray gets exactly the answer its own query gives (the tie rule is per ray, and the
-//! interval test only ever lets through more than a ray's own test would).
+//! them with one SIMD test instead of one per ray. A leaf's primitives are tested against
+//! the rays that reach it, several rays per SIMD step for triangle packs and spheres
+//! (`simd8.rs`) and ray by ray otherwise, each ray with its own search, skipping rays whose
+//! best hit already lies before the leaf, so every ray gets exactly the answer its own
+//! query gives (the tie rule is per ray, the SIMD tests are the scalar tests' operations
+//! lane by lane, and the interval test only ever lets through more than a ray's own test
+//! would).
 //!
 //! The interval test is exact about rounding: subtraction and multiplication round
 //! monotonically, so bounds computed from the extreme origins and inverse directions bound

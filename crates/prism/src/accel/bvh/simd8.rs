@@ -77,9 +77,8 @@ pub(super) fn traverse(
 /// that enter it. Leaves of triangle packs are tested one triangle against eight rays when
 /// the rays share an axis permutation, spheres against eight rays in any leaf, other
 /// primitives ray by ray; leaves of packs the rays cannot share go to `leaf` with their
-/// rays. With
-/// `avx512` (only where `avx512::available()`), the per-ray kernels take sixteen rays per
-/// step.
+/// rays. With `avx512` (only where `avx512::available()`), the per-ray kernels take
+/// sixteen rays per step.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn traverse_packet(
@@ -555,8 +554,8 @@ mod x86 {
         }
     }
 
-    /// The packet walk and its leaf of triangle packs, made once per instruction set:
-    /// `$entering` and `$triangle` are the per-ray kernels (eight rays per step with AVX2,
+    /// The packet walk and its leaf tests, made once per instruction set: `$entering`,
+    /// `$triangle` and `$sphere` are the per-ray kernels (eight rays per step with AVX2,
     /// sixteen with AVX-512), the rest is the same code compiled with `$features`.
     macro_rules! packet_traversal {
         (
