@@ -16,7 +16,7 @@ pub(in crate::accel::bvh) fn available() -> bool {
     std::arch::is_x86_feature_detected!("avx512f")
 }
 
-/// Ray i's lanes of a packet array, sixteen from `at`.
+/// Sixteen lanes of a packet array (one value per ray), from ray `at`.
 #[target_feature(enable = "avx2,popcnt,avx512f")]
 #[inline]
 fn load(v: &[f32; 64], at: usize) -> __m512 {
@@ -25,6 +25,7 @@ fn load(v: &[f32; 64], at: usize) -> __m512 {
     unsafe { _mm512_loadu_ps(v.as_ptr().add(at)) }
 }
 
+/// The sixteen lanes of `v`, for the scalar steps after a kernel.
 #[target_feature(enable = "avx2,popcnt,avx512f")]
 #[inline]
 fn store(v: __m512) -> [f32; 16] {
