@@ -138,24 +138,32 @@ fn answers(shadows: &Shadows, rays: &RaySet) -> (Vec<bool>, Stats) {
     (blocked, stats)
 }
 
-/// Million rays per second over as many passes as last `min_sample`.
-fn sample(shadows: &Shadows, rays: &RaySet, options: &MeasureOptions) -> f64 {
+/// Million rays per second of `pass`, which traces `rays` rays, over as many passes as
+/// last `min_sample`.
+fn mrays_per_s(options: &MeasureOptions, rays: usize, mut pass: impl FnMut()) -> f64 {
     let watch = options.clock.start();
     let mut passes = 0u64;
-    let mut stats = Stats::default();
     loop {
-        // Each pass starts with an empty cache, as a tile does.
-        begin_piece();
-        for r in &rays.shadow {
-            std::hint::black_box(shadows.blocked(r.light as usize, 1, &r.ray, r.t_max, &mut stats));
-        }
+        pass();
         passes += 1;
         if watch.elapsed() >= options.min_sample {
             break;
         }
     }
     let secs = watch.elapsed().as_secs_f64().max(1e-9);
-    (passes * rays.shadow.len() as u64) as f64 / secs / 1e6
+    (passes * rays as u64) as f64 / secs / 1e6
+}
+
+/// Million rays per second of `shadows`, one ray at a time.
+fn sample(shadows: &Shadows, rays: &RaySet, options: &MeasureOptions) -> f64 {
+    let mut stats = Stats::default();
+    mrays_per_s(options, rays.shadow.len(), || {
+        // Each pass starts with an empty cache, as a tile does.
+        begin_piece();
+        for r in &rays.shadow {
+            std::hint::black_box(shadows.blocked(r.light as usize, 1, &r.ray, r.t_max, &mut stats));
+        }
+    })
 }
 
 /// The shadow rays gathered into packets as a render makes them: the rays of one light from
@@ -222,22 +230,14 @@ impl PacketShadows {
         (blocked, stats)
     }
 
-    /// Million rays per second over as many passes as last `min_sample`.
+    /// Million rays per second of the packets (`mrays_per_s`).
     fn sample(&self, prepared: &PreparedScene, options: &MeasureOptions) -> f64 {
-        let watch = options.clock.start();
-        let mut passes = 0u64;
         let mut stats = Stats::default();
         let mut blocked = vec![false; self.index.len()];
-        loop {
+        mrays_per_s(options, self.index.len(), || {
             self.trace(prepared, &mut blocked, &mut stats);
             std::hint::black_box(&blocked);
-            passes += 1;
-            if watch.elapsed() >= options.min_sample {
-                break;
-            }
-        }
-        let secs = watch.elapsed().as_secs_f64().max(1e-9);
-        (passes * self.index.len() as u64) as f64 / secs / 1e6
+        })
     }
 }
 

@@ -306,8 +306,10 @@ mod tests {
         )
         .expect("a mesh");
         g.add_mesh(mesh, 0);
+        let cone = Cone::cylinder(Vec3::ZERO, Vec3::Y, 0.5, true).expect("a cylinder");
+        g.add(Shape::Cone(Box::new(cone)), 0);
         let bounded: Vec<bool> = g.primitives.iter().map(|p| p.shape.is_bounded()).collect();
-        assert_eq!(bounded, [true, false, true, true]);
+        assert_eq!(bounded, [true, false, true, true, true]);
         for (i, p) in g.primitives.iter().enumerate() {
             assert_eq!(p.shape.is_bounded(), g.bounds(i as u32).is_some());
         }

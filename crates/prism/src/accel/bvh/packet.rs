@@ -334,7 +334,7 @@ impl PacketSearch {
     }
 
     /// The rays of `rays` still searching that may meet something in a leaf whose box
-    /// they enter no nearer than `enter` (the test `test_leaf_per_ray` makes per ray).
+    /// they enter no nearer than `enter` (with the slack the box tests give exits).
     #[inline(always)]
     pub(super) fn reaching(&self, rays: u64, enter: f32) -> u64 {
         let (mut open, mut out) = (rays & self.open(), 0u64);
@@ -386,20 +386,20 @@ impl PacketSearch {
         rays_in: u64,
         stats: &mut Stats,
     ) {
-        let mut open = self.open() & rays_in;
+        // A ray's bound changes only with its own tests, so the rays reaching the leaf
+        // can be found before any of them is tested.
+        let mut open = self.reaching(rays_in, enter);
         while open != 0 {
             let i = open.trailing_zeros() as usize;
             open &= open - 1;
-            if enter <= self.bound[i] * CULL_SLACK {
-                let pack_ray = PackRay::new(&rays[i]);
-                let ray_leaf = LeafQuery {
-                    ray: &rays[i],
-                    pack_ray: &pack_ray,
-                    ..*leaf
-                };
-                let answered = ray_leaf.test(first, count, &mut self.searches[i], stats);
-                self.settle(i, answered);
-            }
+            let pack_ray = PackRay::new(&rays[i]);
+            let ray_leaf = LeafQuery {
+                ray: &rays[i],
+                pack_ray: &pack_ray,
+                ..*leaf
+            };
+            let answered = ray_leaf.test(first, count, &mut self.searches[i], stats);
+            self.settle(i, answered);
         }
     }
 }

@@ -37,7 +37,7 @@ pub(super) fn available() -> bool {
 pub(super) fn avx512_available() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
-        available() && avx512::available()
+        available() && std::arch::is_x86_feature_detected!("avx512f")
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
@@ -77,7 +77,7 @@ pub(super) fn traverse(
 /// that enter it. Leaves of triangle packs are tested one triangle against eight rays when
 /// the rays share an axis permutation, spheres against eight rays in any leaf, other
 /// primitives ray by ray; leaves of packs the rays cannot share go to `leaf` with their
-/// rays. With `avx512` (only where `avx512::available()`), the per-ray kernels take
+/// rays. With `avx512` (only where `avx512_available()`), the per-ray kernels take
 /// sixteen rays per step.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
@@ -95,7 +95,7 @@ pub(super) fn traverse_packet(
     {
         debug_assert!(available());
         if avx512 {
-            debug_assert!(avx512::available());
+            debug_assert!(avx512_available());
             // SAFETY: as below, and `avx512` is set only where AVX-512 was detected.
             return unsafe {
                 x86::traverse_packet16(nodes, bounds, soa, leaves, search, stats, leaf)
@@ -570,7 +570,7 @@ mod x86 {
             ///
             /// # Safety
             /// The CPU must support the instruction set (`available`, and
-            /// `avx512::available` for the AVX-512 variant).
+            /// `avx512_available` for the AVX-512 variant).
             #[target_feature(enable = $features)]
             pub(super) unsafe fn $traverse(
                 nodes: &[Wide8Node],

@@ -11,11 +11,6 @@ use crate::math::robust::gamma;
 use crate::stats::Stats;
 use std::arch::x86_64::*;
 
-/// Whether this CPU can take the 16-ray kernels (on top of `super::available()`).
-pub(in crate::accel::bvh) fn available() -> bool {
-    std::arch::is_x86_feature_detected!("avx512f")
-}
-
 /// Sixteen lanes of a packet array (one value per ray), from ray `at`.
 #[target_feature(enable = "avx2,popcnt,avx512f")]
 #[inline]
