@@ -73,6 +73,11 @@ fn camera_block(
     rays
 }
 
+/// The rays themselves, as `query_packet` takes them (it prepares them in its own way).
+fn plain(rays: &[TraceRay]) -> Vec<Ray> {
+    rays.iter().map(|r| r.ray).collect()
+}
+
 /// Holds `accel`'s packet answers to its single-ray answers; returns the node visits of
 /// the packet queries and of the single ones.
 fn check_packet(
@@ -86,7 +91,14 @@ fn check_packet(
     let g = &s.geometry;
     let mut answers = vec![None; rays.len()];
     let mut packet_stats = Stats::default();
-    accel.query_packet(g, rays, t_max, mode, &mut answers, &mut packet_stats);
+    accel.query_packet(
+        g,
+        &plain(rays),
+        t_max,
+        mode,
+        &mut answers,
+        &mut packet_stats,
+    );
     let mut single_stats = Stats::default();
     for (i, (ray, &t)) in rays.iter().zip(t_max).enumerate() {
         let single: Option<Hit> = accel.query(g, ray, t, mode, &mut single_stats);
@@ -178,7 +190,7 @@ fn check_scene(name: &str, scale: f32, offset: Vec3, seed: u64) {
                         let mut stats = Stats::default();
                         bvh.query_packet(
                             g,
-                            &rays,
+                            &plain(&rays),
                             &inf,
                             QueryMode::Nearest,
                             &mut answers,

@@ -57,14 +57,14 @@ pub trait Accel: Send + Sync {
     fn query_packet(
         &self,
         geometry: &Geometry,
-        rays: &[TraceRay],
+        rays: &[Ray],
         t_max: &[f32],
         mode: QueryMode,
         answers: &mut [Option<Hit>],
         stats: &mut Stats,
     ) {
         for ((ray, &t), answer) in rays.iter().zip(t_max).zip(answers.iter_mut()) {
-            *answer = self.query(geometry, ray, t, mode, stats);
+            *answer = self.query(geometry, &TraceRay::new(*ray), t, mode, stats);
         }
     }
 
@@ -189,12 +189,10 @@ impl SceneIntersector {
         answers: &mut [Option<Hit>],
         stats: &mut Stats,
     ) {
-        let mut traced = arrayvec::ArrayVec::new();
-        trace_packet_rays(rays, &mut traced);
-        let n = traced.len();
+        let n = rays.len();
         self.accel.query_packet(
             geometry,
-            &traced,
+            rays,
             &t_max[..n],
             QueryMode::Nearest,
             &mut answers[..n],
@@ -204,7 +202,8 @@ impl SceneIntersector {
         if self.unbounded.is_empty() {
             return;
         }
-        for ((tr, answer), &t_max) in traced.iter().zip(answers.iter_mut()).zip(t_max) {
+        for ((ray, answer), &t_max) in rays.iter().zip(answers.iter_mut()).zip(t_max) {
+            let tr = &TraceRay::new(*ray);
             let mut search = HitSearch::new(t_max, QueryMode::Nearest);
             if let Some(hit) = *answer {
                 search.offer(hit);
@@ -247,23 +246,24 @@ impl SceneIntersector {
         blocked: &mut [bool],
         stats: &mut Stats,
     ) {
-        let mut traced = arrayvec::ArrayVec::new();
-        trace_packet_rays(rays, &mut traced);
-        let n = traced.len();
+        let n = rays.len();
         let mut answers = [None; PACKET_MAX];
         self.accel.query_packet(
             geometry,
-            &traced,
+            rays,
             &t_max[..n],
             QueryMode::Any,
             &mut answers[..n],
             stats,
         );
-        for (i, tr) in traced.iter().enumerate() {
+        for (i, ray) in rays.iter().enumerate() {
             blocked[i] = answers[i].is_some()
-                || self.unbounded.iter().any(|&prim| {
-                    HitSearch::new(t_max[i], QueryMode::Any)
-                        .test_unbounded(geometry, tr, prim, stats)
+                || (!self.unbounded.is_empty() && {
+                    let tr = TraceRay::new(*ray);
+                    self.unbounded.iter().any(|&prim| {
+                        HitSearch::new(t_max[i], QueryMode::Any)
+                            .test_unbounded(geometry, &tr, prim, stats)
+                    })
                 });
         }
     }
@@ -271,14 +271,5 @@ impl SceneIntersector {
     /// Whether anything, planes included, is hit along `ray` with `0 < t < t_max`.
     pub fn occluded(&self, geometry: &Geometry, ray: &Ray, t_max: f32, stats: &mut Stats) -> bool {
         self.any_hit(geometry, ray, t_max, stats).is_some()
-    }
-}
-
-/// Prepares a packet's rays for traversal into `traced`, in place: collecting into the
-/// 4.6 KB array and returning it copied it (a memcpy as costly as the preparation).
-#[inline(always)]
-fn trace_packet_rays(rays: &[Ray], traced: &mut arrayvec::ArrayVec<TraceRay, PACKET_MAX>) {
-    for r in rays {
-        traced.push(TraceRay::new(*r));
     }
 }

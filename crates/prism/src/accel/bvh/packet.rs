@@ -22,7 +22,7 @@ use super::Bvh;
 use crate::accel::query::HitSearch;
 use crate::accel::{Hit, QueryMode, CULL_SLACK, PACKET_MAX};
 use crate::geometry::{DecidedHit, Geometry, PackRay, ShapeHit, TrianglePack};
-use crate::math::TraceRay;
+use crate::math::{Ray, TraceRay, Vec3};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
 use glam::Vec4;
@@ -46,16 +46,16 @@ pub(super) struct PacketBounds {
 }
 
 impl PacketBounds {
-    /// The bounds of the `n` rays of `soa`, or None when their directions disagree in
-    /// sign on some axis or one has a zero (or NaN) component: such packets are not
-    /// coherent enough to share a walk.
     /// The bounds of `rays`, as `of` gives them (for tests of the box tests).
     #[cfg(test)]
-    pub(super) fn of_rays(rays: &[TraceRay]) -> Option<PacketBounds> {
-        PacketBounds::of(&RaySoa::new(rays), rays.len())
+    pub(super) fn of_rays(rays: &[Ray]) -> Option<PacketBounds> {
+        PacketBounds::of(&RaySoa::new(rays))
     }
 
-    fn of(soa: &RaySoa, n: usize) -> Option<PacketBounds> {
+    /// The bounds of the rays of `soa`, or None when their directions disagree in sign
+    /// on some axis, or an origin or inverse direction is not finite (a zero or NaN
+    /// direction component): such packets are not coherent enough to share a walk.
+    fn of(soa: &RaySoa) -> Option<PacketBounds> {
         let mut b = PacketBounds {
             negative: [false; 3],
             origin_near: [0.0; 3],
@@ -63,18 +63,23 @@ impl PacketBounds {
             inv_lo: [0.0; 3],
             inv_hi: [0.0; 3],
         };
+        // Over all lanes four at a time (the padding repeats the first ray). `min`/`max`
+        // may drop a NaN, but a NaN fails the finiteness test, which rejects the packet.
+        let fold = |lanes: &[f32; PACKET_MAX]| {
+            let (mut lo, mut hi, mut finite) = (Vec4::INFINITY, Vec4::NEG_INFINITY, true);
+            for k in (0..PACKET_MAX).step_by(4) {
+                let v = Vec4::from_slice(&lanes[k..k + 4]);
+                (lo, hi) = (lo.min(v), hi.max(v));
+                finite &= v.abs().cmplt(Vec4::INFINITY).all();
+            }
+            (lo.min_element(), hi.max_element(), finite)
+        };
         for a in 0..3 {
-            let (o, inv) = (&soa.origin[a][..n], &soa.inv_dir[a][..n]);
-            // Folds the compiler can vectorise (a float sum, which once caught NaN and ±∞
-            // here, cannot be reordered: a chain of 64 dependent additions per axis).
-            let lo = inv.iter().fold(f32::INFINITY, |m, &v| m.min(v));
-            let hi = inv.iter().fold(f32::NEG_INFINITY, |m, &v| m.max(v));
-            let finite = inv.iter().fold(true, |all, v| all & v.is_finite());
-            if !finite || !(lo > 0.0 || hi < 0.0) {
+            let (lo, hi, inv_finite) = fold(&soa.inv_dir[a]);
+            let (o_lo, o_hi, o_finite) = fold(&soa.origin[a]);
+            if !(inv_finite && o_finite && (lo > 0.0 || hi < 0.0)) {
                 return None;
             }
-            let o_lo = o.iter().fold(f32::INFINITY, |m, &v| m.min(v));
-            let o_hi = o.iter().fold(f32::NEG_INFINITY, |m, &v| m.max(v));
             let negative = hi < 0.0;
             b.negative[a] = negative;
             (b.origin_near[a], b.origin_far[a]) =
@@ -141,64 +146,93 @@ impl Packet4 {
 }
 
 /// The rays of a packet in SoA form for the per-ray SIMD tests (`simd8.rs`): per axis,
-/// ray i's origin and inverse direction; in the rays' shared axis permutation, the origin
-/// and the watertight test's shear. Lanes past the packet's rays are never read unmasked.
-pub(super) struct RaySoa<'a> {
-    rays: &'a [TraceRay],
+/// ray i's origin, direction and inverse direction; the watertight test's shear and axis
+/// permutation. Lanes past the packet's rays repeat its first ray, so that folds over
+/// all lanes (`PacketBounds::of`) need no mask; the per-ray tests never let them through.
+///
+/// Built straight from the rays, lane by lane with the operations of `TraceRay::new` (so
+/// `ray(i)` is bit for bit `TraceRay::new(rays[i])`), in loops the compiler vectorises:
+/// preparing the rays one `TraceRay` at a time, then copying them into these arrays, was
+/// about a third of a primary packet's time on the bunny.
+pub(super) struct RaySoa {
     pub(super) origin: [[f32; PACKET_MAX]; 3],
     pub(super) dir: [[f32; PACKET_MAX]; 3],
     pub(super) inv_dir: [[f32; PACKET_MAX]; 3],
-    /// The origin permuted to (kx, ky, kz), as `PackRay` holds it.
-    pub(super) permuted_origin: [[f32; PACKET_MAX]; 3],
     pub(super) shear: [[f32; PACKET_MAX]; 3],
+    /// Per ray, its axis permutation as `kx | ky << 2 | kz << 4`.
+    axes: [u32; PACKET_MAX],
     /// The axis permutation (kx, ky, kz) when every ray has the same one, so that one
     /// triangle can be tested against several rays exactly as each ray's own first pass
     /// tests it.
     pub(super) permutation: Option<[usize; 3]>,
 }
 
-impl<'a> RaySoa<'a> {
-    /// Ray i itself, for the scalar tests.
+impl RaySoa {
+    /// Ray i prepared for the scalar tests: what `TraceRay::new` gives it.
     #[inline(always)]
-    pub(super) fn ray(&self, i: usize) -> &'a TraceRay {
-        &self.rays[i]
+    pub(super) fn ray(&self, i: usize) -> TraceRay {
+        let lane = |rows: &[[f32; PACKET_MAX]; 3]| Vec3::new(rows[0][i], rows[1][i], rows[2][i]);
+        let axes = self.axes[i] as usize;
+        TraceRay {
+            ray: Ray::new(lane(&self.origin), lane(&self.dir)),
+            inv_dir: lane(&self.inv_dir),
+            kx: axes & 3,
+            ky: axes >> 2 & 3,
+            kz: axes >> 4,
+            shear: lane(&self.shear),
+        }
     }
 
-    fn new(rays: &'a [TraceRay]) -> RaySoa<'a> {
-        let first = rays.first().map(|r| [r.kx, r.ky, r.kz]);
+    #[inline(always)]
+    pub(super) fn new(rays: &[Ray]) -> RaySoa {
+        assert!(rays.len() <= PACKET_MAX);
         let mut soa = RaySoa {
-            rays,
             origin: [[0.0; PACKET_MAX]; 3],
             dir: [[0.0; PACKET_MAX]; 3],
             inv_dir: [[0.0; PACKET_MAX]; 3],
-            permuted_origin: [[0.0; PACKET_MAX]; 3],
             shear: [[0.0; PACKET_MAX]; 3],
+            axes: [0; PACKET_MAX],
             permutation: None,
         };
-        // The dominant axis and the winding decide the permutation; a flag folded with
-        // `&` (not an early `None`) keeps the loop free of a dependent branch per ray, and
-        // the three axes compare as one small integer (comparing the `Option<[usize; 3]>`
-        // was a fifth of a shadow packet's set-up).
-        let code = |r: &TraceRay| r.kx | r.ky << 2 | r.kz << 4;
-        let first_code = rays.first().map_or(0, code);
-        let mut shared = true;
-        for (i, r) in rays.iter().enumerate() {
-            let (o, d) = (r.ray.origin, r.ray.dir);
-            for a in 0..3 {
-                soa.origin[a][i] = o[a];
-                soa.dir[a][i] = d[a];
-                soa.inv_dir[a][i] = r.inv_dir[a];
-            }
-            soa.shear[0][i] = r.shear.x;
-            soa.shear[1][i] = r.shear.y;
-            soa.shear[2][i] = r.shear.z;
-            shared &= code(r) == first_code;
+        let Some(&first) = rays.first() else {
+            return soa;
+        };
+        let padding = std::iter::repeat_n(&first, PACKET_MAX - rays.len());
+        for (i, r) in rays.iter().chain(padding).enumerate() {
+            (soa.origin[0][i], soa.origin[1][i], soa.origin[2][i]) =
+                (r.origin.x, r.origin.y, r.origin.z);
+            (soa.dir[0][i], soa.dir[1][i], soa.dir[2][i]) = (r.dir.x, r.dir.y, r.dir.z);
         }
-        soa.permutation = first.filter(|_| shared);
-        if let Some(k) = soa.permutation {
-            for (a, &ka) in k.iter().enumerate() {
-                soa.permuted_origin[a] = soa.origin[ka];
+        // A loop of fixed length without a branch: `TraceRay::new`'s choices as selects.
+        const CODE: fn(u32, u32, u32) -> u32 = |kx, ky, kz| kx | ky << 2 | kz << 4;
+        for i in 0..PACKET_MAX {
+            let d = [soa.dir[0][i], soa.dir[1][i], soa.dir[2][i]];
+            let inv = d.map(|v| 1.0 / v);
+            let a = d.map(f32::abs);
+            // The dominant axis plays z; kx and ky follow it cyclically, swapped when the
+            // ray runs toward negative z so the winding is kept.
+            let (x_dominant, y_dominant) = (a[0] >= a[1] && a[0] >= a[2], a[1] >= a[2]);
+            let (dx, dy, dz, inv_z, code, swapped) = if x_dominant {
+                (d[1], d[2], d[0], inv[0], CODE(1, 2, 0), CODE(2, 1, 0))
+            } else if y_dominant {
+                (d[2], d[0], d[1], inv[1], CODE(2, 0, 1), CODE(0, 2, 1))
+            } else {
+                (d[0], d[1], d[2], inv[2], CODE(0, 1, 2), CODE(1, 0, 2))
+            };
+            let negative = dz < 0.0;
+            let (dx, dy) = if negative { (dy, dx) } else { (dx, dy) };
+            for (axis, v) in inv.into_iter().enumerate() {
+                soa.inv_dir[axis][i] = v;
             }
+            (soa.shear[0][i], soa.shear[1][i], soa.shear[2][i]) = (dx / dz, dy / dz, inv_z);
+            soa.axes[i] = if negative { swapped } else { code };
+        }
+        // Whether the rays share one permutation, folded with `&` rather than left early,
+        // so the loop has no dependent branch per ray.
+        let first = soa.axes[0];
+        if soa.axes.iter().fold(true, |all, &c| all & (c == first)) {
+            let k = soa.ray(0);
+            soa.permutation = Some([k.kx, k.ky, k.kz]);
         }
         soa
     }
@@ -355,14 +389,14 @@ impl PacketSearch {
         geometry: &Geometry,
         prim: u32,
         rays: u64,
-        soa: &RaySoa<'_>,
+        soa: &RaySoa,
         stats: &mut Stats,
     ) {
         let mut open = rays;
         while open != 0 {
             let i = open.trailing_zeros() as usize;
             open &= open - 1;
-            let answered = self.searches[i].test(geometry, soa.ray(i), prim, stats);
+            let answered = self.searches[i].test(geometry, &soa.ray(i), prim, stats);
             self.settle(i, answered);
         }
     }
@@ -381,7 +415,7 @@ impl PacketSearch {
     pub(super) fn test_leaf_per_ray(
         &mut self,
         leaf: &LeafQuery,
-        rays: &[TraceRay],
+        soa: &RaySoa,
         (first, count, enter): (u32, u32, f32),
         rays_in: u64,
         stats: &mut Stats,
@@ -392,9 +426,10 @@ impl PacketSearch {
         while open != 0 {
             let i = open.trailing_zeros() as usize;
             open &= open - 1;
-            let pack_ray = PackRay::new(&rays[i]);
+            let ray = soa.ray(i);
+            let pack_ray = PackRay::new(&ray);
             let ray_leaf = LeafQuery {
-                ray: &rays[i],
+                ray: &ray,
                 pack_ray: &pack_ray,
                 ..*leaf
             };
@@ -410,7 +445,7 @@ impl PacketSearch {
 pub(super) fn query(
     bvh: &Bvh,
     geometry: &Geometry,
-    rays: &[TraceRay],
+    rays: &[Ray],
     t_max: &[f32],
     mode: QueryMode,
     answers: &mut [Option<Hit>],
@@ -419,17 +454,19 @@ pub(super) fn query(
     use crate::accel::Accel;
     assert!(rays.len() <= PACKET_MAX && t_max.len() == rays.len() && answers.len() == rays.len());
     let soa = RaySoa::new(rays);
-    let bounds = match PacketBounds::of(&soa, rays.len()) {
+    let bounds = match PacketBounds::of(&soa) {
         Some(b) if rays.len() > 1 && !bvh.nodes.first().is_none_or(|n| n.is_leaf()) => b,
         _ => {
-            for ((ray, &t), answer) in rays.iter().zip(t_max).zip(answers.iter_mut()) {
-                *answer = bvh.query(geometry, ray, t, mode, stats);
+            for (i, (&t, answer)) in t_max.iter().zip(answers.iter_mut()).enumerate() {
+                *answer = bvh.query(geometry, &soa.ray(i), t, mode, stats);
             }
             return;
         }
     };
-    let first_pack_ray = PackRay::new(&rays[0]);
-    let leaf = bvh.leaf_query(geometry, &rays[0], &first_pack_ray);
+    // The leaf tests' shared parts; the walk hands each leaf its rays.
+    let first = soa.ray(0);
+    let first_pack_ray = PackRay::new(&first);
+    let leaf = bvh.leaf_query(geometry, &first, &first_pack_ray);
     let mut search = PacketSearch::new(t_max, mode);
     if !bvh.wide8.is_empty() {
         super::simd8::traverse_packet(
@@ -441,7 +478,7 @@ pub(super) fn query(
             &mut search,
             stats,
             |c, n, enter, rays_in, s: &mut PacketSearch, st: &mut Stats| {
-                s.test_leaf_per_ray(&leaf, rays, (c, n, enter), rays_in, st)
+                s.test_leaf_per_ray(&leaf, &soa, (c, n, enter), rays_in, st)
             },
         );
     } else {
@@ -464,12 +501,82 @@ pub(super) fn query(
             &mut search,
             stats,
             |c, n, enter, entering, s: &mut PacketSearch, st: &mut Stats| {
-                s.test_leaf_per_ray(&leaf, rays, (c, n, enter), entering, st);
+                s.test_leaf_per_ray(&leaf, &soa, (c, n, enter), entering, st);
                 s.finish_leaf()
             },
         );
     }
     for (answer, s) in answers.iter_mut().zip(&search.searches) {
         *answer = s.best();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::hash::uniform;
+
+    /// Bit for bit, so that a packet's SIMD tests and its scalar fallbacks see each ray
+    /// exactly as its own query does.
+    fn same(a: &TraceRay, b: &TraceRay) -> bool {
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        bits(a.ray.origin) == bits(b.ray.origin)
+            && bits(a.ray.dir) == bits(b.ray.dir)
+            && bits(a.inv_dir) == bits(b.inv_dir)
+            && bits(a.shear) == bits(b.shear)
+            && (a.kx, a.ky, a.kz) == (b.kx, b.ky, b.kz)
+    }
+
+    #[test]
+    fn soa_lanes_are_what_trace_ray_new_gives() {
+        let u = |k: u32| uniform(k, 0, 0, 0, 11) * 2.0 - 1.0;
+        // Random directions, then the awkward ones: zero components (infinite inverses),
+        // ties between the largest components in every sign, a NaN.
+        let mut dirs: Vec<Vec3> = (0..200)
+            .map(|k| Vec3::new(u(3 * k), u(3 * k + 1), u(3 * k + 2)).normalize())
+            .collect();
+        for x in [-1.0f32, 0.0, 1.0] {
+            for y in [-1.0f32, 0.0, 1.0] {
+                for z in [-1.0f32, 0.0, 1.0] {
+                    dirs.push(Vec3::new(x, y, z));
+                }
+            }
+        }
+        dirs.push(Vec3::new(f32::NAN, 0.5, -0.5));
+        for (p, chunk) in dirs.chunks(PACKET_MAX - 3).enumerate() {
+            for scale in [1e-3f32, 1.0, 1e3] {
+                let rays: Vec<Ray> = chunk
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &d)| {
+                        let k = (1000 * p + i) as u32;
+                        Ray::new(Vec3::new(u(k), u(k + 7), u(k + 13)) * scale, d)
+                    })
+                    .collect();
+                let soa = RaySoa::new(&rays);
+                for (i, r) in rays.iter().enumerate() {
+                    assert!(same(&soa.ray(i), &TraceRay::new(*r)), "ray {i}: {r:?}");
+                }
+                let shared = rays
+                    .iter()
+                    .map(|&r| TraceRay::new(r))
+                    .map(|t| [t.kx, t.ky, t.kz])
+                    .all(|k| k == [soa.ray(0).kx, soa.ray(0).ky, soa.ray(0).kz]);
+                assert_eq!(soa.permutation.is_some(), shared);
+            }
+        }
+        // Lanes past the rays repeat the first.
+        let rays: Vec<Ray> = (0..20)
+            .map(|k| {
+                Ray::new(
+                    Vec3::new(u(k), u(k + 1), u(k + 2)),
+                    Vec3::new(0.1, -0.9, 0.2),
+                )
+            })
+            .collect();
+        let soa = RaySoa::new(&rays);
+        for i in rays.len()..PACKET_MAX {
+            assert!(same(&soa.ray(i), &TraceRay::new(rays[0])), "lane {i}");
+        }
     }
 }

@@ -85,7 +85,7 @@ pub(super) fn traverse_packet(
     avx512: bool,
     nodes: &[Wide8Node],
     bounds: &PacketBounds,
-    soa: &RaySoa<'_>,
+    soa: &RaySoa,
     leaves: &LeafQuery<'_>,
     search: &mut PacketSearch,
     stats: &mut Stats,
@@ -291,7 +291,7 @@ mod x86 {
         node: &Wide8Node,
         lane: usize,
         rays_in: u64,
-        soa: &RaySoa<'_>,
+        soa: &RaySoa,
         bound: &[f32; 64],
     ) -> u64 {
         let plane = |row: usize| _mm256_set1_ps(node.bounds[row][lane]);
@@ -338,7 +338,7 @@ mod x86 {
         lane: usize,
         k: [usize; 3],
         rays: u64,
-        soa: &RaySoa<'_>,
+        soa: &RaySoa,
         search: &mut PacketSearch,
     ) {
         let v = pack.lanes_by_vertex();
@@ -373,7 +373,7 @@ mod x86 {
             if wanted == 0 {
                 continue;
             }
-            let o = [0, 1, 2].map(|a| load(&soa.permuted_origin[a], at));
+            let o = k.map(|axis| load(&soa.origin[axis], at));
             let (sx, sy, sz) = (
                 load(&soa.shear[0], at),
                 load(&soa.shear[1], at),
@@ -477,7 +477,7 @@ mod x86 {
             while undecided != 0 {
                 let j = undecided.trailing_zeros() as usize;
                 undecided &= undecided - 1;
-                search.test_pack_lane(at + j, pack, lane, soa.ray(at + j));
+                search.test_pack_lane(at + j, pack, lane, &soa.ray(at + j));
             }
         }
     }
@@ -492,7 +492,7 @@ mod x86 {
         sphere: &Sphere,
         prim: u32,
         rays: u64,
-        soa: &RaySoa<'_>,
+        soa: &RaySoa,
         search: &mut PacketSearch,
         stats: &mut Stats,
     ) {
@@ -575,7 +575,7 @@ mod x86 {
             pub(super) unsafe fn $traverse(
                 nodes: &[Wide8Node],
                 bounds: &PacketBounds,
-                soa: &RaySoa<'_>,
+                soa: &RaySoa,
                 leaves: &LeafQuery<'_>,
                 search: &mut PacketSearch,
                 stats: &mut Stats,
@@ -659,7 +659,7 @@ mod x86 {
                 pack: &TrianglePack,
                 k: [usize; 3],
                 rays: u64,
-                soa: &RaySoa<'_>,
+                soa: &RaySoa,
                 box_test: &Packet4,
                 search: &mut PacketSearch,
                 stats: &mut Stats,
@@ -776,7 +776,8 @@ mod x86 {
                         TraceRay::new(Ray::new(o, (target - o).normalize()))
                     })
                     .collect();
-                let Some(bounds) = PacketBounds::of_rays(&rays) else {
+                let plain: Vec<Ray> = rays.iter().map(|r| r.ray).collect();
+                let Some(bounds) = PacketBounds::of_rays(&plain) else {
                     continue;
                 };
                 let mut node = Wide8Node::EMPTY;

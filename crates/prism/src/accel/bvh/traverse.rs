@@ -10,7 +10,7 @@ use crate::accel::query::HitSearch;
 use crate::accel::stack::TraversalStack;
 use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
 use crate::geometry::{Geometry, PackRay, TrianglePack};
-use crate::math::{Aabb, TraceRay};
+use crate::math::{Aabb, Ray, TraceRay};
 use crate::stats::Stats;
 use glam::Vec4;
 
@@ -55,7 +55,7 @@ impl Accel for Bvh {
     fn query_packet(
         &self,
         geometry: &Geometry,
-        rays: &[TraceRay],
+        rays: &[Ray],
         t_max: &[f32],
         mode: QueryMode,
         answers: &mut [Option<Hit>],

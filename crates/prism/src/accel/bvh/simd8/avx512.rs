@@ -39,7 +39,7 @@ pub(super) fn rays_entering(
     node: &Wide8Node,
     lane: usize,
     rays_in: u64,
-    soa: &RaySoa<'_>,
+    soa: &RaySoa,
     bound: &[f32; 64],
 ) -> u64 {
     let plane = |row: usize| _mm512_set1_ps(node.bounds[row][lane]);
@@ -80,7 +80,7 @@ pub(super) fn test_triangle(
     lane: usize,
     k: [usize; 3],
     rays: u64,
-    soa: &RaySoa<'_>,
+    soa: &RaySoa,
     search: &mut PacketSearch,
 ) {
     let v = pack.lanes_by_vertex();
@@ -103,7 +103,7 @@ pub(super) fn test_triangle(
         if wanted == 0 {
             continue;
         }
-        let o = [0, 1, 2].map(|a| load(&soa.permuted_origin[a], at));
+        let o = k.map(|axis| load(&soa.origin[axis], at));
         let (sx, sy, sz) = (
             load(&soa.shear[0], at),
             load(&soa.shear[1], at),
@@ -187,7 +187,7 @@ pub(super) fn test_triangle(
         while undecided != 0 {
             let j = undecided.trailing_zeros() as usize;
             undecided &= undecided - 1;
-            search.test_pack_lane(at + j, pack, lane, soa.ray(at + j));
+            search.test_pack_lane(at + j, pack, lane, &soa.ray(at + j));
         }
     }
 }
@@ -200,7 +200,7 @@ pub(super) fn test_sphere(
     sphere: &Sphere,
     prim: u32,
     rays: u64,
-    soa: &RaySoa<'_>,
+    soa: &RaySoa,
     search: &mut PacketSearch,
     stats: &mut Stats,
 ) {
