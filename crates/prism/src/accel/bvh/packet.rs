@@ -63,12 +63,13 @@ impl PacketBounds {
             inv_lo: [0.0; 3],
             inv_hi: [0.0; 3],
         };
-        // Over all lanes four at a time (the padding repeats the first ray). `min`/`max`
-        // may drop a NaN, but a NaN fails the finiteness test, which rejects the packet.
-        let fold = |lanes: &[f32; PACKET_MAX]| {
+        // Over the filled lanes four at a time (the padding repeats the first ray).
+        // `min`/`max` may drop a NaN, but a NaN fails the finiteness test, which rejects
+        // the packet.
+        let fold = |row: &[f32; PACKET_MAX]| {
             let (mut lo, mut hi, mut finite) = (Vec4::INFINITY, Vec4::NEG_INFINITY, true);
-            for k in (0..PACKET_MAX).step_by(4) {
-                let v = Vec4::from_slice(&lanes[k..k + 4]);
+            for k in (0..soa.lanes).step_by(4) {
+                let v = Vec4::from_slice(&row[k..k + 4]);
                 (lo, hi) = (lo.min(v), hi.max(v));
                 finite &= v.abs().cmplt(Vec4::INFINITY).all();
             }
@@ -147,8 +148,9 @@ impl Packet4 {
 
 /// The rays of a packet in SoA form for the per-ray SIMD tests (`simd8.rs`): per axis,
 /// ray i's origin, direction and inverse direction; the watertight test's shear and axis
-/// permutation. Lanes past the packet's rays repeat its first ray, so that folds over
-/// all lanes (`PacketBounds::of`) need no mask; the per-ray tests never let them through.
+/// permutation. Lanes past the packet's rays, up to a multiple of 16, repeat its first
+/// ray, so that folds over them (`PacketBounds::of`) need no mask; the per-ray tests never
+/// let them through, and lanes beyond are never read.
 ///
 /// Built straight from the rays, lane by lane with the operations of `TraceRay::new` (so
 /// `ray(i)` is bit for bit `TraceRay::new(rays[i])`), in loops the compiler vectorises:
@@ -165,6 +167,8 @@ pub(super) struct RaySoa {
     /// triangle can be tested against several rays exactly as each ray's own first pass
     /// tests it.
     pub(super) permutation: Option<[usize; 3]>,
+    /// The lanes filled: the rays, and the padding that repeats the first.
+    lanes: usize,
 }
 
 impl RaySoa {
@@ -193,19 +197,29 @@ impl RaySoa {
             shear: [[0.0; PACKET_MAX]; 3],
             axes: [0; PACKET_MAX],
             permutation: None,
+            lanes: rays.len().next_multiple_of(16),
         };
-        let Some(&first) = rays.first() else {
+        let Some(first) = rays.first() else {
             return soa;
         };
-        let padding = std::iter::repeat_n(&first, PACKET_MAX - rays.len());
-        for (i, r) in rays.iter().chain(padding).enumerate() {
+        for (i, r) in rays.iter().enumerate() {
             (soa.origin[0][i], soa.origin[1][i], soa.origin[2][i]) =
                 (r.origin.x, r.origin.y, r.origin.z);
             (soa.dir[0][i], soa.dir[1][i], soa.dir[2][i]) = (r.dir.x, r.dir.y, r.dir.z);
         }
-        // A loop of fixed length without a branch: `TraceRay::new`'s choices as selects.
+        let (n, lanes) = (rays.len(), soa.lanes);
+        let first_lanes = first
+            .origin
+            .to_array()
+            .into_iter()
+            .zip(first.dir.to_array());
+        for (a, (o, d)) in first_lanes.enumerate() {
+            soa.origin[a][n..lanes].fill(o);
+            soa.dir[a][n..lanes].fill(d);
+        }
+        // A loop without a branch: `TraceRay::new`'s choices as selects.
         const CODE: fn(u32, u32, u32) -> u32 = |kx, ky, kz| kx | ky << 2 | kz << 4;
-        for i in 0..PACKET_MAX {
+        for i in 0..lanes {
             let d = [soa.dir[0][i], soa.dir[1][i], soa.dir[2][i]];
             let inv = d.map(|v| 1.0 / v);
             let a = d.map(f32::abs);
@@ -230,7 +244,10 @@ impl RaySoa {
         // Whether the rays share one permutation, folded with `&` rather than left early,
         // so the loop has no dependent branch per ray.
         let first = soa.axes[0];
-        if soa.axes.iter().fold(true, |all, &c| all & (c == first)) {
+        if soa.axes[..lanes]
+            .iter()
+            .fold(true, |all, &c| all & (c == first))
+        {
             let k = soa.ray(0);
             soa.permutation = Some([k.kx, k.ky, k.kz]);
         }
@@ -565,7 +582,7 @@ mod tests {
                 assert_eq!(soa.permutation.is_some(), shared);
             }
         }
-        // Lanes past the rays repeat the first.
+        // Lanes past the rays, to a multiple of 16, repeat the first.
         let rays: Vec<Ray> = (0..20)
             .map(|k| {
                 Ray::new(
@@ -575,7 +592,7 @@ mod tests {
             })
             .collect();
         let soa = RaySoa::new(&rays);
-        for i in rays.len()..PACKET_MAX {
+        for i in rays.len()..32 {
             assert!(same(&soa.ray(i), &TraceRay::new(rays[0])), "lane {i}");
         }
     }
