@@ -64,7 +64,10 @@ pub struct LightSample {
 
 impl Light {
     /// The direction, distance and strength of this light as seen from point `p`; `None`
-    /// when `p` is at the light itself or outside a spot light's cone.
+    /// when `p` is at the light itself or outside a spot light's cone. `#[inline]`: the
+    /// shading loops call it per light and hit, and without the hint it stayed a call
+    /// whenever the codegen units split differently (SPD tree 17 % slower in one build).
+    #[inline]
     pub fn sample(&self, p: Vec3) -> Option<LightSample> {
         match *self {
             Light::Point { position, color } => {

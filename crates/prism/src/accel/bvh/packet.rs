@@ -290,6 +290,10 @@ impl CullBound for PacketSearch {
         let rays = rays & self.open();
         (rays != 0 && t_enter <= self.t_max * CULL_SLACK).then_some(rays)
     }
+    #[inline(always)]
+    fn ordered(&self) -> bool {
+        true
+    }
 }
 
 impl PacketSearch {

@@ -294,9 +294,18 @@ mod x86 {
         soa: &RaySoa,
         bound: &[f32; 64],
     ) -> u64 {
-        let plane = |row: usize| _mm256_set1_ps(node.bounds[row][lane]);
-        let near = packet.near.map(plane);
-        let far = packet.far.map(plane);
+        // Written out, as in `avx512::rays_entering`.
+        let (b, n, f) = (&node.bounds, packet.near, packet.far);
+        let near = [
+            _mm256_set1_ps(b[n[0]][lane]),
+            _mm256_set1_ps(b[n[1]][lane]),
+            _mm256_set1_ps(b[n[2]][lane]),
+        ];
+        let far = [
+            _mm256_set1_ps(b[f[0]][lane]),
+            _mm256_set1_ps(b[f[1]][lane]),
+            _mm256_set1_ps(b[f[2]][lane]),
+        ];
         let load = |v: &[f32; 64], at: usize| {
             // SAFETY: `at + 8 <= 64`; unaligned load.
             unsafe { _mm256_loadu_ps(v.as_ptr().add(at)) }

@@ -144,6 +144,10 @@ pub(super) trait CullBound {
     /// The rays of `rays` that still need a child deferred with entry bound `t_enter`, or
     /// None when none does.
     fn resume(&self, rays: Self::Rays, t_enter: f32) -> Option<Self::Rays>;
+    /// Whether the children hit are worth visiting nearest first: a nearest-hit query's
+    /// bound shrinks with each hit, culling what lies beyond it; an any-hit query stops at
+    /// its first hit wherever it lies, so ordering its children only costs time.
+    fn ordered(&self) -> bool;
 }
 
 impl CullBound for HitSearch {
@@ -159,6 +163,10 @@ impl CullBound for HitSearch {
         // Entry distances are compared against t_max with the same slack the box test
         // gives exits (`CULL_SLACK`): a hit's reported distance may be a little short.
         (t_enter <= HitSearch::t_max(self) * crate::accel::CULL_SLACK).then_some(())
+    }
+    #[inline(always)]
+    fn ordered(&self) -> bool {
+        !self.is_any()
     }
 }
 
@@ -177,7 +185,8 @@ pub(super) struct Visit<R> {
 /// The stack walk both wide layouts and packets share, from `root` (the tree's node 0, or
 /// an entry node made of some of its subtrees, `subtree.rs`): visit a node (`visit`, the
 /// layout's SIMD box test, with the rays that reached it), descend into the nearest child
-/// hit, push the others farthest first (ties keep lane order), hand leaves to `leaf` with
+/// hit, push the others farthest first (ties keep lane order; in lane order, the first
+/// entered, when `search` wants no order), hand leaves to `leaf` with
 /// their entry distance and rays (true when the query is answered), and skip deferred
 /// children that `search` no longer needs (`CullBound::resume`). `#[inline(always)]` so
 /// that the 8-wide callers' AVX2 compilation reaches the whole walk.
@@ -218,7 +227,14 @@ pub(super) fn walk<N: LeafSlots, S: CullBound>(
             if mask != 0 {
                 let first = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
-                if mask == 0 {
+                if mask == 0 || !search.ordered() {
+                    // One child, or no order wanted: the first lane now, the others
+                    // deferred as they come.
+                    while mask != 0 {
+                        let k = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        stack.push((children[k], counts[k], t[k], r[k]));
+                    }
                     (child, count, enter, rays) =
                         (children[first], counts[first], t[first], r[first]);
                     continue;

@@ -42,9 +42,19 @@ pub(super) fn rays_entering(
     soa: &RaySoa,
     bound: &[f32; 64],
 ) -> u64 {
-    let plane = |row: usize| _mm512_set1_ps(node.bounds[row][lane]);
-    let near = packet.near.map(plane);
-    let far = packet.far.map(plane);
+    // Written out rather than mapped through a closure, which one build left as a call
+    // per child (balls 8 % slower).
+    let (b, n, f) = (&node.bounds, packet.near, packet.far);
+    let near = [
+        _mm512_set1_ps(b[n[0]][lane]),
+        _mm512_set1_ps(b[n[1]][lane]),
+        _mm512_set1_ps(b[n[2]][lane]),
+    ];
+    let far = [
+        _mm512_set1_ps(b[f[0]][lane]),
+        _mm512_set1_ps(b[f[1]][lane]),
+        _mm512_set1_ps(b[f[2]][lane]),
+    ];
     let exit_scale = _mm512_set1_ps(crate::accel::CULL_SLACK);
     let mut out = 0u64;
     for group in 0..4 {
