@@ -273,6 +273,8 @@ pub(super) struct PacketSearch {
     /// `bound` with +∞ instead of −∞ where a ray is answered or past the packet's rays:
     /// the lanes `finish_leaf` takes the nearest bound of.
     open_bound: [f32; PACKET_MAX],
+    /// Whether the rays' queries stop at their first hit (no child order wanted).
+    any: bool,
 }
 
 impl CullBound for PacketSearch {
@@ -292,7 +294,7 @@ impl CullBound for PacketSearch {
     }
     #[inline(always)]
     fn ordered(&self) -> bool {
-        true
+        !self.any
     }
 }
 
@@ -320,6 +322,7 @@ impl PacketSearch {
             bound,
             nested,
             open_bound,
+            any: mode == QueryMode::Any,
         }
     }
 
