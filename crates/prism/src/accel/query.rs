@@ -83,12 +83,6 @@ impl HitSearch {
         }
     }
 
-    /// Whether the query stops at the first hit it finds.
-    #[inline(always)]
-    pub(crate) fn is_any(&self) -> bool {
-        self.mode == QueryMode::Any
-    }
-
     /// The distance a hit must come before (the best hit's, once there is one).
     #[inline(always)]
     pub(crate) fn t_max(&self) -> f32 {

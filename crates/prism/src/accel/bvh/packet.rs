@@ -273,8 +273,6 @@ pub(super) struct PacketSearch {
     /// `bound` with +∞ instead of −∞ where a ray is answered or past the packet's rays:
     /// the lanes `finish_leaf` takes the nearest bound of.
     open_bound: [f32; PACKET_MAX],
-    /// Whether the rays' queries stop at their first hit (no child order wanted).
-    any: bool,
 }
 
 impl CullBound for PacketSearch {
@@ -291,10 +289,6 @@ impl CullBound for PacketSearch {
     fn resume(&self, rays: u64, t_enter: f32) -> Option<u64> {
         let rays = rays & self.open();
         (rays != 0 && t_enter <= self.t_max * CULL_SLACK).then_some(rays)
-    }
-    #[inline(always)]
-    fn ordered(&self) -> bool {
-        !self.any
     }
 }
 
@@ -322,7 +316,6 @@ impl PacketSearch {
             bound,
             nested,
             open_bound,
-            any: mode == QueryMode::Any,
         }
     }
 
@@ -495,6 +488,7 @@ pub(super) fn query(
     if !bvh.wide8.is_empty() {
         super::simd8::traverse_packet(
             bvh.packet_avx512,
+            mode == QueryMode::Any,
             &bvh.wide8,
             &bounds,
             &soa,
@@ -507,7 +501,7 @@ pub(super) fn query(
         );
     } else {
         let packet = Packet4::new(bounds);
-        walk(
+        walk::<_, _, true>(
             &bvh.wide,
             &bvh.wide[0],
             // Interval culling only: every child goes on with all the rays that reached it.

@@ -50,7 +50,7 @@ pub(super) fn avx512_available() -> bool {
 /// `nodes` must come from a `Bvh` built while `available()` was true (the only way
 /// `Bvh::wide8` is filled).
 #[inline(always)]
-pub(super) fn traverse(
+pub(super) fn traverse<const ORDERED: bool>(
     nodes: &[Wide8Node],
     root: &Wide8Node,
     ray: &TraceRay,
@@ -62,7 +62,7 @@ pub(super) fn traverse(
     {
         debug_assert!(available());
         // SAFETY: `nodes` is non-empty only when AVX2 was detected (see above).
-        unsafe { x86::traverse(nodes, root, ray, search, stats, leaf) }
+        unsafe { x86::traverse::<ORDERED>(nodes, root, ray, search, stats, leaf) }
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
@@ -78,11 +78,12 @@ pub(super) fn traverse(
 /// the rays share an axis permutation, spheres against eight rays in any leaf, other
 /// primitives ray by ray; leaves of packs the rays cannot share go to `leaf` with their
 /// rays. With `avx512` (only where `avx512_available()`), the per-ray kernels take
-/// sixteen rays per step.
+/// sixteen rays per step; `any` walks for any-hit queries (children unordered).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn traverse_packet(
     avx512: bool,
+    any: bool,
     nodes: &[Wide8Node],
     bounds: &PacketBounds,
     soa: &RaySoa,
@@ -94,19 +95,29 @@ pub(super) fn traverse_packet(
     #[cfg(target_arch = "x86_64")]
     {
         debug_assert!(available());
-        if avx512 {
-            debug_assert!(avx512_available());
-            // SAFETY: as below, and `avx512` is set only where AVX-512 was detected.
-            return unsafe {
-                x86::traverse_packet16(nodes, bounds, soa, leaves, search, stats, leaf)
-            };
+        debug_assert!(!avx512 || avx512_available());
+        // SAFETY: `nodes` is non-empty only when AVX2 was detected (see `traverse`), and
+        // `avx512` is set only where AVX-512 was detected.
+        unsafe {
+            match (avx512, any) {
+                (true, true) => {
+                    x86::traverse_packet16::<false>(nodes, bounds, soa, leaves, search, stats, leaf)
+                }
+                (true, false) => {
+                    x86::traverse_packet16::<true>(nodes, bounds, soa, leaves, search, stats, leaf)
+                }
+                (false, true) => {
+                    x86::traverse_packet::<false>(nodes, bounds, soa, leaves, search, stats, leaf)
+                }
+                (false, false) => {
+                    x86::traverse_packet::<true>(nodes, bounds, soa, leaves, search, stats, leaf)
+                }
+            }
         }
-        // SAFETY: `nodes` is non-empty only when AVX2 was detected (see `traverse`).
-        unsafe { x86::traverse_packet(nodes, bounds, soa, leaves, search, stats, leaf) }
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        let _ = (avx512, nodes, bounds, soa, leaves, search, stats, leaf);
+        let _ = (avx512, any, nodes, bounds, soa, leaves, search, stats, leaf);
         unreachable!("8-wide nodes are only built on x86-64 with AVX2")
     }
 }
@@ -581,7 +592,7 @@ mod x86 {
             /// The CPU must support the instruction set (`available`, and
             /// `avx512_available` for the AVX-512 variant).
             #[target_feature(enable = $features)]
-            pub(super) unsafe fn $traverse(
+            pub(super) unsafe fn $traverse<const ORDERED: bool>(
                 nodes: &[Wide8Node],
                 bounds: &PacketBounds,
                 soa: &RaySoa,
@@ -592,7 +603,7 @@ mod x86 {
             ) {
                 let packet = Packet8::new(bounds);
                 let box_test = Packet4::new(*bounds);
-                crate::accel::bvh::traverse::walk(
+                crate::accel::bvh::traverse::walk::<_, _, ORDERED>(
                     nodes,
                     &nodes[0],
                     // Each child the packet may enter goes on with the rays that do enter it.
@@ -717,7 +728,7 @@ mod x86 {
     /// # Safety
     /// The CPU must support AVX2 and POPCNT.
     #[target_feature(enable = "avx2,popcnt")]
-    pub(super) unsafe fn traverse(
+    pub(super) unsafe fn traverse<const ORDERED: bool>(
         nodes: &[Wide8Node],
         root: &Wide8Node,
         ray: &TraceRay,
@@ -726,7 +737,7 @@ mod x86 {
         leaf: impl FnMut(u32, u32, f32, (), &mut HitSearch, &mut Stats) -> bool,
     ) {
         let ray8 = Ray8::new(ray);
-        crate::accel::bvh::traverse::walk(
+        crate::accel::bvh::traverse::walk::<_, _, ORDERED>(
             nodes,
             root,
             |node: &Wide8Node, s: &HitSearch, ()| {
