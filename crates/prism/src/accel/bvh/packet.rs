@@ -154,8 +154,8 @@ impl Packet4 {
 ///
 /// Built straight from the rays, lane by lane with the operations of `TraceRay::new` (so
 /// `ray(i)` is bit for bit `TraceRay::new(rays[i])`), in loops the compiler vectorises:
-/// preparing the rays one `TraceRay` at a time, then copying them into these arrays, was
-/// about a third of a primary packet's time on the bunny.
+/// preparing the rays one `TraceRay` at a time, then copying them into these arrays, took
+/// a third or more of a primary packet's time on the bunny.
 pub(super) struct RaySoa {
     pub(super) origin: [[f32; PACKET_MAX]; 3],
     pub(super) dir: [[f32; PACKET_MAX]; 3],
