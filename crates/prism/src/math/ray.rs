@@ -44,8 +44,72 @@ pub struct TraceRay {
 
 impl TraceRay {
     /// Precomputes the traversal constants of `ray`.
+    #[inline]
     pub fn new(ray: Ray) -> Self {
-        let d = ray.dir;
+        let d = ray.dir.to_array();
+        let inv_dir = d.map(|v| 1.0 / v);
+        let (axes, shear) = watertight_axes(d, inv_dir);
+        TraceRay::with_constants(ray, inv_dir, axes, shear)
+    }
+
+    /// The ray with constants computed elsewhere (a packet's SIMD lanes): `inv_dir` as
+    /// `new` computes it, `axes` and `shear` as `watertight_axes` gives them.
+    #[inline(always)]
+    pub(crate) fn with_constants(
+        ray: Ray,
+        inv_dir: [f32; 3],
+        axes: u32,
+        shear: [f32; 3],
+    ) -> TraceRay {
+        let axes = axes as usize;
+        TraceRay {
+            ray,
+            inv_dir: Vec3::from_array(inv_dir),
+            kx: axes & 3,
+            ky: axes >> 2 & 3,
+            kz: axes >> 4,
+            shear: Vec3::from_array(shear),
+        }
+    }
+}
+
+/// The watertight test's constants for direction `d` (`inv` = `1 / d` per axis): the axis
+/// permutation as `kx | ky << 2 | kz << 4` (`kz` the dominant axis, `kx` and `ky` the
+/// next ones cyclically, swapped when `d` runs toward negative `kz` so that the winding is
+/// kept) and the shear `(d[kx] / d[kz], d[ky] / d[kz], 1 / d[kz])`. Choices as selects, not
+/// branches or run-time indices into a `Vec3` (each a `match`), so that a packet's loop
+/// over its rays vectorises (`accel/bvh/packet.rs`) and a single ray and a packet's lane
+/// get the same constants bit for bit.
+#[inline(always)]
+pub(crate) fn watertight_axes(d: [f32; 3], inv: [f32; 3]) -> (u32, [f32; 3]) {
+    const fn code(kx: u32, ky: u32, kz: u32) -> u32 {
+        kx | ky << 2 | kz << 4
+    }
+    let a = d.map(f32::abs);
+    let (x_dominant, y_dominant) = (a[0] >= a[1] && a[0] >= a[2], a[1] >= a[2]);
+    // (d[kx], d[ky], d[kz]), 1 / d[kz], and the permutation before and after the swap.
+    let (dx, dy, dz, inv_z, axes, swapped) = if x_dominant {
+        (d[1], d[2], d[0], inv[0], code(1, 2, 0), code(2, 1, 0))
+    } else if y_dominant {
+        (d[2], d[0], d[1], inv[1], code(2, 0, 1), code(0, 2, 1))
+    } else {
+        (d[0], d[1], d[2], inv[2], code(0, 1, 2), code(1, 0, 2))
+    };
+    let negative = dz < 0.0;
+    let (dx, dy) = if negative { (dy, dx) } else { (dx, dy) };
+    // 1 / d[kz] is the inverse direction's own component: one division fewer.
+    let axes = if negative { swapped } else { axes };
+    (axes, [dx / dz, dy / dz, inv_z])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::hash::uniform;
+
+    /// The constants as the watertight test's paper states them, with branches and
+    /// indices: what `watertight_axes` must give bit for bit.
+    fn reference(d: Vec3) -> ([usize; 3], Vec3) {
         let a = d.abs();
         let kz = if a.x >= a.y && a.x >= a.z {
             0
@@ -59,16 +123,32 @@ impl TraceRay {
         if d[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        let inv_dir = d.recip();
-        // 1 / d[kz] is the inverse direction's own component: one division fewer.
-        let shear = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], inv_dir[kz]);
-        TraceRay {
-            ray,
-            inv_dir,
-            kx,
-            ky,
-            kz,
-            shear,
+        let shear = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
+        ([kx, ky, kz], shear)
+    }
+
+    #[test]
+    fn constants_follow_the_dominant_axis_and_keep_the_winding() {
+        let u = |k: u32| uniform(k, 0, 0, 0, 5) * 2.0 - 1.0;
+        let mut dirs: Vec<Vec3> = (0..500)
+            .map(|k| Vec3::new(u(3 * k), u(3 * k + 1), u(3 * k + 2)))
+            .collect();
+        // Ties between the largest components, zeros and signs on every axis, a NaN.
+        for x in [-1.0f32, -0.5, 0.0, 0.5, 1.0] {
+            for y in [-1.0f32, -0.5, 0.0, 0.5, 1.0] {
+                for z in [-1.0f32, -0.5, 0.0, 0.5, 1.0] {
+                    dirs.push(Vec3::new(x, y, z));
+                }
+            }
+        }
+        dirs.push(Vec3::new(0.3, f32::NAN, -0.2));
+        for d in dirs {
+            let t = TraceRay::new(Ray::new(Vec3::ZERO, d));
+            let (k, shear) = reference(d);
+            assert_eq!([t.kx, t.ky, t.kz], k, "{d:?}");
+            let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+            assert_eq!(bits(t.shear), bits(shear), "{d:?}");
+            assert_eq!(bits(t.inv_dir), bits(d.recip()), "{d:?}");
         }
     }
 }

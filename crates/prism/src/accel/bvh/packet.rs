@@ -22,7 +22,7 @@ use super::Bvh;
 use crate::accel::query::HitSearch;
 use crate::accel::{Hit, QueryMode, CULL_SLACK, PACKET_MAX};
 use crate::geometry::{DecidedHit, Geometry, PackRay, ShapeHit, TrianglePack};
-use crate::math::{Ray, TraceRay, Vec3};
+use crate::math::{watertight_axes, Ray, TraceRay, Vec3};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
 use glam::Vec4;
@@ -152,8 +152,9 @@ impl Packet4 {
 /// ray, so that folds over them (`PacketBounds::of`) need no mask; the per-ray tests never
 /// let them through, and lanes beyond are never read.
 ///
-/// Built straight from the rays, lane by lane with the operations of `TraceRay::new` (so
-/// `ray(i)` is bit for bit `TraceRay::new(rays[i])`), in loops the compiler vectorises:
+/// Built straight from the rays, lane by lane with the operations of `TraceRay::new`
+/// (`watertight_axes`, so `ray(i)` is bit for bit `TraceRay::new(rays[i])`), in loops the
+/// compiler vectorises:
 /// preparing the rays one `TraceRay` at a time, then copying them into these arrays, took
 /// a third or more of a primary packet's time on the bunny.
 pub(super) struct RaySoa {
@@ -175,16 +176,12 @@ impl RaySoa {
     /// Ray i prepared for the scalar tests: what `TraceRay::new` gives it.
     #[inline(always)]
     pub(super) fn ray(&self, i: usize) -> TraceRay {
-        let lane = |rows: &[[f32; PACKET_MAX]; 3]| Vec3::new(rows[0][i], rows[1][i], rows[2][i]);
-        let axes = self.axes[i] as usize;
-        TraceRay {
-            ray: Ray::new(lane(&self.origin), lane(&self.dir)),
-            inv_dir: lane(&self.inv_dir),
-            kx: axes & 3,
-            ky: axes >> 2 & 3,
-            kz: axes >> 4,
-            shear: lane(&self.shear),
-        }
+        let lane = |rows: &[[f32; PACKET_MAX]; 3]| [rows[0][i], rows[1][i], rows[2][i]];
+        let ray = Ray::new(
+            Vec3::from_array(lane(&self.origin)),
+            Vec3::from_array(lane(&self.dir)),
+        );
+        TraceRay::with_constants(ray, lane(&self.inv_dir), self.axes[i], lane(&self.shear))
     }
 
     #[inline(always)]
@@ -217,29 +214,16 @@ impl RaySoa {
             soa.origin[a][n..lanes].fill(o);
             soa.dir[a][n..lanes].fill(d);
         }
-        // A loop without a branch: `TraceRay::new`'s choices as selects.
-        const CODE: fn(u32, u32, u32) -> u32 = |kx, ky, kz| kx | ky << 2 | kz << 4;
+        // `TraceRay::new`'s operations lane by lane, in a loop without a branch.
         for i in 0..lanes {
             let d = [soa.dir[0][i], soa.dir[1][i], soa.dir[2][i]];
             let inv = d.map(|v| 1.0 / v);
-            let a = d.map(f32::abs);
-            // The dominant axis plays z; kx and ky follow it cyclically, swapped when the
-            // ray runs toward negative z so the winding is kept.
-            let (x_dominant, y_dominant) = (a[0] >= a[1] && a[0] >= a[2], a[1] >= a[2]);
-            let (dx, dy, dz, inv_z, code, swapped) = if x_dominant {
-                (d[1], d[2], d[0], inv[0], CODE(1, 2, 0), CODE(2, 1, 0))
-            } else if y_dominant {
-                (d[2], d[0], d[1], inv[1], CODE(2, 0, 1), CODE(0, 2, 1))
-            } else {
-                (d[0], d[1], d[2], inv[2], CODE(0, 1, 2), CODE(1, 0, 2))
-            };
-            let negative = dz < 0.0;
-            let (dx, dy) = if negative { (dy, dx) } else { (dx, dy) };
-            for (axis, v) in inv.into_iter().enumerate() {
-                soa.inv_dir[axis][i] = v;
+            let (axes, shear) = watertight_axes(d, inv);
+            for a in 0..3 {
+                soa.inv_dir[a][i] = inv[a];
+                soa.shear[a][i] = shear[a];
             }
-            (soa.shear[0][i], soa.shear[1][i], soa.shear[2][i]) = (dx / dz, dy / dz, inv_z);
-            soa.axes[i] = if negative { swapped } else { code };
+            soa.axes[i] = axes;
         }
         // Whether the rays share one permutation, folded with `&` rather than left early,
         // so the loop has no dependent branch per ray.
