@@ -14,7 +14,7 @@ pub mod warp;
 pub use aabb::Aabb;
 pub use frame::Frame;
 pub use glam::{Vec2, Vec3};
-pub(crate) use ray::watertight_axes;
+pub(crate) use ray::{permutation, watertight_axes};
 pub use ray::{Ray, TraceRay};
 
 /// Linear RGB radiance or reflectance. sRGB only appears when an 8-bit image is written.

@@ -61,16 +61,23 @@ impl TraceRay {
         axes: u32,
         shear: [f32; 3],
     ) -> TraceRay {
-        let axes = axes as usize;
+        let [kx, ky, kz] = permutation(axes);
         TraceRay {
             ray,
             inv_dir: Vec3::from_array(inv_dir),
-            kx: axes & 3,
-            ky: axes >> 2 & 3,
-            kz: axes >> 4,
+            kx,
+            ky,
+            kz,
             shear: Vec3::from_array(shear),
         }
     }
+}
+
+/// The axes (kx, ky, kz) of a permutation as `watertight_axes` codes it.
+#[inline(always)]
+pub(crate) fn permutation(axes: u32) -> [usize; 3] {
+    let axes = axes as usize;
+    [axes & 3, axes >> 2 & 3, axes >> 4]
 }
 
 /// The watertight test's constants for direction `d` (`inv` = `1 / d` per axis): the axis

@@ -22,7 +22,7 @@ use super::Bvh;
 use crate::accel::query::HitSearch;
 use crate::accel::{Hit, QueryMode, CULL_SLACK, PACKET_MAX};
 use crate::geometry::{DecidedHit, Geometry, PackRay, ShapeHit, TrianglePack};
-use crate::math::{watertight_axes, Ray, TraceRay, Vec3};
+use crate::math::{permutation, watertight_axes, Ray, TraceRay, Vec3};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
 use glam::Vec4;
@@ -232,8 +232,7 @@ impl RaySoa {
             .iter()
             .fold(true, |all, &c| all & (c == first))
         {
-            let k = soa.ray(0);
-            soa.permutation = Some([k.kx, k.ky, k.kz]);
+            soa.permutation = Some(permutation(first));
         }
         soa
     }
@@ -559,12 +558,13 @@ mod tests {
                 for (i, r) in rays.iter().enumerate() {
                     assert!(same(&soa.ray(i), &TraceRay::new(*r)), "ray {i}: {r:?}");
                 }
-                let shared = rays
+                let axes: Vec<[usize; 3]> = rays
                     .iter()
                     .map(|&r| TraceRay::new(r))
                     .map(|t| [t.kx, t.ky, t.kz])
-                    .all(|k| k == [soa.ray(0).kx, soa.ray(0).ky, soa.ray(0).kz]);
-                assert_eq!(soa.permutation.is_some(), shared);
+                    .collect();
+                let shared = axes.iter().all(|&k| k == axes[0]).then_some(axes[0]);
+                assert_eq!(soa.permutation, shared);
             }
         }
         // Lanes past the rays, to a multiple of 16, repeat the first.
