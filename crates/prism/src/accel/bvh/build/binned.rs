@@ -122,9 +122,12 @@ impl SplitRule for BinnedSah {
         if n <= self.max_leaf_size && prims.leaf_cost(n) <= self.traversal_cost {
             return None;
         }
-        // Small nodes take as many bins as primitives: more could not separate them better,
-        // and clearing unused bins would cost more than binning.
-        let nb = self.bins.min(n.max(4));
+        // A node takes a bin per eight primitives, at least four, at most `bins` (Embree
+        // scales its bins the same way). The bins' clearing and sweep are paid per node,
+        // and the many small nodes near the leaves paid more for them than for binning
+        // their few primitives; the SAH costs of the trees came out lower, not higher
+        // (docs/performance.md, the tenth step).
+        let nb = self.bins.min((n / 8).max(4));
         let extent = centroid_bounds.max - centroid_bounds.min;
         let scale = Vec3::select(extent.cmpgt(Vec3::ZERO), nb as f32 / extent, Vec3::ZERO);
         let binning = Binning {
