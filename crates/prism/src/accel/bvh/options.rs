@@ -21,6 +21,14 @@ pub enum BvhBuilder {
     Lbvh,
 }
 
+impl BvhBuilder {
+    /// Whether the builder reads its primitives' boxes only from the references it moves,
+    /// never by build position.
+    pub(super) fn moves_references_only(self) -> bool {
+        matches!(self, BvhBuilder::Median | BvhBuilder::Binned)
+    }
+}
+
 named_kinds! {
     BvhBuilder, "BVH builder" {
         Median => "median",
