@@ -41,6 +41,13 @@ struct Options {
     prism_only: bool,
 }
 
+// The allocator `prism` itself runs with (large blocks advised as huge pages), so the
+// build is timed as the command line runs it.
+#[path = "../../../crates/prism-cli/src/huge_pages.rs"]
+mod huge_pages;
+#[global_allocator]
+static ALLOCATOR: huge_pages::HugePages = huge_pages::HugePages;
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {

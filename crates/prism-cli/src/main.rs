@@ -8,6 +8,7 @@ mod bench;
 mod compare;
 mod cost;
 mod density;
+mod huge_pages;
 mod info;
 mod memory;
 mod outputs;
@@ -28,6 +29,9 @@ use prism::scene::builtin;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
+
+#[global_allocator]
+static ALLOCATOR: huge_pages::HugePages = huge_pages::HugePages;
 
 fn main() -> ExitCode {
     signals::restore_unix_defaults();
