@@ -1,8 +1,8 @@
 //! Shadow methods against the oracle: a light buffer must answer every shadow ray exactly
 //! as the scene's accelerator does (the same any-hit answer, the same nearest hit for the
 //! walk through transparent surfaces), for lights inside the scene, on a surface and far
-//! away, for shading points on surfaces and in free space, for directions on cell borders
-//! and cube edges, at 1, 10⁻³ and 10³ scale, over 8- and 4-wide BVHs and one of a single
+//! away, and directional lights, for shading points on surfaces and in free space, for
+//! directions on cell borders and cube edges, at 1, 10⁻³ and 10³ scale, over 8- and 4-wide BVHs and one of a single
 //! leaf; and every method renders the same image.
 
 mod common;
@@ -254,6 +254,107 @@ fn the_light_buffer_answers_as_the_accelerator() {
 fn the_light_buffer_answers_as_the_accelerator_at_every_scale() {
     check_scene(1e-3, Vec3::new(2e-3, 0.0, -1e-3), 3);
     check_scene(1e3, Vec3::new(-5e3, 2e3, 0.0), 4);
+}
+
+/// A directional light's buffer against the accelerator: shadow rays along `to_light`
+/// from shading points, from points behind the primitives' outlines (vertices, box
+/// corners, sphere points) as the light sees them, and from points so far away that the
+/// buffer must hand them to the BVH. Returns (blocked, rays, rays the buffer answered).
+fn check_directional(
+    s: &TestScene,
+    intersector: &SceneIntersector,
+    to_light: Vec3,
+    res: u32,
+    seed: u64,
+) -> (usize, usize, u64) {
+    let g = &s.geometry;
+    let buffer = LightBuffer::build_directional(intersector, to_light, &params(res))
+        .expect("within the budget");
+    let bounds = (0..g.primitives.len() as u32)
+        .filter_map(|i| g.bounds(i))
+        .fold(Aabb::EMPTY, |a, b| a.union(&b));
+    let reach = bounds.extent().length();
+    let mut rng = Rng::new(seed);
+    let mut points: Vec<(Vec3, Vec3, Vec3)> = (0..POINTS)
+        .map(|_| shading_point(&mut rng, s, intersector, &bounds))
+        .collect();
+    for _ in 0..POINTS / 2 {
+        let f = s.features[rng.below(s.features.len())];
+        // The ray from p along to_light passes exactly over f.
+        let p = f - to_light * reach * rng.range(1e-3, 2.0);
+        points.push((p, Vec3::ZERO, rng.unit_vector()));
+    }
+    for _ in 0..50 {
+        let f = s.features[rng.below(s.features.len())];
+        points.push((f - to_light * reach * 1e4, Vec3::ZERO, Vec3::Y));
+    }
+    let (mut blocked, mut stats) = (0, Stats::default());
+    for &(p, p_error, n) in &points {
+        let ng = if n.dot(to_light) < 0.0 { -n } else { n };
+        let ray = Ray::new(offset_ray_origin(p, p_error, ng, to_light), to_light);
+        let what = format!("direction {to_light}, point {p}, res {res}");
+        blocked += agrees(
+            &buffer,
+            g,
+            intersector,
+            &ray,
+            f32::INFINITY,
+            &mut stats,
+            &what,
+        ) as usize;
+    }
+    // Each ray asked twice (any and nearest).
+    let answered = (stats.light_buffer_queries - stats.light_buffer_fallbacks) / 2;
+    (blocked, points.len(), answered)
+}
+
+fn check_directional_scene(scale: f32, offset: Vec3, seed: u64) {
+    let mut rng = Rng::new(seed ^ 0xd1);
+    let mut directions = vec![
+        Vec3::Y,
+        -Vec3::Y,
+        Vec3::X,
+        -Vec3::Z,
+        Vec3::ONE.normalize(),
+        Vec3::new(1e-7, 1.0, -1e-7).normalize(),
+        Vec3::new(0.0, 0.6, 0.8),
+    ];
+    directions.extend((0..3).map(|_| rng.unit_vector()));
+    for accel in ["bvh", "bvh:width=4", "bvh:leaf=1"] {
+        let s = scene(seed, scale, offset);
+        let intersector = SceneIntersector::build(&s.geometry, &accel.parse().unwrap());
+        let (mut blocked, mut total, mut answered) = (0, 0, 0);
+        for (i, &d) in directions.iter().enumerate() {
+            for res in [1, 8, 64] {
+                let (b, t, a) = check_directional(&s, &intersector, d, res, seed + i as u64);
+                blocked += b;
+                total += t;
+                answered += a;
+            }
+        }
+        // Both answers occur often, and the buffer (not the BVH it falls back to) gave
+        // nearly all of them, or the test would prove little.
+        assert!(
+            blocked > total / 10 && blocked < total - total / 10,
+            "{accel}: {blocked} of {total} shadow rays blocked"
+        );
+        assert!(
+            answered as usize > total * 9 / 10,
+            "{accel}: the buffer answered {answered} of {total}"
+        );
+    }
+}
+
+#[test]
+fn the_directional_light_buffer_answers_as_the_accelerator() {
+    check_directional_scene(1.0, Vec3::ZERO, 21);
+    check_directional_scene(1.0, Vec3::new(3.0, -1.0, 2.0), 22);
+}
+
+#[test]
+fn the_directional_light_buffer_answers_as_the_accelerator_at_every_scale() {
+    check_directional_scene(1e-3, Vec3::new(2e-3, 0.0, -1e-3), 23);
+    check_directional_scene(1e3, Vec3::new(-5e3, 2e3, 0.0), 24);
 }
 
 #[test]

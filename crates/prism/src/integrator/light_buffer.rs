@@ -35,6 +35,17 @@
 //! So every answer is the BVH's own over fewer subtrees: exactness rests only on the
 //! footprints. Polygons facing away from the light are not left out (prism's shadow rays
 //! are blocked by back faces too).
+//!
+//! A directional light gets one orthographic buffer instead of the cube (as in the paper):
+//! all its shadow rays share one direction, so each ray's line is a single point on a
+//! plane across that direction, and a cell holds the subtrees whose boxes, projected along
+//! the direction, reach it. Its conservative rules are the same in other units: the
+//! footprints (f64, the boxes' eight corners) are widened by `PARALLEL_SLACK` of the
+//! scene's reach (the largest |x| + |y| + |z| of a leaf's corner), which covers the f32
+//! lookup's rounding and the drift of a ray's projection along its length (the plane's
+//! axes are f32, so not exactly across the direction) while the ray starts within four
+//! reaches of the origin; a ray that starts farther, or whose direction is not the light's
+//! bit for bit, asks the whole BVH.
 
 use crate::accel::bvh::{Bvh, EntryNodes, Subtree};
 use crate::accel::{Hit, HitSearch, QueryMode, SceneIntersector};
@@ -50,6 +61,12 @@ use std::time::{Duration, Instant};
 const FOOTPRINT_SLACK: f64 = 1e-3;
 /// Relative error allowed for in distances from the light (f32 hit points and directions).
 const DISTANCE_SLACK: f64 = 1e-5;
+/// Widening of every footprint of a directional light's buffer, in units of the scene's
+/// reach: 30 times the errors it covers (`LightBuffer::build_directional`).
+const PARALLEL_SLACK: f64 = 1e-4;
+/// How far from the origin, in reaches, a directional light's shadow ray may start and
+/// still use the buffer.
+const PARALLEL_START: f32 = 4.0;
 /// The widest entry node (an 8-wide BVH's).
 const MAX_WIDTH: usize = 8;
 
@@ -215,6 +232,17 @@ fn near_distance(lo: DVec3, hi: DVec3) -> f32 {
     d as f32
 }
 
+/// Where a query walks (`LightBuffer::route`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Route {
+    /// The entry node of its cell.
+    Cell(u32),
+    /// That and the near node.
+    CellAndNear(u32),
+    /// The whole BVH.
+    Bvh,
+}
+
 /// What a query walks besides its cell (`LightBuffer::near_light`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Near {
@@ -238,9 +266,26 @@ struct Face {
     base: u32,
 }
 
-/// A light buffer around one point: res × res cells on each face some primitive is seen on,
-/// each the index of its entry node.
+/// How a buffer's cells map the rays' directions or lines.
+#[derive(Clone, Copy, Debug)]
+enum Projection {
+    /// A point light: the cube of directions around it.
+    Point,
+    /// A directional light: one face across its direction, on which a shadow ray's line
+    /// is the point (origin · `axes[0]`, origin · `axes[1]`).
+    Parallel {
+        /// The direction towards the light, as its shadow rays carry it.
+        to_light: Vec3,
+        axes: [Vec3; 2],
+        /// Rays starting farther from the origin than this (|x| + |y| + |z|) ask the BVH.
+        start_limit: f32,
+    },
+}
+
+/// A light buffer around one point (res × res cells on each face some primitive is seen
+/// on) or across one direction (res × res cells), each cell the index of its entry node.
 pub struct LightBuffer {
+    projection: Projection,
     light: DVec3,
     light_f32: Vec3,
     /// (nearest · slack / 8)², rounded down: `near_light`'s quick bound.
@@ -336,6 +381,54 @@ impl LightBuffer {
         light: Vec3,
         params: &BufferParams,
     ) -> Result<LightBuffer, Unbuilt> {
+        let l = light.as_dvec3();
+        Self::build_over(intersector, params, Projection::Point, light, |b| {
+            let (lo, hi) = relative_box(b, l);
+            let prints = std::array::from_fn(|face| footprint(face, lo, hi));
+            (prints, near_distance(lo, hi))
+        })
+    }
+
+    /// Builds the orthographic buffer of a directional light whose shadow rays point along
+    /// `to_light` (a unit vector), over the BVH of `intersector`, or says why not.
+    pub fn build_directional(
+        intersector: &SceneIntersector,
+        to_light: Vec3,
+        params: &BufferParams,
+    ) -> Result<LightBuffer, Unbuilt> {
+        let bvh = intersector.accel.as_bvh().ok_or(Unbuilt::NotBvh)?;
+        let axes = plane_axes(to_light);
+        let axes64 = axes.map(|a| a.as_dvec3());
+        // The reach: no leaf corner lies farther from the origin (|x| + |y| + |z|).
+        let root = (bvh.root_subtrees().iter()).fold(Aabb::EMPTY, |a, s| a.union(&s.bounds));
+        let reach = if root.is_empty() {
+            0.0
+        } else {
+            let far = root.min.abs().max(root.max.abs()).as_dvec3();
+            far.x + far.y + far.z
+        };
+        let slack = PARALLEL_SLACK * reach;
+        let projection = Projection::Parallel {
+            to_light,
+            axes,
+            start_limit: (PARALLEL_START as f64 * reach) as f32,
+        };
+        Self::build_over(intersector, params, projection, Vec3::ZERO, |b| {
+            let mut prints = [None; 6];
+            prints[0] = Some(parallel_footprint(b, axes64, slack));
+            (prints, f32::INFINITY)
+        })
+    }
+
+    /// The cells and entry nodes of a buffer whose subtree boxes `print` maps to their
+    /// footprints on the six faces and their nearest distance from the light.
+    fn build_over(
+        intersector: &SceneIntersector,
+        params: &BufferParams,
+        projection: Projection,
+        light: Vec3,
+        print: impl Fn(Aabb) -> ([Option<[f64; 4]>; 6], f32),
+    ) -> Result<LightBuffer, Unbuilt> {
         let start = Instant::now();
         let bvh = intersector.accel.as_bvh().ok_or(Unbuilt::NotBvh)?;
         let res = params.res.clamp(1, u16::MAX as u32);
@@ -347,10 +440,9 @@ impl LightBuffer {
         let mut prints: Vec<[Option<[f64; 4]>; 6]> = Vec::with_capacity(n);
         let mut near: Vec<(f32, u32)> = Vec::new();
         for (i, s) in tree.subtrees.iter().enumerate() {
-            let (lo, hi) = relative_box(s.bounds, l);
-            let p: [Option<[f64; 4]>; 6] = std::array::from_fn(|face| footprint(face, lo, hi));
+            let (p, distance) = print(s.bounds);
             if s.is_leaf() {
-                near.push((near_distance(lo, hi), i as u32));
+                near.push((distance, i as u32));
                 for (w, p) in windows.iter_mut().zip(&p) {
                     if let Some(p) = p {
                         w.include(*p);
@@ -452,6 +544,7 @@ impl LightBuffer {
         let filled = (cell_count - 1).max(1) as f64;
         let half = near_first * FOOTPRINT_SLACK / 8.0;
         Ok(LightBuffer {
+            projection,
             light: l,
             light_f32: light,
             quick: (half * half * 0.99) as f32,
@@ -480,12 +573,44 @@ impl LightBuffer {
         let face = 2 * kz + usize::from(d[kz] > 0.0);
         let (u_axis, v_axis) = [(1, 2), (2, 0), (0, 1)][kz];
         let inv = tr.shear.z.abs();
+        self.cell(face, -d[u_axis] * inv, -d[v_axis] * inv)
+    }
+
+    /// The entry node of the cell at face coordinates (u, v) of face `face`.
+    #[inline(always)]
+    fn cell(&self, face: usize, u: f32, v: f32) -> u32 {
         let f = &self.faces[face];
         // `as` truncates towards zero and saturates (NaN to 0); below 0 is clamped anyway.
-        let iu = (((-d[u_axis] * inv - f.lo[0]) * f.scale[0]) as i32).clamp(0, f.last);
-        let iv = (((-d[v_axis] * inv - f.lo[1]) * f.scale[1]) as i32).clamp(0, f.last);
+        let iu = (((u - f.lo[0]) * f.scale[0]) as i32).clamp(0, f.last);
+        let iv = (((v - f.lo[1]) * f.scale[1]) as i32).clamp(0, f.last);
         let cell = f.base as usize + (iv * (f.last + 1) + iu) as usize;
         self.cells[cell]
+    }
+
+    /// Where a query along `tr` walks: its cell's entry node, with the near node for a
+    /// point light's ray that passes the light far off (`near_light`), or the whole BVH.
+    #[inline(always)]
+    fn route(&self, tr: &TraceRay) -> Route {
+        match self.projection {
+            Projection::Point => match self.near_light(&tr.ray) {
+                Near::None => Route::Cell(self.entry_of(tr)),
+                Near::Node => Route::CellAndNear(self.entry_of(tr)),
+                Near::Bvh => Route::Bvh,
+            },
+            Projection::Parallel {
+                to_light,
+                axes,
+                start_limit,
+            } => {
+                let o = tr.ray.origin;
+                // Written so that a NaN origin asks the BVH too.
+                let near_enough = o.abs().element_sum() <= start_limit;
+                if tr.ray.dir != to_light || !near_enough {
+                    return Route::Bvh;
+                }
+                Route::Cell(self.cell(0, o.dot(axes[0]), o.dot(axes[1])))
+            }
+        }
     }
 
     /// What a query along `ray` must walk besides its cell: its line passes the light at
@@ -564,8 +689,8 @@ impl LightBuffer {
                 return search.best();
             }
         }
-        let near = self.near_light(ray);
-        if near == Near::Bvh {
+        let route = self.route(&tr);
+        if route == Route::Bvh {
             stats.light_buffer_fallbacks += 1;
             return accel.any_hit(geometry, ray, t_max, stats);
         }
@@ -584,12 +709,11 @@ impl LightBuffer {
                 stats,
             )
         };
-        if near == Near::Node {
-            if let Some(hit) = walk(self.near_entry) {
-                return Some(hit);
-            }
+        match route {
+            Route::CellAndNear(entry) => walk(self.near_entry).or_else(|| walk(entry)),
+            Route::Cell(entry) => walk(entry),
+            Route::Bvh => unreachable!("answered above"),
         }
-        walk(self.entry_of(&tr))
     }
 
     /// The nearest hit, as `accel.intersect` answers it.
@@ -602,18 +726,17 @@ impl LightBuffer {
         t_max: f32,
         stats: &mut Stats,
     ) -> Option<Hit> {
-        let near = self.near_light(ray);
-        if near == Near::Bvh {
-            stats.light_buffer_fallbacks += 1;
-            return accel.intersect(geometry, ray, t_max, stats);
-        }
         let tr = TraceRay::new(*ray);
-        let mut search = HitSearch::new(t_max, QueryMode::Nearest);
         let mut entries = ArrayVec::<u32, 2>::new();
-        entries.push(self.entry_of(&tr));
-        if near == Near::Node {
-            entries.push(self.near_entry);
+        match self.route(&tr) {
+            Route::Bvh => {
+                stats.light_buffer_fallbacks += 1;
+                return accel.intersect(geometry, ray, t_max, stats);
+            }
+            Route::Cell(entry) => entries.push(entry),
+            Route::CellAndNear(entry) => entries.extend([entry, self.near_entry]),
         }
+        let mut search = HitSearch::new(t_max, QueryMode::Nearest);
         for entry in entries {
             let bounded = bvh.query_entry(
                 self.entries.get(entry),
@@ -686,6 +809,38 @@ fn cut(
     }
     list.sort_unstable();
     list
+}
+
+/// Two unit axes across `to_light` (in f32, the lookup's; the footprints use the same
+/// values in f64): the first across its smallest component, the second across both.
+fn plane_axes(to_light: Vec3) -> [Vec3; 2] {
+    let d = to_light.as_dvec3();
+    let a = d.abs();
+    let across = if a.x <= a.y && a.x <= a.z {
+        DVec3::X
+    } else if a.y <= a.z {
+        DVec3::Y
+    } else {
+        DVec3::Z
+    };
+    let u = d.cross(across).normalize();
+    let v = d.cross(u).normalize();
+    [u.as_vec3(), v.as_vec3()]
+}
+
+/// Where box `b` projects along a directional light's rays onto the plane of `axes`:
+/// (u0, u1, v0, v1) over its eight corners, widened by `slack`.
+fn parallel_footprint(b: Aabb, axes: [DVec3; 2], slack: f64) -> [f64; 4] {
+    let (lo, hi) = (b.min.as_dvec3(), b.max.as_dvec3());
+    let range = |axis: DVec3| {
+        // Per coordinate, the corner's smaller and larger contribution.
+        let (a, c) = (lo * axis, hi * axis);
+        let (small, large) = (a.min(c), a.max(c));
+        (small.element_sum() - slack, large.element_sum() + slack)
+    };
+    let (u0, u1) = range(axes[0]);
+    let (v0, v1) = range(axes[1]);
+    [u0, u1, v0, v1]
 }
 
 /// Box `b` relative to the light, in f64.

@@ -13,9 +13,9 @@
 //! - `cache`: the last blocker found for the same light at the same depth of the ray tree
 //!   is tested first (ray coherence: neighbouring points are usually shadowed by the same
 //!   object); only in scenes without transparent surfaces, where one hit settles the answer;
-//! - `light-buffer`: a light buffer per point or spot light (`light_buffer.rs`);
-//!   directional lights and lights whose buffer would pass the memory budget keep the
-//!   accelerator;
+//! - `light-buffer`: a light buffer per light (`light_buffer.rs`): a cube of directions
+//!   around a point or spot light, one orthographic grid across a directional light's
+//!   direction; lights whose buffer would pass the memory budget keep the accelerator;
 //! - `both`: the light buffer, then the cache;
 //! - `auto`: what is predicted to pay in a render: today `any-hit` (measured in
 //!   docs/shadows.md: `both` beats the BVH on single rays, but renders send any-hit
@@ -206,32 +206,28 @@ impl<'a> Shadows<'a> {
         let mut unbuilt = Vec::with_capacity(lights.len());
         let geometry = &scene.scene.geometry;
         let res = spec.resolution(geometry.primitives.len());
-        // The budget is shared out among the lights that want a buffer.
-        let wanting = lights
-            .iter()
-            .filter(|l| position(l).is_some())
-            .count()
-            .max(1);
+        // The budget is shared out among the lights.
+        let params = BufferParams {
+            res,
+            budget_bytes: spec.budget_bytes() / lights.len().max(1) as u64,
+        };
         for light in lights {
-            let (buffer, why) = match (spec.method.uses_light_buffer(), position(light)) {
-                (false, _) => (None, None),
-                (true, None) => (
-                    None,
-                    Some("a directional light: its shadow rays use the accelerator".into()),
-                ),
-                (true, Some(p)) => {
-                    let params = BufferParams {
-                        res,
-                        budget_bytes: spec.budget_bytes() / wanting as u64,
-                    };
-                    match LightBuffer::build(&scene.intersector, p, &params) {
-                        Ok(b) => (Some(b), None),
-                        Err(why) => (
-                            None,
-                            Some(format!("{why}: its shadow rays use the accelerator")),
-                        ),
-                    }
+            let built = spec.method.uses_light_buffer().then(|| match *light {
+                Light::Point { position, .. } | Light::Spot { position, .. } => {
+                    LightBuffer::build(&scene.intersector, position, &params)
                 }
+                // Its shadow rays' direction, as `Light::sample` gives it.
+                Light::Directional { direction, .. } => {
+                    LightBuffer::build_directional(&scene.intersector, -direction, &params)
+                }
+            });
+            let (buffer, why) = match built {
+                None => (None, None),
+                Some(Ok(b)) => (Some(b), None),
+                Some(Err(why)) => (
+                    None,
+                    Some(format!("{why}: its shadow rays use the accelerator")),
+                ),
             };
             buffers.push(buffer);
             unbuilt.push(why);
@@ -418,14 +414,6 @@ impl<'a> Shadows<'a> {
         stats.shadow_tests += stats.primitive_tests - tests;
         stats.shadow_node_visits += stats.node_visits - nodes;
         v
-    }
-}
-
-/// Where a light's buffer is built around: point and spot lights.
-fn position(light: &Light) -> Option<Vec3> {
-    match *light {
-        Light::Point { position, .. } | Light::Spot { position, .. } => Some(position),
-        Light::Directional { .. } => None,
     }
 }
 
