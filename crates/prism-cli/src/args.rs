@@ -188,8 +188,9 @@ pub(crate) struct RenderArgs {
 
     /// Who answers shadow rays, METHOD[:KEY=VALUE,...]: any-hit (the accelerator, the
     /// default), cache (the last blocker per light and depth tried first, after a blocked
-    /// ray), light-buffer (Haines & Greenberg's direction cube per point light, its cells
-    /// holding BVH subtrees; keys res = cells along a face window's side, budget = MiB for
+    /// ray), light-buffer (Haines & Greenberg's direction cube per point light, an
+    /// orthographic grid per directional light, its cells holding BVH subtrees; keys res =
+    /// cells along a face window's side, budget = MiB for
     /// all lights), both, or auto (what is predicted to pay in a render: today any-hit, in packets). Every method
     /// gives the same image.
     #[arg(long, value_name = "SPEC")]

@@ -2,11 +2,11 @@
 //! kernel as transparent huge pages (`madvise(MADV_HUGEPAGE)`), as Embree's allocator
 //! does for its blocks. Where the kernel gives huge pages only on request (Debian's
 //! default, `madvise`), a large scene's BVH build otherwise faults in its arrays 4 KiB at
-//! a time: on the 1M-triangle sphereflake a sixth of the build's CPU time went to page
-//! faults, and the hint makes the build 5-10 % faster (docs/performance.md, the tenth
-//! step). The advice changes how memory is backed, never what it holds, and a kernel that
-//! refuses it leaves the block as it was. `bench/embree` compiles this same file, so that
-//! it times the build as `prism` runs it.
+//! a time: on the 101k-triangle blob a sixth of the build's CPU time went to page faults,
+//! and the hint makes builds 7-13 % faster (docs/performance.md, the tenth step). The
+//! advice changes how memory is backed, never what it holds, and a kernel that refuses it
+//! leaves the block as it was. `bench/embree` compiles this same file, so that it times
+//! the build as `prism` runs it.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 

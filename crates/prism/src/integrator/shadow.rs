@@ -48,7 +48,8 @@ pub enum ShadowMethod {
     AnyHit,
     /// The shadow cache first (the last blocker per light and depth), then the accelerator.
     Cache,
-    /// Per point or spot light, its light buffer; the accelerator for the other lights.
+    /// A light buffer per light (a direction cube around a point or spot light, an
+    /// orthographic grid across a directional one); the accelerator where none was built.
     LightBuffer,
     /// The cache first, then the light buffer.
     Both,

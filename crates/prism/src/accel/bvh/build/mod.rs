@@ -60,24 +60,22 @@ impl Bvh {
             )
         });
         let test_block = if all_triangles { 4 } else { 1 };
-        let boxes = if options.presplit == 0.0 && options.builder.moves_references_only() {
+        let (prims, boxes) = if options.presplit == 0.0 && options.builder.moves_references_only() {
             // The default build: its references straight from the geometry, without the
             // array of boxes by build position that it would read only to make them (on a
             // million triangles a pass and 24 MiB of fresh pages, a twentieth of the build).
-            Boxes::References(
-                (prims.par_iter().enumerate())
-                    .map(|(i, &p)| PrimRef::new(i as u32, &bound(p)))
-                    .collect(),
-            )
+            let refs = (prims.par_iter().enumerate())
+                .map(|(i, &p)| PrimRef::new(i as u32, &bound(p)))
+                .collect();
+            (prims, Boxes::References(refs))
         } else {
             let bounds: Vec<Aabb> = prims.par_iter().map(|&p| bound(p)).collect();
-            if options.presplit > 0.0 {
-                let (split, bounds) = presplit::presplit(geometry, prims, bounds, options.presplit);
-                let mut bvh = Bvh::build_blocks(split, Boxes::Bounds(bounds), options, test_block);
-                bvh.pack(geometry);
-                return bvh;
-            }
-            Boxes::Bounds(bounds)
+            let (prims, bounds) = if options.presplit > 0.0 {
+                presplit::presplit(geometry, prims, bounds, options.presplit)
+            } else {
+                (prims, bounds)
+            };
+            (prims, Boxes::Bounds(bounds))
         };
         let mut bvh = Bvh::build_blocks(prims, boxes, options, test_block);
         bvh.pack(geometry);
