@@ -81,6 +81,7 @@ impl Report {
                 "light_buffer_queries": s.light_buffer_queries,
                 "light_buffers": result.light_buffers.iter().map(|b| b.map(|b| json!({
                     "resolution": b.resolution,
+                    "orthographic": b.orthographic,
                     "cells": b.cells,
                     "entry_nodes": b.entry_nodes,
                     "mean_subtrees": b.mean_subtrees,
@@ -236,9 +237,14 @@ fn shadow_lines(options: &RenderOptions, result: &RenderResult) -> Vec<String> {
     }
     for (i, b) in result.light_buffers.iter().enumerate() {
         if let Some(b) = b {
+            let layout = if b.orthographic {
+                "across its direction"
+            } else {
+                "a face"
+            };
             lines.push(format!(
-                "  light {i} buffer   {} cells ({}² a face), {} entry nodes (mean {:.1} subtrees \
-                 a cell, {:.0} % leaves), {:.1} MiB, built in {:.1} ms",
+                "  light {i} buffer   {} cells ({}² {layout}), {} entry nodes (mean {:.1} \
+                 subtrees a cell, {:.0} % leaves), {:.1} MiB, built in {:.1} ms",
                 b.cells,
                 b.resolution,
                 b.entry_nodes,

@@ -141,6 +141,7 @@ fn check_light(
     let g = &s.geometry;
     let buffers =
         [LightBuffer::build(intersector, light, &params(res)).expect("within the budget")];
+    assert!(!buffers[0].info().orthographic);
     let bounds = (0..g.primitives.len() as u32)
         .filter_map(|i| g.bounds(i))
         .fold(Aabb::EMPTY, |a, b| a.union(&b));
@@ -270,6 +271,8 @@ fn check_directional(
     let g = &s.geometry;
     let buffer = LightBuffer::build_directional(intersector, to_light, &params(res))
         .expect("within the budget");
+    let info = buffer.info();
+    assert!(info.orthographic && info.resolution == res && info.cells == 1 + (res * res) as usize);
     let bounds = (0..g.primitives.len() as u32)
         .filter_map(|i| g.bounds(i))
         .fold(Aabb::EMPTY, |a, b| a.union(&b));

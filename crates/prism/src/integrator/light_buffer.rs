@@ -314,8 +314,11 @@ pub struct LightBuffer {
 /// What `prism info` and the statistics say about a buffer.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LightBufferInfo {
-    /// Cells along each side of a direction-cube face's window.
+    /// Cells along each side of a direction-cube face's window, or of the orthographic
+    /// grid.
     pub resolution: u32,
+    /// Whether the buffer is a directional light's orthographic grid (else a cube).
+    pub orthographic: bool,
     /// Cells over all faces.
     pub cells: usize,
     /// Distinct entry nodes (cells seeing the same subtrees share one).
@@ -761,6 +764,7 @@ impl LightBuffer {
     pub fn info(&self) -> LightBufferInfo {
         LightBufferInfo {
             resolution: self.res,
+            orthographic: matches!(self.projection, Projection::Parallel { .. }),
             cells: self.cells.len(),
             entry_nodes: self.entries.len(),
             mean_subtrees: self.mean_subtrees,
