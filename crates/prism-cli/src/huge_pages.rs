@@ -18,17 +18,24 @@ const HUGE_PAGE: usize = 1 << 21;
 /// Blocks smaller than two huge pages hold at most one whole one: not worth the call.
 const ADVISED: usize = 2 * HUGE_PAGE;
 
-/// Advises the whole huge pages inside `[ptr, ptr + size)` (the partial pages at the ends
-/// may be shared with other blocks and stay as they are).
+/// The whole huge pages inside a block of `size` bytes at address `at`, as (start, end),
+/// for blocks worth advising: the partial pages at the ends may be shared with other
+/// blocks and stay as they are.
+#[cfg_attr(not(target_os = "linux"), allow(dead_code))]
+fn huge_pages_within(at: usize, size: usize) -> Option<(usize, usize)> {
+    if size < ADVISED || at == 0 {
+        return None;
+    }
+    let start = at.next_multiple_of(HUGE_PAGE);
+    let end = (at + size) & !(HUGE_PAGE - 1);
+    (end > start).then_some((start, end))
+}
+
+/// Advises the whole huge pages inside `[ptr, ptr + size)`.
 #[cfg(target_os = "linux")]
 #[allow(unsafe_code)]
 fn advise(ptr: *mut u8, size: usize) {
-    if size < ADVISED || ptr.is_null() {
-        return;
-    }
-    let start = (ptr as usize).next_multiple_of(HUGE_PAGE);
-    let end = (ptr as usize + size) & !(HUGE_PAGE - 1);
-    if end > start {
+    if let Some((start, end)) = huge_pages_within(ptr as usize, size) {
         // SAFETY: the range lies inside a block this allocator just handed out; the advice
         // neither moves nor changes its contents. A failure (an old kernel, THP disabled)
         // leaves the pages as they were, so the result is ignored.
@@ -71,6 +78,21 @@ unsafe impl GlobalAlloc for HugePages {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn only_whole_huge_pages_inside_large_blocks_are_advised() {
+        let h = HUGE_PAGE;
+        // Too small, or null.
+        assert_eq!(huge_pages_within(h, ADVISED - 1), None);
+        assert_eq!(huge_pages_within(0, 8 * h), None);
+        // Aligned: every page.
+        assert_eq!(huge_pages_within(4 * h, 3 * h), Some((4 * h, 7 * h)));
+        // Unaligned at both ends: the pages strictly inside.
+        assert_eq!(huge_pages_within(4 * h + 64, 3 * h), Some((5 * h, 7 * h)));
+        assert_eq!(huge_pages_within(4 * h + 64, 2 * h), Some((5 * h, 6 * h)));
+        // The smallest block advised holds one whole page wherever it starts.
+        assert_eq!(huge_pages_within(4 * h + 1, ADVISED), Some((5 * h, 6 * h)));
+    }
 
     #[test]
     #[allow(unsafe_code)]

@@ -243,7 +243,42 @@ enum Route {
     Bvh,
 }
 
-/// What a query walks besides its cell (`LightBuffer::near_light`).
+impl PointLight {
+    /// What a query along `ray` must walk besides its cell: its line passes the light at
+    /// some distance δ, and points of it nearer than 4δ / slack to the light (and before
+    /// the shaded point) may be seen from another cell. Usually no leaf is that near; if
+    /// only leaves of the near node are, the query walks it too; otherwise it asks the BVH.
+    #[inline(always)]
+    fn near_light(&self, ray: &Ray) -> Near {
+        // The usual case in f32: δ ≤ |q × dir| + 2·10⁻⁶ |q| (10⁻⁶ for the f32 direction as
+        // below, and as much again for this f32 arithmetic, whose errors are relative to
+        // |q|: q = origin − light is one correctly rounded subtraction), both terms below
+        // half of near_first · slack / 4 (`self.quick`, rounded down).
+        let q = ray.origin - self.light_f32;
+        let cross2 = q.cross(ray.dir).length_squared();
+        let reach2 = q.length_squared();
+        if cross2 < self.quick && reach2 * 4e-12 < self.quick {
+            return Near::None;
+        }
+        let q = ray.origin.as_dvec3() - self.light;
+        let dir = ray.dir.as_dvec3();
+        let reach = q.length();
+        // How far the ray's line passes from the light, with room for the f32 direction.
+        let delta = q.cross(dir).length() + reach * 1e-6;
+        let near_limit = 4.0 * delta / FOOTPRINT_SLACK;
+        let far_limit = reach * (1.0 + DISTANCE_SLACK) + delta;
+        let limit = near_limit.min(far_limit);
+        if self.near_first > limit {
+            Near::None
+        } else if self.near_rest > limit {
+            Near::Node
+        } else {
+            Near::Bvh
+        }
+    }
+}
+
+/// What a query walks besides its cell (`PointLight::near_light`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Near {
     /// Nothing.
@@ -266,45 +301,62 @@ struct Face {
     base: u32,
 }
 
+/// What a buffer is built around.
+enum Source {
+    Point(Vec3),
+    Parallel(ParallelGrid),
+}
+
 /// How a buffer's cells map the rays' directions or lines.
 #[derive(Clone, Copy, Debug)]
 enum Projection {
     /// A point light: the cube of directions around it.
-    Point,
-    /// A directional light: one face across its direction, on which a shadow ray's line
-    /// is the point (origin · `axes[0]`, origin · `axes[1]`).
-    Parallel {
-        /// The direction towards the light, as its shadow rays carry it.
-        to_light: Vec3,
-        axes: [Vec3; 2],
-        /// Rays starting farther from the origin than this (|x| + |y| + |z|) ask the BVH.
-        start_limit: f32,
-    },
+    Point(PointLight),
+    /// A directional light: one face across its direction.
+    Parallel(ParallelGrid),
 }
+
+/// A point light's position and what `near_light` needs of the leaves nearest it.
+#[derive(Clone, Copy, Debug)]
+struct PointLight {
+    light: DVec3,
+    light_f32: Vec3,
+    /// (nearest · slack / 8)², rounded down: `near_light`'s quick bound.
+    quick: f32,
+    /// The nearest distance of any leaf from the light: a query whose line passes the light
+    /// so far off that points this near could be seen from another cell also walks
+    /// `NEAR_ENTRY`, the entry node of the leaves nearest the light (a node's width of
+    /// them: a light inside a room sees the leaf of its walls, whose box holds it, in
+    /// every direction) ...
+    near_first: f64,
+    /// ... and one that passes it so far off that the nearest leaf left out of that node,
+    /// this far away, could be seen from another cell asks the whole BVH.
+    near_rest: f64,
+}
+
+/// A directional light's face, on which a shadow ray's line is the point
+/// (origin · `axes[0]`, origin · `axes[1]`).
+#[derive(Clone, Copy, Debug)]
+struct ParallelGrid {
+    /// The direction towards the light, as its shadow rays carry it.
+    to_light: Vec3,
+    axes: [Vec3; 2],
+    /// Rays starting farther from the origin than this (|x| + |y| + |z|) ask the BVH.
+    start_limit: f32,
+}
+
+/// The entry node of the leaves nearest a point light (empty for a directional light).
+const NEAR_ENTRY: u32 = 1;
 
 /// A light buffer around one point (res × res cells on each face some primitive is seen
 /// on) or across one direction (res × res cells), each cell the index of its entry node.
 pub struct LightBuffer {
     projection: Projection,
-    light: DVec3,
-    light_f32: Vec3,
-    /// (nearest · slack / 8)², rounded down: `near_light`'s quick bound.
-    quick: f32,
     res: u32,
     faces: [Face; 6],
     /// Per cell, its entry node (cells that see the same subtrees share one).
     cells: Vec<u32>,
     entries: EntryNodes,
-    /// The nearest distance of any leaf from the light: a query whose line passes the light
-    /// so far off that points this near could be seen from another cell also walks
-    /// `near_entry`, the entry node of the leaves nearest the light (a node's width of
-    /// them: a light inside a room sees the leaf of its walls, whose box holds it, in
-    /// every direction) ...
-    near_first: f64,
-    near_entry: u32,
-    /// ... and one that passes it so far off that the nearest leaf left out of that node,
-    /// this far away, could be seen from another cell asks the whole BVH.
-    near_rest: f64,
     /// Mean subtrees per cell and the share of them that are leaves.
     mean_subtrees: f64,
     leaf_share: f64,
@@ -385,10 +437,10 @@ impl LightBuffer {
         params: &BufferParams,
     ) -> Result<LightBuffer, Unbuilt> {
         let l = light.as_dvec3();
-        Self::build_over(intersector, params, Projection::Point, light, |b| {
+        Self::build_over(intersector, params, Source::Point(light), |b| {
             let (lo, hi) = relative_box(b, l);
             let prints = std::array::from_fn(|face| footprint(face, lo, hi));
-            (prints, near_distance(lo, hi))
+            (prints, Some(near_distance(lo, hi)))
         })
     }
 
@@ -411,31 +463,30 @@ impl LightBuffer {
             far.x + far.y + far.z
         };
         let slack = PARALLEL_SLACK * reach;
-        let projection = Projection::Parallel {
+        let grid = ParallelGrid {
             to_light,
             axes,
             start_limit: (PARALLEL_START as f64 * reach) as f32,
         };
-        Self::build_over(intersector, params, projection, Vec3::ZERO, |b| {
+        Self::build_over(intersector, params, Source::Parallel(grid), |b| {
             let mut prints = [None; 6];
             prints[0] = Some(parallel_footprint(b, axes64, slack));
-            (prints, f32::INFINITY)
+            (prints, None)
         })
     }
 
     /// The cells and entry nodes of a buffer whose subtree boxes `print` maps to their
-    /// footprints on the six faces and their nearest distance from the light.
+    /// footprints on the six faces and, around a point light, their nearest distance from
+    /// it.
     fn build_over(
         intersector: &SceneIntersector,
         params: &BufferParams,
-        projection: Projection,
-        light: Vec3,
-        print: impl Fn(Aabb) -> ([Option<[f64; 4]>; 6], f32),
+        source: Source,
+        print: impl Fn(Aabb) -> ([Option<[f64; 4]>; 6], Option<f32>),
     ) -> Result<LightBuffer, Unbuilt> {
         let start = Instant::now();
         let bvh = intersector.accel.as_bvh().ok_or(Unbuilt::NotBvh)?;
         let res = params.res.clamp(1, u16::MAX as u32);
-        let l = light.as_dvec3();
         let tree = Tree::of(bvh);
         let n = tree.subtrees.len();
         // Per face, each subtree's footprint; the windows span the leaves' footprints.
@@ -445,7 +496,9 @@ impl LightBuffer {
         for (i, s) in tree.subtrees.iter().enumerate() {
             let (p, distance) = print(s.bounds);
             if s.is_leaf() {
-                near.push((distance, i as u32));
+                if let Some(distance) = distance {
+                    near.push((distance, i as u32));
+                }
                 for (w, p) in windows.iter_mut().zip(&p) {
                     if let Some(p) = p {
                         w.include(*p);
@@ -468,7 +521,7 @@ impl LightBuffer {
             });
         }
         let width = bvh.entry_width().min(MAX_WIDTH);
-        // The leaves nearest the light, in an entry node of their own: entry node 1.
+        // The leaves nearest the light, in an entry node of their own: `NEAR_ENTRY`.
         near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let near_first = near.first().map_or(f64::INFINITY, |n| n.0 as f64);
         let near_rest = near.get(width).map_or(f64::INFINITY, |n| n.0 as f64);
@@ -545,19 +598,25 @@ impl LightBuffer {
             }
         });
         let filled = (cell_count - 1).max(1) as f64;
-        let half = near_first * FOOTPRINT_SLACK / 8.0;
+        let projection = match source {
+            Source::Point(light) => {
+                let half = near_first * FOOTPRINT_SLACK / 8.0;
+                Projection::Point(PointLight {
+                    light: light.as_dvec3(),
+                    light_f32: light,
+                    quick: (half * half * 0.99) as f32,
+                    near_first,
+                    near_rest,
+                })
+            }
+            Source::Parallel(grid) => Projection::Parallel(grid),
+        };
         Ok(LightBuffer {
             projection,
-            light: l,
-            light_f32: light,
-            quick: (half * half * 0.99) as f32,
             res,
             faces,
             cells,
             entries,
-            near_first,
-            near_entry: 1,
-            near_rest,
             mean_subtrees: subtree_sum as f64 / filled,
             leaf_share: leaf_sum as f64 / subtree_sum.max(1) as f64,
             build_time: start.elapsed(),
@@ -595,16 +654,16 @@ impl LightBuffer {
     #[inline(always)]
     fn route(&self, tr: &TraceRay) -> Route {
         match self.projection {
-            Projection::Point => match self.near_light(&tr.ray) {
+            Projection::Point(point) => match point.near_light(&tr.ray) {
                 Near::None => Route::Cell(self.entry_of(tr)),
                 Near::Node => Route::CellAndNear(self.entry_of(tr)),
                 Near::Bvh => Route::Bvh,
             },
-            Projection::Parallel {
+            Projection::Parallel(ParallelGrid {
                 to_light,
                 axes,
                 start_limit,
-            } => {
+            }) => {
                 let o = tr.ray.origin;
                 // Written so that a NaN origin asks the BVH too.
                 let near_enough = o.abs().element_sum() <= start_limit;
@@ -613,39 +672,6 @@ impl LightBuffer {
                 }
                 Route::Cell(self.cell(0, o.dot(axes[0]), o.dot(axes[1])))
             }
-        }
-    }
-
-    /// What a query along `ray` must walk besides its cell: its line passes the light at
-    /// some distance δ, and points of it nearer than 4δ / slack to the light (and before
-    /// the shaded point) may be seen from another cell. Usually no leaf is that near; if
-    /// only leaves of the near node are, the query walks it too; otherwise it asks the BVH.
-    #[inline(always)]
-    fn near_light(&self, ray: &Ray) -> Near {
-        // The usual case in f32: δ ≤ |q × dir| + 2·10⁻⁶ |q| (10⁻⁶ for the f32 direction as
-        // below, and as much again for this f32 arithmetic, whose errors are relative to
-        // |q|: q = origin − light is one correctly rounded subtraction), both terms below
-        // half of near_first · slack / 4 (`self.quick`, rounded down).
-        let q = ray.origin - self.light_f32;
-        let cross2 = q.cross(ray.dir).length_squared();
-        let reach2 = q.length_squared();
-        if cross2 < self.quick && reach2 * 4e-12 < self.quick {
-            return Near::None;
-        }
-        let q = ray.origin.as_dvec3() - self.light;
-        let dir = ray.dir.as_dvec3();
-        let reach = q.length();
-        // How far the ray's line passes from the light, with room for the f32 direction.
-        let delta = q.cross(dir).length() + reach * 1e-6;
-        let near_limit = 4.0 * delta / FOOTPRINT_SLACK;
-        let far_limit = reach * (1.0 + DISTANCE_SLACK) + delta;
-        let limit = near_limit.min(far_limit);
-        if self.near_first > limit {
-            Near::None
-        } else if self.near_rest > limit {
-            Near::Node
-        } else {
-            Near::Bvh
         }
     }
 
@@ -713,7 +739,7 @@ impl LightBuffer {
             )
         };
         match route {
-            Route::CellAndNear(entry) => walk(self.near_entry).or_else(|| walk(entry)),
+            Route::CellAndNear(entry) => walk(NEAR_ENTRY).or_else(|| walk(entry)),
             Route::Cell(entry) => walk(entry),
             Route::Bvh => unreachable!("answered above"),
         }
@@ -737,7 +763,7 @@ impl LightBuffer {
                 return accel.intersect(geometry, ray, t_max, stats);
             }
             Route::Cell(entry) => entries.push(entry),
-            Route::CellAndNear(entry) => entries.extend([entry, self.near_entry]),
+            Route::CellAndNear(entry) => entries.extend([entry, NEAR_ENTRY]),
         }
         let mut search = HitSearch::new(t_max, QueryMode::Nearest);
         for entry in entries {
@@ -764,7 +790,7 @@ impl LightBuffer {
     pub fn info(&self) -> LightBufferInfo {
         LightBufferInfo {
             resolution: self.res,
-            orthographic: matches!(self.projection, Projection::Parallel { .. }),
+            orthographic: matches!(self.projection, Projection::Parallel(_)),
             cells: self.cells.len(),
             entry_nodes: self.entries.len(),
             mean_subtrees: self.mean_subtrees,
