@@ -1,9 +1,9 @@
 //! The render thread: it owns the scene, its accelerator, the settings and the
-//! [`FrameSource`], applies the commands the pages send, and publishes every frame to all
+//! [`Frames`], applies the commands the pages send, and publishes every frame to all
 //! of them. It renders only while at least one page is connected and the image has not
 //! converged; otherwise it sleeps on its command channel and uses no CPU.
 //!
-//! A camera move or a setting sets `cancel`, so the frame in flight stops after its tiles
+//! A camera move or a setting sets `cancel`, so the frame in flight stops after its bands
 //! in flight and the next frame starts from the new state. The flag is cleared before the
 //! commands are read, so a command is never lost; at worst a move that lands between the
 //! two cancels one frame that already shows it.
@@ -12,7 +12,7 @@ use crate::controls::{self, Setting, View};
 use crate::limits::{MAX_MESSAGE_BYTES, MAX_PIXELS, MAX_SAMPLES, MAX_SIDE};
 use crate::picture::{self, Encoder};
 use crate::protocol::{self, CameraInfo, FrameHeader, LimitsInfo, SaveHeader, ServerMessage};
-use crate::source::{Accumulator, Advance, FrameSource};
+use crate::source::{Advance, Frames};
 use crate::steer::{self, Motion};
 use axum::body::Bytes;
 use prism::accel::SceneIntersector;
@@ -131,7 +131,7 @@ impl Stage {
     /// One frame of `source` with `options`.
     fn advance(
         &mut self,
-        source: &mut dyn FrameSource,
+        source: &mut Frames,
         options: &RenderOptions,
         cancel: &AtomicBool,
     ) -> Result<Option<Advance>, RenderError> {
@@ -155,7 +155,7 @@ struct Engine {
     options: RenderOptions,
     integrator: String,
     view: View,
-    source: Box<dyn FrameSource>,
+    source: Frames,
     encoder: Encoder,
     generation: u64,
     clients: usize,
@@ -193,10 +193,7 @@ impl Engine {
             name: name.to_string(),
             integrator: controls::INTEGRATORS[0].to_string(),
             view: View::Image,
-            // Frames of one sample per pixel with a new seed each, for both integrators
-            // (source.rs); a source on `prism::render::Progressive`, continuing one sample
-            // sequence, would go here.
-            source: Box::new(Accumulator::new()),
+            source: Frames::new(),
             encoder: Encoder::new(options.transfer),
             options,
             generation: 0,
@@ -269,11 +266,12 @@ impl Engine {
                 return;
             }
         }
-        let result = (self.stage).advance(&mut *self.source, &self.options, &self.shared.cancel);
+        let result = (self.stage).advance(&mut self.source, &self.options, &self.shared.cancel);
         if let Some(advance) = self.settle(result) {
             let pixels = self.options.width as f64 * self.options.height as f64;
             self.last_full_per_pixel = advance.time.as_secs_f64() / pixels;
-            let (width, height, rgba) = picture::rgba(&*self.source, self.view, &mut self.encoder);
+            let image = self.source.image().expect("a frame was just added");
+            let (width, height, rgba) = picture::rgba(image, self.view, &mut self.encoder);
             self.publish(advance, width, height, &rgba, false);
         }
     }
@@ -288,12 +286,13 @@ impl Engine {
             height: side(self.options.height),
             ..self.options.clone()
         };
-        let mut small = Accumulator::new();
+        let mut small = Frames::new();
         let result = self
             .stage
             .advance(&mut small, &options, &self.shared.cancel);
         if let Some(advance) = self.settle(result) {
-            let (width, height, rgba) = picture::rgba(&small, self.view, &mut self.encoder);
+            let image = small.image().expect("a frame was just added");
+            let (width, height, rgba) = picture::rgba(image, self.view, &mut self.encoder);
             self.publish(advance, width, height, &rgba, true);
         }
     }
@@ -334,7 +333,10 @@ impl Engine {
 
     /// The current accumulation again, as it is (after a change of view).
     fn republish(&mut self) {
-        let (width, height, rgba) = picture::rgba(&*self.source, self.view, &mut self.encoder);
+        let Some(image) = self.source.image() else {
+            return;
+        };
+        let (width, height, rgba) = picture::rgba(image, self.view, &mut self.encoder);
         let advance = Advance {
             rays: (self.last.1 * self.last.0.as_secs_f64()) as u64,
             time: self.last.0,
@@ -361,12 +363,12 @@ impl Engine {
             Command::ResetCamera => self.set_camera(self.home),
             Command::Set(setting) => self.set(setting),
             Command::Save(reply) => {
-                if self.source.samples() == 0 {
+                let Some(image) = self.source.image() else {
                     let why = "no full frame since the last change yet; try again in a moment";
                     let _ = reply.send(Err(why.to_string()));
                     return;
-                }
-                let message = picture::png(&*self.source, self.view).map(|png| {
+                };
+                let message = picture::png(image, self.view).map(|png| {
                     let header = SaveHeader {
                         kind: "png".into(),
                         name: format!(

@@ -6,7 +6,7 @@
 //! The pieces, in the order they depend on each other: [`limits`] and `assets` (the page,
 //! embedded in the binary) ← [`protocol`] (the messages), [`steer`] (camera motion),
 //! [`controls`] (the settings a page may change) and [`source`] (where frames come from:
-//! the [`source::FrameSource`] seam) ← `picture` (a frame's pixels for the page, and the
+//! [`source::Frames`], the engine's progressive accumulation) ← `picture` (a frame's pixels for the page, and the
 //! PNG a page saves) ← `engine` (the render thread) ← `socket` (one browser tab) ←
 //! `server` (the HTTP routes and the [`Server`] handle). docs/viewer.md has the protocol.
 

@@ -5,8 +5,7 @@
 //! (docs/viewer.md has the measurements).
 
 use crate::controls::View;
-use crate::source::{FrameSource, WorkTotals};
-use prism::render::Film;
+use prism::render::{PixelTotals, Progressive};
 use prism::transfer::Transfer;
 use prism_io::output::heatmap::viridis;
 
@@ -48,27 +47,32 @@ impl Encoder {
     }
 }
 
-/// The RGBA bytes of what `view` shows of `source`'s image. `encoder` is replaced when
-/// the film's transfer differs from its own.
-pub(crate) fn rgba(
-    source: &dyn FrameSource,
-    view: View,
-    encoder: &mut Encoder,
-) -> (u32, u32, Vec<u8>) {
-    let film = source.film();
-    match (view, source.work()) {
-        (View::Cost, Some(work)) => heat(work, |i| ratio(work.node_visits[i], work.camera[i])),
-        (View::Density, Some(work)) => {
-            let frames = source.samples().max(1) as u64;
-            heat(work, |i| ratio(work.rays[i], frames))
-        }
-        _ => {
-            if encoder.transfer != film.transfer {
-                *encoder = Encoder::new(film.transfer);
+/// The RGBA bytes of what `view` shows of `image`. `encoder` is replaced when the image's
+/// transfer differs from its own. Every step runs in parallel on the render's threads.
+pub(crate) fn rgba(image: &Progressive, view: View, encoder: &mut Encoder) -> (u32, u32, Vec<u8>) {
+    let (width, height) = image.size();
+    let frames = image.samples().max(1) as u64;
+    let pixels = match view {
+        View::Cost => heat(image, |p| ratio(p.node_visits, p.camera_rays)),
+        View::Density => heat(image, |p| ratio(p.rays, frames)),
+        View::Image => {
+            if encoder.transfer != image.transfer() {
+                *encoder = Encoder::new(image.transfer());
             }
-            (film.width, film.height, image_rgba(&film, encoder))
+            let encoder = &*encoder;
+            let mut out = vec![[0u8; 4]; image.pixels().len()];
+            image.map_pixels(&mut out, |c, _| {
+                [
+                    encoder.encode8(c.x),
+                    encoder.encode8(c.y),
+                    encoder.encode8(c.z),
+                    255,
+                ]
+            });
+            out
         }
-    }
+    };
+    (width, height, pixels.into_flattened())
 }
 
 fn ratio(a: u64, b: u64) -> f32 {
@@ -79,54 +83,36 @@ fn ratio(a: u64, b: u64) -> f32 {
     }
 }
 
-fn image_rgba(film: &Film, encoder: &Encoder) -> Vec<u8> {
-    let mut out = Vec::with_capacity(film.pixels.len() * 4);
-    for c in &film.pixels {
-        out.extend_from_slice(&[
-            encoder.encode8(c.x),
-            encoder.encode8(c.y),
-            encoder.encode8(c.z),
-            255,
-        ]);
-    }
-    out
-}
-
-/// A heat map of `value(pixel index)` from 0 to its largest value, in viridis.
-fn heat(work: &WorkTotals, value: impl Fn(usize) -> f32) -> (u32, u32, Vec<u8>) {
-    let n = work.width as usize * work.height as usize;
-    let values: Vec<f32> = (0..n).map(value).collect();
+/// A heat map of `value(pixel)` from 0 to its largest value, in viridis.
+fn heat(image: &Progressive, value: impl Fn(&PixelTotals) -> f32 + Sync) -> Vec<[u8; 4]> {
+    let mut values = vec![0.0f32; image.pixels().len()];
+    image.map_pixels(&mut values, |_, p| value(p));
     let top = values
         .iter()
         .copied()
         .fold(0.0f32, f32::max)
         .max(f32::MIN_POSITIVE);
-    let mut out = Vec::with_capacity(n * 4);
-    for v in values {
-        let [r, g, b] = viridis(v / top);
-        out.extend_from_slice(&[r, g, b, 255]);
-    }
-    (work.width, work.height, out)
+    values
+        .iter()
+        .map(|v| {
+            let [r, g, b] = viridis(v / top);
+            [r, g, b, 255]
+        })
+        .collect()
 }
 
 /// The PNG file of what the page shows: the image exactly as `prism render` writes it,
 /// or the view's heat map.
-pub(crate) fn png(source: &dyn FrameSource, view: View) -> Result<Vec<u8>, String> {
-    let (width, height, rgb) = match view {
-        View::Image => {
-            let film = source.film();
-            (film.width, film.height, prism_io::output::to_rgb8(&film))
-        }
+pub(crate) fn png(image: &Progressive, view: View) -> Result<Vec<u8>, String> {
+    let (width, height) = image.size();
+    let rgb = match view {
+        View::Image => prism_io::output::to_rgb8(&image.film()),
         _ => {
             let mut encoder = Encoder::new(Transfer::Srgb);
-            let (w, h, rgba) = rgba(source, view, &mut encoder);
-            (
-                w,
-                h,
-                rgba.chunks_exact(4)
-                    .flat_map(|p| [p[0], p[1], p[2]])
-                    .collect(),
-            )
+            let (_, _, rgba) = rgba(image, view, &mut encoder);
+            rgba.chunks_exact(4)
+                .flat_map(|p| [p[0], p[1], p[2]])
+                .collect()
         }
     };
     prism_io::output::png_rgb8_bytes(&rgb, width, height)

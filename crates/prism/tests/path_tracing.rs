@@ -10,6 +10,7 @@ use prism::integrator::Strategy;
 use prism::math::{Color, Vec3};
 use prism::options::{IntegratorKind, RenderOptions};
 use prism::render::{render, Film, Progressive};
+use prism::sampling::SamplerKind;
 use prism::scene::builtin;
 use prism::shading::{Bsdf, FresnelMode, Highlight, Material, Texture};
 use prism::Scene;
@@ -483,6 +484,52 @@ fn progressive_frames_continue_each_other_bit_for_bit() {
             .unwrap();
         assert_eq!(frames.samples(), 6);
         assert_eq!(frames.film(), once.film());
+    }
+}
+
+#[test]
+fn progressive_whitted_packets_give_every_sample_its_single_ray_value() {
+    // Packets of 8 × 8 camera rays (a band of 8 rows, blocks clipped at the 45th column
+    // and the 21st row) against one ray at a time: the same sums bit for bit, the same
+    // rays per pixel; the centre sampler puts every sample on the same point.
+    let scene = builtin::find("whitted").unwrap();
+    let prepared = scene.prepare(&scene.options.accel);
+    let cancel = AtomicBool::new(false);
+    for sampler in [SamplerKind::Jittered, SamplerKind::Centre] {
+        let run = |packets: bool, threads: usize| {
+            let options = RenderOptions {
+                width: 45,
+                height: 21,
+                threads,
+                packets,
+                sampler,
+                ..scene.options.clone()
+            };
+            let mut p = Progressive::new(45, 21).unwrap();
+            p.advance(&prepared, &options, 3, &cancel).unwrap();
+            p
+        };
+        let (packets, single) = (run(true, 2), run(false, 1));
+        assert_eq!(packets.film(), single.film(), "{sampler}");
+        let rays = |p: &Progressive| -> Vec<(u64, u64)> {
+            p.pixels().iter().map(|t| (t.camera_rays, t.rays)).collect()
+        };
+        assert_eq!(rays(&packets), rays(&single), "{sampler}");
+        assert!(packets.pixels().iter().all(|t| t.camera_rays == 3));
+        if sampler == SamplerKind::Centre {
+            // Three samples at the centre: three times one ray's radiance.
+            let options = RenderOptions {
+                width: 45,
+                height: 21,
+                sampler: SamplerKind::Grid,
+                samples: 1,
+                ..scene.options.clone()
+            };
+            let once = render(&prepared, &options, &|_| {}, &cancel).unwrap().film;
+            for (a, b) in packets.film().pixels.iter().zip(&once.pixels) {
+                assert!((*a - *b).abs().max_element() <= 1e-6 * b.max_element().max(1.0));
+            }
+        }
     }
 }
 

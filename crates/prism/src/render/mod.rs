@@ -20,7 +20,7 @@ pub use beam::{render_beam, BeamRender};
 pub use film::Film;
 pub use filter::{Filter, FilterKind};
 pub use memory::{estimate as memory_estimate, MemoryEstimate};
-pub use progressive::{Progressive, MAX_PROGRESSIVE_SAMPLES};
+pub use progressive::{PixelTotals, Progressive, MAX_PROGRESSIVE_SAMPLES};
 pub use rays::{PixelRays, RayCounts};
 
 use crate::camera::{CameraError, CameraRays};

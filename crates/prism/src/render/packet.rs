@@ -5,9 +5,10 @@
 //! per-pixel samplers trace blocks of pixels this way (`pixels.rs`), the corner pattern
 //! runs of lattice points along a row (`lattice.rs`).
 
-use super::rays::PixelRays;
+use super::rays::{PixelRays, RayMark};
 use super::Job;
 use crate::accel::PACKET_MAX;
+use crate::integrator::Whitted;
 use crate::math::{Color, Ray, Vec2};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
@@ -22,7 +23,6 @@ pub(super) fn trace_packet(
     rays: &mut [PixelRays],
     stats: &mut Stats,
 ) {
-    let n = at.len();
     // `Job::packets` is set only for the Whitted integrator.
     let Some(whitted) = job.integrator.whitted() else {
         for ((p, c), r) in at.iter().zip(colors.iter_mut()).zip(rays.iter_mut()) {
@@ -34,19 +34,33 @@ pub(super) fn trace_packet(
     };
     let camera_rays: ArrayVec<Ray, PACKET_MAX> =
         at.iter().map(|p| job.camera.ray(p.x, p.y)).collect();
+    trace_whitted_packet(whitted, &camera_rays, colors, rays, stats);
+}
+
+/// The Whitted part of `trace_packet`, for callers that make their own camera rays (at
+/// most `PACKET_MAX`): `colors[i]` is ray i's radiance, and `rays[i]` gains its rays and
+/// its even share of the packets' traversal.
+pub(super) fn trace_whitted_packet(
+    whitted: &Whitted,
+    camera_rays: &[Ray],
+    colors: &mut [Color],
+    rays: &mut [PixelRays],
+    stats: &mut Stats,
+) {
+    let n = camera_rays.len();
     let mut hits = [None; PACKET_MAX];
-    let before = *stats;
-    whitted.camera_hits(&camera_rays, &mut hits[..n], stats);
+    let before = RayMark::of(stats);
+    whitted.camera_hits(camera_rays, &mut hits[..n], stats);
     let mut rays_of = [0u32; PACKET_MAX];
     whitted.shade_camera_packet(
-        &camera_rays,
+        camera_rays,
         &hits[..n],
         &mut colors[..n],
         &mut rays_of,
         stats,
     );
     // Each ray counts in its own pixel; the traversal work is shared by the packet.
-    let shared = PixelRays::between(&before, stats);
+    let shared = PixelRays::since(before, stats);
     for (i, r) in rays[..n].iter_mut().enumerate() {
         let mut work = shared.share(i, n);
         work.total = 1 + rays_of[i];
