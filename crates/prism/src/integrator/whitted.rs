@@ -117,31 +117,47 @@ impl<'a> Whitted<'a> {
         for (ray, hit) in rays.iter().zip(hits) {
             surfaces.push(hit.map(|h| self.surface(ray, h, depth, stats)));
         }
-        // Per light answered as packets, each ray's answer.
-        let mut answered: Vec<Option<ShadowAnswers>> = vec![None; scene.lights.len()];
+        // Local illumination as `local` sums it, light by light: each light's shadow rays
+        // go as one packet where the shadow method lets the accelerator answer them.
+        for (i, surface) in surfaces.iter().enumerate() {
+            colors[i] = match surface {
+                None => scene.background,
+                Some(s) => self.own_radiance(s),
+            };
+        }
         let mut batch = Batch::new();
-        let mut blocked = [false; PACKET_MAX];
-        let mut seen = [Color::ZERO; PACKET_MAX];
+        let mut lit: ArrayVec<(usize, LightSample), PACKET_MAX> = ArrayVec::new();
         for (index, light) in scene.lights.iter().enumerate() {
+            lit.clear();
+            for (i, surface) in surfaces.iter().enumerate() {
+                if let Some(ls) = surface.as_ref().and_then(|s| self.light_sample(s, light)) {
+                    lit.push((i, ls));
+                }
+            }
+            let surface = |i: usize| surfaces[i].as_ref().expect("lit surfaces exist");
             if !self.shadows.answers_packets(index) {
+                for &(i, ls) in &lit {
+                    let s = surface(i);
+                    let before = stats.total_rays();
+                    let seen = (self.shadows).visibility(index, depth, &s.sp, s.ng, &ls, stats);
+                    rays_of[owners[i]] += (stats.total_rays() - before) as u32;
+                    colors[i] += self.light_term(s, &ls, seen);
+                }
                 continue;
             }
             batch.clear();
-            for (i, surface) in surfaces.iter().enumerate() {
-                let Some(surface) = surface else { continue };
-                let Some(ls) = self.light_sample(surface, light) else {
-                    continue;
-                };
+            for &(i, ls) in &lit {
+                let s = surface(i);
                 // The ray `Shadows::visibility` casts.
-                let origin =
-                    offset_ray_origin(surface.sp.p, surface.sp.p_error, surface.ng, ls.to_light);
+                let origin = offset_ray_origin(s.sp.p, s.sp.p_error, s.ng, ls.to_light);
                 batch.push(i, Ray::new(origin, ls.to_light), ls.distance);
                 rays_of[owners[i]] += 1;
             }
             let m = batch.rays.len();
             // With transparent surfaces the packet walks through them; otherwise whether
-            // anything blocks the ray settles it.
-            answered[index] = Some(if self.scene.has_transmissive {
+            // anything blocks the ray settles it (a blocked ray sees nothing).
+            let mut seen = [Color::ONE; PACKET_MAX];
+            if self.scene.has_transmissive {
                 let mut segments = [0u32; PACKET_MAX];
                 self.shadows.transmittance_packet(
                     &batch.rays,
@@ -150,44 +166,21 @@ impl<'a> Whitted<'a> {
                     &mut segments[..m],
                     stats,
                 );
-                let mut of_ray = [Color::ZERO; PACKET_MAX];
-                for (k, &i) in batch.from.iter().enumerate() {
-                    of_ray[i] = seen[k];
-                    rays_of[owners[i]] += segments[k];
+                for (&(i, _), &n) in lit.iter().zip(&segments[..m]) {
+                    rays_of[owners[i]] += n;
                 }
-                ShadowAnswers::Seen(of_ray)
             } else {
-                self.shadows
-                    .blocked_packet(&batch.rays, &batch.t_max, &mut blocked[..m], stats);
-                let mut of_ray = [false; PACKET_MAX];
-                for (k, &i) in batch.from.iter().enumerate() {
-                    of_ray[i] = blocked[k];
+                let mut blocked = [false; PACKET_MAX];
+                (self.shadows).blocked_packet(&batch.rays, &batch.t_max, &mut blocked[..m], stats);
+                for (seen, &b) in seen.iter_mut().zip(&blocked[..m]) {
+                    if b {
+                        *seen = Color::ZERO;
+                    }
                 }
-                ShadowAnswers::Blocked(of_ray)
-            });
-        }
-        for (i, surface) in surfaces.iter().enumerate() {
-            let before = stats.total_rays();
-            colors[i] = match surface {
-                None => scene.background,
-                Some(surface) => {
-                    self.local(surface, stats, |index, ls, stats| match &answered[index] {
-                        Some(ShadowAnswers::Blocked(of_ray)) if !of_ray[i] => Color::ONE,
-                        // Without transparent surfaces a blocked ray sees nothing.
-                        Some(ShadowAnswers::Blocked(_)) => Color::ZERO,
-                        Some(ShadowAnswers::Seen(of_ray)) => of_ray[i],
-                        None => self.shadows.visibility(
-                            index,
-                            depth,
-                            &surface.sp,
-                            surface.ng,
-                            ls,
-                            stats,
-                        ),
-                    })
-                }
-            };
-            rays_of[owners[i]] += (stats.total_rays() - before) as u32;
+            }
+            for (&(i, ls), &seen) in lit.iter().zip(&seen[..m]) {
+                colors[i] += self.light_term(surface(i), &ls, seen);
+            }
         }
         if depth >= self.max_depth {
             return;
@@ -412,34 +405,45 @@ impl<'a> Whitted<'a> {
         stats: &mut Stats,
         mut visibility: impl FnMut(usize, &LightSample, &mut Stats) -> Color,
     ) -> Color {
-        let scene = self.scene.scene;
+        let mut radiance = self.own_radiance(surface);
+        for (index, light) in self.scene.scene.lights.iter().enumerate() {
+            let Some(ls) = self.light_sample(surface, light) else {
+                continue;
+            };
+            let visibility = visibility(index, &ls, stats);
+            radiance += self.light_term(surface, &ls, visibility);
+        }
+        radiance
+    }
+
+    /// The surface's own radiance: ambient light, and the emission of an area light (which
+    /// Whitted's shadow rays do not sample; the path tracer does).
+    fn own_radiance(&self, surface: &Surface) -> Color {
+        let material = surface.material;
+        let mut radiance = material.ambient * surface.color * self.scene.scene.ambient;
+        if surface.entering && material.is_emissive() {
+            radiance += material.emission;
+        }
+        radiance
+    }
+
+    /// Diffuse light and highlight from one light sample that reaches the surface with
+    /// `visibility` (zero when nothing gets through).
+    #[inline]
+    fn light_term(&self, surface: &Surface, ls: &LightSample, visibility: Color) -> Color {
+        if visibility.max_element() <= 0.0 {
+            return Color::ZERO;
+        }
         let Surface {
             material,
             color,
             ns,
             to_eye,
-            entering,
             ..
         } = *surface;
-        let mut radiance = material.ambient * color * scene.ambient;
-        // An area light shows its own radiance; Whitted's shadow rays do not sample it
-        // (the path tracer does).
-        if entering && material.is_emissive() {
-            radiance += material.emission;
-        }
-        for (index, light) in scene.lights.iter().enumerate() {
-            let Some(ls) = self.light_sample(surface, light) else {
-                continue;
-            };
-            let visibility = visibility(index, &ls, stats);
-            if visibility.max_element() <= 0.0 {
-                continue;
-            }
-            let diffuse = material.diffuse * ns.dot(ls.to_light).max(0.0) * color;
-            let highlight = material.highlight_term(ns, ls.to_light, to_eye);
-            radiance += visibility * ls.color * (diffuse + Color::splat(highlight));
-        }
-        radiance
+        let diffuse = material.diffuse * ns.dot(ls.to_light).max(0.0) * color;
+        let highlight = material.highlight_term(ns, ls.to_light, to_eye);
+        visibility * ls.color * (diffuse + Color::splat(highlight))
     }
 
     /// Adds the reflected and refracted rays' radiance to `radiance`, the surface's own.
@@ -557,14 +561,3 @@ impl Batch {
 /// The deepest level of the ray tree traced as packets; deeper rays go on one by one,
 /// since every level of packets keeps a few kilobytes on the stack.
 const PACKET_DEPTH: u32 = 8;
-
-/// A light's shadow rays answered as a packet: in a scene without transparent surfaces
-/// whether each is blocked, otherwise the fraction of the light each one sees.
-/// (Kept inline, not boxed: one per light in a packet's list, and the list is the only
-/// allocation of a depth.)
-#[allow(clippy::large_enum_variant)]
-#[derive(Clone, Copy)]
-enum ShadowAnswers {
-    Blocked([bool; PACKET_MAX]),
-    Seen([Color; PACKET_MAX]),
-}

@@ -1,0 +1,75 @@
+//! Frames of the live viewer without the viewer: `Progressive::advance` of one sample per
+//! pixel on a built-in scene, timed per frame in wall-clock and process CPU time, so the
+//! engine's part of the viewer's frame rate can be measured (and compared between builds)
+//! on its own. `bench/serve.sh` measures the whole viewer.
+//!
+//! cargo run --release -p prism --example progressive_frames -- [SCENE] [WIDTHxHEIGHT] [FRAMES] [THREADS]
+
+use prism::render::Progressive;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+/// Process CPU time in seconds (user + system, every thread).
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    // Fields after the command name (which may hold spaces) start after the last ')'.
+    let fields: Vec<&str> = stat
+        .rsplit_once(')')
+        .map_or(vec![], |(_, r)| r.split_whitespace().collect());
+    let ticks = |i: usize| {
+        fields
+            .get(i)
+            .and_then(|v| v.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    // utime and stime are fields 14 and 15 of the whole line: 12 and 13 after the name.
+    (ticks(11) + ticks(12)) / 100.0
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let name = args.first().map_or("whitted", String::as_str);
+    let (width, height) = args
+        .get(1)
+        .and_then(|r| r.split_once('x'))
+        .map_or((640, 360), |(w, h)| {
+            (w.parse().unwrap(), h.parse().unwrap())
+        });
+    let frames: usize = args.get(2).map_or(40, |s| s.parse().unwrap());
+    let threads: usize = args.get(3).map_or(0, |s| s.parse().unwrap());
+    let scene = prism::scene::builtin::find(name).expect("a built-in scene");
+    let options = prism::RenderOptions {
+        width,
+        height,
+        threads,
+        sampler: prism::sampling::SamplerKind::Jittered,
+        ..scene.options.clone()
+    };
+    let prepared = scene.prepare(&options.accel);
+    let mut p = Progressive::new(width, height).unwrap();
+    let cancel = AtomicBool::new(false);
+    let (mut walls, mut cpus) = (Vec::new(), Vec::new());
+    let mut rays = 0;
+    for _ in 0..frames {
+        let (w0, c0) = (Instant::now(), cpu_seconds());
+        rays = p
+            .advance(&prepared, &options, 1, &cancel)
+            .unwrap()
+            .total_rays();
+        walls.push(w0.elapsed().as_secs_f64());
+        cpus.push(cpu_seconds() - c0);
+    }
+    let (wall, cpu) = (median(walls), cpus.iter().sum::<f64>() / frames as f64);
+    println!(
+        "{name} {width}x{height}, {frames} frames, threads {threads}: wall {:.1} ms a frame (median), CPU {:.1} ms a frame (mean), {:.1} frames/s, {rays} rays a frame, {:.2} Mrays per CPU-s",
+        wall * 1e3,
+        cpu * 1e3,
+        1.0 / wall,
+        rays as f64 / cpu / 1e6
+    );
+}
