@@ -169,3 +169,45 @@ fn grey_transmission_is_a_grey_filter() {
     // Two faces of the box: 0.5².
     assert_close(number, Color::splat(0.25), "grey box");
 }
+
+#[test]
+fn shadow_rays_go_only_where_the_light_adds_something() {
+    // The Whitted scene's glass has no diffuse term and a highlight of exponent 200, which
+    // is exactly zero away from the mirror direction: its shadow rays there could change
+    // nothing, so they are not cast. SPD's rules cast them (and count them); with every
+    // branch traced (min_weight 0) the two rule sets trace the same camera, reflected and
+    // refracted rays, so the images must be equal bit for bit, with fewer shadow rays.
+    let scene = prism::scene::builtin::find("whitted").unwrap();
+    let prepared = scene.prepare(&scene.options.accel);
+    for packets in [true, false] {
+        let run = |spd_rules: bool| {
+            let options = prism::RenderOptions {
+                width: 64,
+                height: 36,
+                threads: 1,
+                min_weight: 0.0,
+                spd_rules,
+                packets,
+                ..scene.options.clone()
+            };
+            render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap()
+        };
+        let (skipping, casting) = (run(false), run(true));
+        assert_eq!(
+            skipping.film.pixels, casting.film.pixels,
+            "packets {packets}"
+        );
+        let (s, c) = (&skipping.stats, &casting.stats);
+        assert_eq!(
+            (s.primary_rays, s.reflected_rays, s.refracted_rays),
+            (c.primary_rays, c.reflected_rays, c.refracted_rays)
+        );
+        assert!(
+            s.shadow_rays < c.shadow_rays * 9 / 10,
+            "packets {packets}: {} shadow rays against {}",
+            s.shadow_rays,
+            c.shadow_rays
+        );
+        assert!(s.shadow_rays > 0);
+    }
+}

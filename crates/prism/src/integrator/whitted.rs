@@ -126,27 +126,28 @@ impl<'a> Whitted<'a> {
             };
         }
         let mut batch = Batch::new();
-        let mut lit: ArrayVec<(usize, LightSample), PACKET_MAX> = ArrayVec::new();
+        let mut lit: ArrayVec<(usize, LightSample, Color), PACKET_MAX> = ArrayVec::new();
         for (index, light) in scene.lights.iter().enumerate() {
             lit.clear();
             for (i, surface) in surfaces.iter().enumerate() {
-                if let Some(ls) = surface.as_ref().and_then(|s| self.light_sample(s, light)) {
-                    lit.push((i, ls));
+                let Some(s) = surface else { continue };
+                if let Some((ls, reflected)) = self.lit_by(s, light) {
+                    lit.push((i, ls, reflected));
                 }
             }
             let surface = |i: usize| surfaces[i].as_ref().expect("lit surfaces exist");
             if !self.shadows.answers_packets(index) {
-                for &(i, ls) in &lit {
+                for &(i, ls, reflected) in &lit {
                     let s = surface(i);
                     let before = stats.total_rays();
                     let seen = (self.shadows).visibility(index, depth, &s.sp, s.ng, &ls, stats);
                     rays_of[owners[i]] += (stats.total_rays() - before) as u32;
-                    colors[i] += self.light_term(s, &ls, seen);
+                    colors[i] += light_term(&ls, reflected, seen);
                 }
                 continue;
             }
             batch.clear();
-            for &(i, ls) in &lit {
+            for &(i, ls, _) in &lit {
                 let s = surface(i);
                 // The ray `Shadows::visibility` casts.
                 let origin = offset_ray_origin(s.sp.p, s.sp.p_error, s.ng, ls.to_light);
@@ -166,7 +167,7 @@ impl<'a> Whitted<'a> {
                     &mut segments[..m],
                     stats,
                 );
-                for (&(i, _), &n) in lit.iter().zip(&segments[..m]) {
+                for (&(i, _, _), &n) in lit.iter().zip(&segments[..m]) {
                     rays_of[owners[i]] += n;
                 }
             } else {
@@ -178,8 +179,8 @@ impl<'a> Whitted<'a> {
                     }
                 }
             }
-            for (&(i, ls), &seen) in lit.iter().zip(&seen[..m]) {
-                colors[i] += self.light_term(surface(i), &ls, seen);
+            for (&(i, ls, reflected), &seen) in lit.iter().zip(&seen[..m]) {
+                colors[i] += light_term(&ls, reflected, seen);
             }
         }
         if depth >= self.max_depth {
@@ -407,11 +408,11 @@ impl<'a> Whitted<'a> {
     ) -> Color {
         let mut radiance = self.own_radiance(surface);
         for (index, light) in self.scene.scene.lights.iter().enumerate() {
-            let Some(ls) = self.light_sample(surface, light) else {
+            let Some((ls, reflected)) = self.lit_by(surface, light) else {
                 continue;
             };
             let visibility = visibility(index, &ls, stats);
-            radiance += self.light_term(surface, &ls, visibility);
+            radiance += light_term(&ls, reflected, visibility);
         }
         radiance
     }
@@ -427,13 +428,16 @@ impl<'a> Whitted<'a> {
         radiance
     }
 
-    /// Diffuse light and highlight from one light sample that reaches the surface with
-    /// `visibility` (zero when nothing gets through).
+    /// Whether `light` needs a shadow ray from `surface`: its sample, and the fraction of
+    /// it the surface sends to the eye (diffuse plus highlight), where the light is in
+    /// front of the surface (SPD rule 10) and that fraction is not exactly zero. A zero
+    /// fraction (a glass's highlight far from the mirror direction underflows to 0, a
+    /// surface without diffuse or highlight) adds nothing however much light gets
+    /// through, so its shadow ray is not cast; SPD's rules count every shadow ray, so
+    /// under them it is.
     #[inline]
-    fn light_term(&self, surface: &Surface, ls: &LightSample, visibility: Color) -> Color {
-        if visibility.max_element() <= 0.0 {
-            return Color::ZERO;
-        }
+    fn lit_by(&self, surface: &Surface, light: &Light) -> Option<(LightSample, Color)> {
+        let ls = self.light_sample(surface, light)?;
         let Surface {
             material,
             color,
@@ -443,7 +447,8 @@ impl<'a> Whitted<'a> {
         } = *surface;
         let diffuse = material.diffuse * ns.dot(ls.to_light).max(0.0) * color;
         let highlight = material.highlight_term(ns, ls.to_light, to_eye);
-        visibility * ls.color * (diffuse + Color::splat(highlight))
+        let reflected = diffuse + Color::splat(highlight);
+        (self.spd_rules || reflected != Color::ZERO).then_some((ls, reflected))
     }
 
     /// Adds the reflected and refracted rays' radiance to `radiance`, the surface's own.
@@ -561,3 +566,13 @@ impl Batch {
 /// The deepest level of the ray tree traced as packets; deeper rays go on one by one,
 /// since every level of packets keeps a few kilobytes on the stack.
 const PACKET_DEPTH: u32 = 8;
+
+/// The light a sample adds to a surface that reflects `reflected` of it towards the eye,
+/// when `visibility` of it gets through (nothing when none does).
+#[inline]
+fn light_term(ls: &LightSample, reflected: Color, visibility: Color) -> Color {
+    if visibility.max_element() <= 0.0 {
+        return Color::ZERO;
+    }
+    visibility * ls.color * reflected
+}
