@@ -326,9 +326,11 @@ impl Engine {
             view: self.view.name().into(),
             converged: self.converged(),
         };
+        // Counted before it is sent: a page that has the frame must find it counted (the
+        // other order let a test's client see the frame while the count still lagged).
+        self.shared.frames.fetch_add(1, Ordering::SeqCst);
         self.frames_tx
             .send_replace(Some(protocol::binary(&header, rgba).into()));
-        self.shared.frames.fetch_add(1, Ordering::SeqCst);
     }
 
     /// The current accumulation again, as it is (after a change of view).
