@@ -48,7 +48,8 @@ impl Encoder {
 }
 
 /// The RGBA bytes of what `view` shows of `image`. `encoder` is replaced when the image's
-/// transfer differs from its own. Every step runs in parallel on the render's threads.
+/// transfer differs from its own. The image's encoding runs on the render's threads; a
+/// heat map reads its values there and scales and colours them in one pass here.
 pub(crate) fn rgba(image: &Progressive, view: View, encoder: &mut Encoder) -> (u32, u32, Vec<u8>) {
     let (width, height) = image.size();
     let frames = image.samples().max(1) as u64;

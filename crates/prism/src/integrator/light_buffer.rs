@@ -301,12 +301,6 @@ struct Face {
     base: u32,
 }
 
-/// What a buffer is built around.
-enum Source {
-    Point(Vec3),
-    Parallel(ParallelGrid),
-}
-
 /// How a buffer's cells map the rays' directions or lines.
 #[derive(Clone, Copy, Debug)]
 enum Projection {
@@ -437,10 +431,20 @@ impl LightBuffer {
         params: &BufferParams,
     ) -> Result<LightBuffer, Unbuilt> {
         let l = light.as_dvec3();
-        Self::build_over(intersector, params, Source::Point(light), |b| {
+        let print = |b| {
             let (lo, hi) = relative_box(b, l);
             let prints = std::array::from_fn(|face| footprint(face, lo, hi));
             (prints, Some(near_distance(lo, hi)))
+        };
+        Self::build_over(intersector, params, print, |near_first, near_rest| {
+            let half = near_first * FOOTPRINT_SLACK / 8.0;
+            Projection::Point(PointLight {
+                light: l,
+                light_f32: light,
+                quick: (half * half * 0.99) as f32,
+                near_first,
+                near_rest,
+            })
         })
     }
 
@@ -468,21 +472,25 @@ impl LightBuffer {
             axes,
             start_limit: (PARALLEL_START as f64 * reach) as f32,
         };
-        Self::build_over(intersector, params, Source::Parallel(grid), |b| {
+        let print = |b| {
             let mut prints = [None; 6];
             prints[0] = Some(parallel_footprint(b, axes64, slack));
             (prints, None)
+        };
+        Self::build_over(intersector, params, print, |_, _| {
+            Projection::Parallel(grid)
         })
     }
 
     /// The cells and entry nodes of a buffer whose subtree boxes `print` maps to their
     /// footprints on the six faces and, around a point light, their nearest distance from
-    /// it.
+    /// it; `projection` makes the lookup from the nearest leaf's distance and that of the
+    /// first leaf left out of the near node (infinite without distances).
     fn build_over(
         intersector: &SceneIntersector,
         params: &BufferParams,
-        source: Source,
         print: impl Fn(Aabb) -> ([Option<[f64; 4]>; 6], Option<f32>),
+        projection: impl FnOnce(f64, f64) -> Projection,
     ) -> Result<LightBuffer, Unbuilt> {
         let start = Instant::now();
         let bvh = intersector.accel.as_bvh().ok_or(Unbuilt::NotBvh)?;
@@ -598,19 +606,7 @@ impl LightBuffer {
             }
         });
         let filled = (cell_count - 1).max(1) as f64;
-        let projection = match source {
-            Source::Point(light) => {
-                let half = near_first * FOOTPRINT_SLACK / 8.0;
-                Projection::Point(PointLight {
-                    light: light.as_dvec3(),
-                    light_f32: light,
-                    quick: (half * half * 0.99) as f32,
-                    near_first,
-                    near_rest,
-                })
-            }
-            Source::Parallel(grid) => Projection::Parallel(grid),
-        };
+        let projection = projection(near_first, near_rest);
         Ok(LightBuffer {
             projection,
             res,

@@ -301,7 +301,9 @@ impl Pass<'_, '_> {
         };
         // Blocks of PACKET_EDGE × PACKET_EDGE pixels, one packet per sample index; each
         // pixel still adds its samples in index order.
-        let mut block: arrayvec::ArrayVec<usize, PACKET_MAX> = arrayvec::ArrayVec::new();
+        // Per pixel of the block: its index in the band and its position.
+        let mut block: arrayvec::ArrayVec<(usize, u32, u32), PACKET_MAX> =
+            arrayvec::ArrayVec::new();
         let mut rays: arrayvec::ArrayVec<Ray, PACKET_MAX> = arrayvec::ArrayVec::new();
         let mut colors = [Color::ZERO; PACKET_MAX];
         let mut work = [PixelRays::default(); PACKET_MAX];
@@ -309,20 +311,19 @@ impl Pass<'_, '_> {
             block.clear();
             for dy in 0..rows {
                 for x in bx..(bx + PACKET_EDGE).min(self.width) {
-                    block.push(dy as usize * width + x as usize);
+                    block.push((dy as usize * width + x as usize, x, y0 + dy));
                 }
             }
             let n = block.len();
             for i in self.samples.clone() {
                 rays.clear();
-                for &k in &block {
-                    let (x, y) = ((k % width) as u32, y0 + (k / width) as u32);
+                for &(_, x, y) in &block {
                     let (at, _) = self.sample(x, y, i);
                     rays.push(self.camera.ray(at.x, at.y));
                 }
                 work[..n].fill(PixelRays::default());
                 trace_whitted_packet(whitted, &rays, &mut colors[..n], &mut work[..n], stats);
-                for (j, &k) in block.iter().enumerate() {
+                for (j, &(k, _, _)) in block.iter().enumerate() {
                     band[k].add(colors[j], work[j]);
                 }
             }
