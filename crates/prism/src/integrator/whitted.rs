@@ -126,7 +126,7 @@ impl<'a> Whitted<'a> {
             };
         }
         let mut batch = Batch::new();
-        let mut lit: ArrayVec<(usize, LightSample, Color), PACKET_MAX> = ArrayVec::new();
+        let mut lit: ArrayVec<(usize, LightSample, Reflected), PACKET_MAX> = ArrayVec::new();
         for (index, light) in scene.lights.iter().enumerate() {
             lit.clear();
             for (i, surface) in surfaces.iter().enumerate() {
@@ -142,7 +142,7 @@ impl<'a> Whitted<'a> {
                     let before = stats.total_rays();
                     let seen = (self.shadows).visibility(index, depth, &s.sp, s.ng, &ls, stats);
                     rays_of[owners[i]] += (stats.total_rays() - before) as u32;
-                    colors[i] += light_term(&ls, reflected, seen);
+                    colors[i] += self.light_term(s, &ls, reflected, seen);
                 }
                 continue;
             }
@@ -180,7 +180,7 @@ impl<'a> Whitted<'a> {
                 }
             }
             for (&(i, ls, reflected), &seen) in lit.iter().zip(&seen[..m]) {
-                colors[i] += light_term(&ls, reflected, seen);
+                colors[i] += self.light_term(surface(i), &ls, reflected, seen);
             }
         }
         if depth >= self.max_depth {
@@ -412,7 +412,7 @@ impl<'a> Whitted<'a> {
                 continue;
             };
             let visibility = visibility(index, &ls, stats);
-            radiance += light_term(&ls, reflected, visibility);
+            radiance += self.light_term(surface, &ls, reflected, visibility);
         }
         radiance
     }
@@ -428,15 +428,16 @@ impl<'a> Whitted<'a> {
         radiance
     }
 
-    /// Whether `light` needs a shadow ray from `surface`: its sample, and the fraction of
-    /// it the surface sends to the eye (diffuse plus highlight), where the light is in
-    /// front of the surface (SPD rule 10) and that fraction is not exactly zero. A zero
-    /// fraction (a glass's highlight far from the mirror direction underflows to 0, a
-    /// surface without diffuse or highlight) adds nothing however much light gets
-    /// through, so its shadow ray is not cast; SPD's rules count every shadow ray, so
-    /// under them it is.
+    /// Whether `light` needs a shadow ray from `surface`: its sample, and what is known of
+    /// the fraction of it the surface sends to the eye (diffuse plus highlight), where the
+    /// light is in front of the surface (SPD rule 10) and that fraction is not exactly
+    /// zero. A zero fraction (a glass's highlight far from the mirror direction underflows
+    /// to 0, a surface without diffuse or highlight) adds nothing however much light gets
+    /// through, so its shadow ray is not cast; SPD's rules count every shadow ray, so under
+    /// them it is. The highlight (a power function) is only worked out here where the
+    /// diffuse term is zero; elsewhere it waits until the light is seen to get through.
     #[inline]
-    fn lit_by(&self, surface: &Surface, light: &Light) -> Option<(LightSample, Color)> {
+    fn lit_by(&self, surface: &Surface, light: &Light) -> Option<(LightSample, Reflected)> {
         let ls = self.light_sample(surface, light)?;
         let Surface {
             material,
@@ -446,9 +447,42 @@ impl<'a> Whitted<'a> {
             ..
         } = *surface;
         let diffuse = material.diffuse * ns.dot(ls.to_light).max(0.0) * color;
+        if self.spd_rules || diffuse != Color::ZERO {
+            return Some((
+                ls,
+                Reflected {
+                    diffuse,
+                    highlight: None,
+                },
+            ));
+        }
         let highlight = material.highlight_term(ns, ls.to_light, to_eye);
-        let reflected = diffuse + Color::splat(highlight);
-        (self.spd_rules || reflected != Color::ZERO).then_some((ls, reflected))
+        (highlight != 0.0).then_some((
+            ls,
+            Reflected {
+                diffuse,
+                highlight: Some(highlight),
+            },
+        ))
+    }
+
+    /// The light a sample adds to `surface`, which reflects `reflected` of it towards the
+    /// eye, when `visibility` of it gets through (nothing when none does).
+    #[inline]
+    fn light_term(
+        &self,
+        surface: &Surface,
+        ls: &LightSample,
+        reflected: Reflected,
+        visibility: Color,
+    ) -> Color {
+        if visibility.max_element() <= 0.0 {
+            return Color::ZERO;
+        }
+        let highlight = reflected.highlight.unwrap_or_else(|| {
+            (surface.material).highlight_term(surface.ns, ls.to_light, surface.to_eye)
+        });
+        visibility * ls.color * (reflected.diffuse + Color::splat(highlight))
     }
 
     /// Adds the reflected and refracted rays' radiance to `radiance`, the surface's own.
@@ -567,12 +601,10 @@ impl Batch {
 /// since every level of packets keeps a few kilobytes on the stack.
 const PACKET_DEPTH: u32 = 8;
 
-/// The light a sample adds to a surface that reflects `reflected` of it towards the eye,
-/// when `visibility` of it gets through (nothing when none does).
-#[inline]
-fn light_term(ls: &LightSample, reflected: Color, visibility: Color) -> Color {
-    if visibility.max_element() <= 0.0 {
-        return Color::ZERO;
-    }
-    visibility * ls.color * reflected
+/// What a surface reflects of a light sample towards the eye: its diffuse term, and its
+/// highlight where `Whitted::lit_by` had to work it out.
+#[derive(Clone, Copy)]
+struct Reflected {
+    diffuse: Color,
+    highlight: Option<f32>,
 }
