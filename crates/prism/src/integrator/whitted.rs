@@ -113,31 +113,41 @@ impl<'a> Whitted<'a> {
     ) {
         let scene = self.scene.scene;
         let Tree { owners, rays_of } = tree;
-        let mut surfaces: ArrayVec<Option<Surface>, PACKET_MAX> = ArrayVec::new();
-        for (ray, hit) in rays.iter().zip(hits) {
-            surfaces.push(hit.map(|h| self.surface(ray, h, depth, stats)));
-        }
-        // Local illumination as `local` sums it, light by light: each light's shadow rays
-        // go as one packet where the shadow method lets the accelerator answer them.
-        for (i, surface) in surfaces.iter().enumerate() {
-            colors[i] = match surface {
+        let n = rays.len();
+        // Per lane: its surface (where `hit_lanes` has its bit), written in place. Copies
+        // of these 120-byte structs, pushed through `Option` and `ArrayVec`, were a tenth
+        // of a viewer frame (stores forwarded into wider loads that stalled).
+        let mut surfaces = [None::<Surface>; PACKET_MAX];
+        for (i, (ray, hit)) in rays.iter().zip(hits).enumerate() {
+            colors[i] = match hit {
                 None => scene.background,
-                Some(s) => self.own_radiance(s),
+                Some(h) => {
+                    let s = surfaces[i].insert(self.surface(ray, *h, depth, stats));
+                    self.own_radiance(s)
+                }
             };
         }
+        let surfaces = &surfaces[..n];
+        let surface = |i: usize| surfaces[i].as_ref().expect("lit surfaces exist");
+        // Local illumination as `local` sums it, light by light: each light's shadow rays
+        // go as one packet where the shadow method lets the accelerator answer them.
         let mut batch = Batch::new();
-        let mut lit: ArrayVec<(usize, LightSample, Reflected), PACKET_MAX> = ArrayVec::new();
+        // The surfaces a light reaches (`lit_by`), in lane order, and its sample there.
+        let mut lit: ArrayVec<u8, PACKET_MAX> = ArrayVec::new();
+        let mut samples = [None::<(LightSample, Reflected)>; PACKET_MAX];
         for (index, light) in scene.lights.iter().enumerate() {
             lit.clear();
-            for (i, surface) in surfaces.iter().enumerate() {
-                let Some(s) = surface else { continue };
-                if let Some((ls, reflected)) = self.lit_by(s, light) {
-                    lit.push((i, ls, reflected));
+            for (i, s) in surfaces.iter().enumerate() {
+                let Some(s) = s else { continue };
+                if let Some(sample) = self.lit_by(s, light) {
+                    samples[i] = Some(sample);
+                    lit.push(i as u8);
                 }
             }
-            let surface = |i: usize| surfaces[i].as_ref().expect("lit surfaces exist");
+            let sample = |i: usize| samples[i].expect("lit surfaces have samples");
             if !self.shadows.answers_packets(index) {
-                for &(i, ls, reflected) in &lit {
+                for &i in &lit {
+                    let (i, (ls, reflected)) = (usize::from(i), sample(usize::from(i)));
                     let s = surface(i);
                     let before = stats.total_rays();
                     let seen = (self.shadows).visibility(index, depth, &s.sp, s.ng, &ls, stats);
@@ -147,8 +157,9 @@ impl<'a> Whitted<'a> {
                 continue;
             }
             batch.clear();
-            for &(i, ls, _) in &lit {
-                let s = surface(i);
+            for &i in &lit {
+                let i = usize::from(i);
+                let (s, (ls, _)) = (surface(i), sample(i));
                 // The ray `Shadows::visibility` casts.
                 let origin = offset_ray_origin(s.sp.p, s.sp.p_error, s.ng, ls.to_light);
                 batch.push(i, Ray::new(origin, ls.to_light), ls.distance);
@@ -167,8 +178,8 @@ impl<'a> Whitted<'a> {
                     &mut segments[..m],
                     stats,
                 );
-                for (&(i, _, _), &n) in lit.iter().zip(&segments[..m]) {
-                    rays_of[owners[i]] += n;
+                for (&i, &n) in lit.iter().zip(&segments[..m]) {
+                    rays_of[owners[usize::from(i)]] += n;
                 }
             } else {
                 let mut blocked = [false; PACKET_MAX];
@@ -179,7 +190,8 @@ impl<'a> Whitted<'a> {
                     }
                 }
             }
-            for (&(i, ls, reflected), &seen) in lit.iter().zip(&seen[..m]) {
+            for (&i, &seen) in lit.iter().zip(&seen[..m]) {
+                let (i, (ls, reflected)) = (usize::from(i), sample(usize::from(i)));
                 colors[i] += self.light_term(surface(i), &ls, reflected, seen);
             }
         }
@@ -188,13 +200,11 @@ impl<'a> Whitted<'a> {
         }
 
         // The recursive terms, as `recurse` decides them, reflected rays first.
-        let mut split: ArrayVec<Option<(crate::shading::SpecularWeights, f32)>, PACKET_MAX> =
-            ArrayVec::new();
+        let mut split = [None::<(crate::shading::SpecularWeights, f32)>; PACKET_MAX];
         batch.clear();
         let mut next_weights: ArrayVec<Color, PACKET_MAX> = ArrayVec::new();
         for (i, surface) in surfaces.iter().enumerate() {
             let Some(s) = surface else {
-                split.push(None);
                 continue;
             };
             let eta = if s.entering {
@@ -217,7 +227,7 @@ impl<'a> Whitted<'a> {
                 batch.push(i, Ray::new(origin, dir), f32::INFINITY);
                 next_weights.push(weights[i] * w_reflect);
             }
-            split.push(Some((w, eta)));
+            split[i] = Some((w, eta));
         }
         self.trace_batch(
             &batch,
@@ -364,7 +374,9 @@ impl<'a> Whitted<'a> {
     }
 
     /// What shading needs of a hit: the surface point, its normals facing the incoming
-    /// ray, the material and its colour there.
+    /// ray, the material and its colour there. Inlined so that the packet loop builds the
+    /// surface in its slot rather than copying it there from a return value.
+    #[inline(always)]
     fn surface(&self, ray: &Ray, hit: Hit, depth: u32, stats: &mut Stats) -> Surface<'a> {
         let scene = self.scene.scene;
         if depth == 1 {
