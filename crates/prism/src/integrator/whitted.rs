@@ -446,8 +446,9 @@ impl<'a> Whitted<'a> {
     /// zero. A zero fraction (a glass's highlight far from the mirror direction underflows
     /// to 0, a surface without diffuse or highlight) adds nothing however much light gets
     /// through, so its shadow ray is not cast; SPD's rules count every shadow ray, so under
-    /// them it is. The highlight (a power function) is only worked out here where the
-    /// diffuse term is zero; elsewhere it waits until the light is seen to get through.
+    /// them it is. Where the diffuse term is zero, whether the highlight is zero is
+    /// decided here, mostly from bounds (`Material::highlight_unless_nonzero`); its value,
+    /// a power function, waits until the light is seen to get through.
     #[inline]
     fn lit_by(&self, surface: &Surface, light: &Light) -> Option<(LightSample, Reflected)> {
         let ls = self.light_sample(surface, light)?;
@@ -468,14 +469,10 @@ impl<'a> Whitted<'a> {
                 },
             ));
         }
-        let highlight = material.highlight_term(ns, ls.to_light, to_eye);
-        (highlight != 0.0).then_some((
-            ls,
-            Reflected {
-                diffuse,
-                highlight: Some(highlight),
-            },
-        ))
+        // Whether the highlight is zero, mostly decided without its power (then worked
+        // out later, where the light is seen to get through, as for other surfaces).
+        let highlight = material.highlight_unless_nonzero(ns, ls.to_light, to_eye);
+        (highlight != Some(0.0)).then_some((ls, Reflected { diffuse, highlight }))
     }
 
     /// The light a sample adds to `surface`, which reflects `reflected` of it towards the
@@ -614,7 +611,7 @@ impl Batch {
 const PACKET_DEPTH: u32 = 8;
 
 /// What a surface reflects of a light sample towards the eye: its diffuse term, and its
-/// highlight where `Whitted::lit_by` had to work it out.
+/// highlight where `Whitted::lit_by` worked it out to see whether it is zero.
 #[derive(Clone, Copy)]
 struct Reflected {
     diffuse: Color,
