@@ -168,6 +168,7 @@ impl Material {
     /// direction and is large near it, and shading asks only which, to know whether a
     /// shadow ray could add anything. The power is worked out (exactly as
     /// `highlight_term` does) only in the band between.
+    #[inline]
     pub fn highlight_unless_nonzero(&self, n: Vec3, l: Vec3, v: Vec3) -> Option<f32> {
         if self.specular <= 0.0 {
             return Some(0.0);
@@ -178,7 +179,7 @@ impl Material {
             // subnormal), and so does the product.
             Some((_, high)) if high <= -160.0 => Some(0.0),
             // c^s ≥ 2⁻¹⁰⁰ and ks ≥ 2⁻²⁰: the product is a normal number, not zero.
-            Some((low, _)) if low >= -100.0 && self.specular >= 2f32.powi(-20) => None,
+            Some((low, _)) if low >= -100.0 && self.specular >= SPECULAR_FLOOR => None,
             _ => Some(self.highlight_of(c)),
         }
     }
@@ -198,10 +199,15 @@ impl Material {
     }
 }
 
+/// 2⁻²⁰: a highlight weight at least this, times a power of at least 2⁻¹⁰⁰, is a normal
+/// number (a constant: `powi` is a call at run time).
+const SPECULAR_FLOOR: f32 = 1.0 / (1u32 << 20) as f32;
+
 /// Bounds on log₂(cˢ) for 0 < c < 1 and a finite s ≥ 1, from c's exponent and mantissa
 /// alone: with c = 2ᴱ(1 + x), x ≤ log₂(1 + x) ≤ x + 0.0861 (the gap peaks at
 /// x = 1/ln 2 − 1), widened to 0.09 and worked out in f64, so the bounds hold with room
 /// to spare. None outside that domain (NaN included).
+#[inline]
 fn power_bound(c: f32, s: f32) -> Option<(f64, f64)> {
     if !(c > 0.0 && c < 1.0 && s >= 1.0 && s.is_finite()) {
         return None;
@@ -267,7 +273,7 @@ mod tests {
                             decided += 1;
                             assert_eq!(exact.to_bits(), 0, "c {c} s {shininess}: not zero");
                         }
-                        Some((low, _)) if low >= -100.0 && specular >= 2f32.powi(-20) => {
+                        Some((low, _)) if low >= -100.0 && specular >= SPECULAR_FLOOR => {
                             decided += 1;
                             assert!(exact > 0.0, "c {c} s {shininess} ks {specular}: zero");
                         }
