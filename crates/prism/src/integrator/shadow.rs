@@ -305,14 +305,21 @@ impl<'a> Shadows<'a> {
         let n = rays.len();
         stats.shadow_rays += n as u64;
         let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
-        // The rays still walking: which of the packet's, their segment and what is left.
-        let mut walking: ArrayVec<usize, PACKET_MAX> = (0..n).collect();
-        let mut segment_rays: ArrayVec<Ray, PACKET_MAX> = rays.iter().copied().collect();
-        let mut remaining: ArrayVec<f32, PACKET_MAX> = distances.iter().copied().collect();
+        // The rays still walking after the first segment: which of the packet's, their
+        // next segment and what is left of their distance (the first segment is the
+        // packet's own rays, not copied).
+        let mut walking: ArrayVec<usize, PACKET_MAX> = ArrayVec::new();
+        let mut segment_rays: ArrayVec<Ray, PACKET_MAX> = ArrayVec::new();
+        let mut remaining: ArrayVec<f32, PACKET_MAX> = ArrayVec::new();
         let mut atten = [Color::ONE; PACKET_MAX];
         let mut hits = [None; PACKET_MAX];
         for segment in 0..MAX_SHADOW_SEGMENTS {
-            let m = walking.len();
+            let (these, bounds) = if segment == 0 {
+                (rays, distances)
+            } else {
+                (&segment_rays[..], &remaining[..])
+            };
+            let m = these.len();
             if m == 0 {
                 break;
             }
@@ -324,35 +331,29 @@ impl<'a> Shadows<'a> {
             }
             scene.intersector.intersect_packet_within(
                 geometry,
-                &segment_rays,
-                &remaining,
+                these,
+                bounds,
                 &mut hits[..m],
                 stats,
             );
-            // Each ray's step, as `transmittance` takes it; the rays that go on are
-            // compacted in place for the next segment.
-            let mut kept = 0;
+            // Each ray's step, as `transmittance` takes it; the rays that go on form the
+            // next segment's packet (compacted in place after the first).
+            let mut next = ArrayVec::<(usize, Ray, f32), PACKET_MAX>::new();
             for k in 0..m {
-                let i = walking[k];
-                match step(
-                    scene.scene,
-                    &segment_rays[k],
-                    remaining[k],
-                    hits[k],
-                    &mut atten[i],
-                ) {
+                let i = if segment == 0 { k } else { walking[k] };
+                match step(scene.scene, &these[k], bounds[k], hits[k], &mut atten[i]) {
                     Step::Ends(seen) => visibility[i] = seen,
-                    Step::GoesOn(ray, left) => {
-                        walking[kept] = i;
-                        segment_rays[kept] = ray;
-                        remaining[kept] = left;
-                        kept += 1;
-                    }
+                    Step::GoesOn(ray, left) => next.push((i, ray, left)),
                 }
             }
-            walking.truncate(kept);
-            segment_rays.truncate(kept);
-            remaining.truncate(kept);
+            walking.clear();
+            segment_rays.clear();
+            remaining.clear();
+            for (i, ray, left) in next {
+                walking.push(i);
+                segment_rays.push(ray);
+                remaining.push(left);
+            }
         }
         // Rays that crossed `MAX_SHADOW_SEGMENTS` surfaces see nothing, as in the walk.
         for &i in &walking {
