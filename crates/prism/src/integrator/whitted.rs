@@ -114,9 +114,10 @@ impl<'a> Whitted<'a> {
         let scene = self.scene.scene;
         let Tree { owners, rays_of } = tree;
         let n = rays.len();
-        // Per lane: its surface (where `hit_lanes` has its bit), written in place. Copies
+        // Per lane: the surface its ray hit (None on a miss), written in its slot. Copies
         // of these 120-byte structs, pushed through `Option` and `ArrayVec`, were a tenth
-        // of a viewer frame (stores forwarded into wider loads that stalled).
+        // of `shade_packet`'s time in a viewer frame (stores forwarded into wider loads
+        // that stalled).
         let mut surfaces = [None::<Surface>; PACKET_MAX];
         for (i, (ray, hit)) in rays.iter().zip(hits).enumerate() {
             colors[i] = match hit {
