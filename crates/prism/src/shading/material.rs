@@ -236,9 +236,9 @@ mod tests {
     use crate::math::hash::uniform;
 
     /// The bounds' decision is the power function's: `None` only where the highlight is
-    /// not zero, a value only as `highlight_term` computes it, bit for bit; over
-    /// cosines across every binade (subnormals, the band near the underflow, just below
-    /// 1) and exponents from 1 to 10⁴. Both bounds must also decide most of them, or the
+    /// not zero, a value only as `highlight_term` computes it, bit for bit; over cosines
+    /// across every binade (subnormals, the band near the underflow, just below one) and
+    /// exponents from 1 to 10⁴. Both bounds must also decide most of them, or the
     /// shortcut would buy nothing.
     #[test]
     fn the_bounds_decide_as_the_power_does() {
