@@ -173,14 +173,20 @@ impl Material {
         if self.specular <= 0.0 {
             return Some(0.0);
         }
-        let c = self.highlight_cosine(n, l, v);
+        self.highlight_decision(self.highlight_cosine(n, l, v)).0
+    }
+
+    /// `highlight_unless_nonzero` for cosine `c` (with `specular > 0`), and whether the
+    /// bounds decided it without the power function.
+    #[inline(always)]
+    fn highlight_decision(&self, c: f32) -> (Option<f32>, bool) {
         match power_bound(c, self.shininess) {
             // c^s ≤ 2⁻¹⁶⁰: `powf` returns +0 (its true value is far below the smallest
             // subnormal), and so does the product.
-            Some((_, high)) if high <= -160.0 => Some(0.0),
+            Some((_, high)) if high <= -160.0 => (Some(0.0), true),
             // c^s ≥ 2⁻¹⁰⁰ and ks ≥ 2⁻²⁰: the product is a normal number, not zero.
-            Some((low, _)) if low >= -100.0 && self.specular >= SPECULAR_FLOOR => None,
-            _ => Some(self.highlight_of(c)),
+            Some((low, _)) if low >= -100.0 && self.specular >= SPECULAR_FLOOR => (None, true),
+            _ => (Some(self.highlight_of(c)), false),
         }
     }
 
@@ -267,17 +273,16 @@ mod tests {
                 };
                 for &c in &cosines {
                     let exact = m.highlight_of(c);
+                    let (decision, by_bounds) = m.highlight_decision(c);
                     total += 1;
-                    match power_bound(c, shininess) {
-                        Some((_, high)) if high <= -160.0 => {
-                            decided += 1;
-                            assert_eq!(exact.to_bits(), 0, "c {c} s {shininess}: not zero");
-                        }
-                        Some((low, _)) if low >= -100.0 && specular >= SPECULAR_FLOOR => {
-                            decided += 1;
-                            assert!(exact > 0.0, "c {c} s {shininess} ks {specular}: zero");
-                        }
-                        _ => {}
+                    decided += usize::from(by_bounds);
+                    match decision {
+                        None => assert!(exact != 0.0, "c {c} s {shininess} ks {specular}"),
+                        Some(h) => assert_eq!(
+                            h.to_bits(),
+                            exact.to_bits(),
+                            "c {c} s {shininess} ks {specular}"
+                        ),
                     }
                     // The bounds bracket the exact logarithm.
                     if let Some((low, high)) = power_bound(c, shininess) {
