@@ -127,14 +127,39 @@ impl HitSearch {
     ) -> bool {
         stats.count_tests(ShapeKind::Triangle, pack.len() as u64);
         let hits = pack.hits(pack_ray, self.nested_limit());
-        let mut lanes = hits.hit | hits.undecided;
+        self.take_pack_lanes(
+            pack,
+            hits.hit,
+            hits.undecided,
+            |lane| hits.decided(lane),
+            ray,
+        )
+    }
+
+    /// What a first pass of the watertight test over `pack` found, handled in lane order:
+    /// the lanes of `hit` (values from `decided`) are held to the tie rule's bound for
+    /// their ids, the lanes of `undecided` go to the scalar test; true when the query is
+    /// answered. The pass must have run at a bound no tighter than `nested_limit` is now
+    /// (it only shrinks), so that it dropped only lanes no bound of this search can keep.
+    /// Shared by `test_pack` and the 8-wide pass over two packs (`simd8/pair.rs`), so both
+    /// handle lanes alike.
+    #[inline(always)]
+    pub(crate) fn take_pack_lanes(
+        &mut self,
+        pack: &TrianglePack,
+        hit: u32,
+        undecided: u32,
+        decided: impl Fn(usize) -> DecidedHit,
+        ray: &TraceRay,
+    ) -> bool {
+        let mut lanes = hit | undecided;
         while lanes != 0 {
             let lane = lanes.trailing_zeros() as usize;
             lanes &= lanes - 1;
-            let answered = if hits.undecided & (1 << lane) != 0 {
+            let answered = if undecided & (1 << lane) != 0 {
                 self.test_pack_lane(pack, lane, ray)
             } else {
-                self.keep_decided(pack.ids[lane], &hits.decided(lane))
+                self.keep_decided(pack.ids[lane], &decided(lane))
             };
             if answered {
                 return true;

@@ -319,6 +319,25 @@ impl PackRay {
             kz,
         }
     }
+
+    /// The origin's coordinates in the ray's axis permutation, for first passes of other
+    /// widths (`accel/bvh/simd8/pair.rs`), which broadcast them themselves.
+    #[inline(always)]
+    pub(crate) fn origin(&self) -> [f32; 3] {
+        self.origin.map(|o| o.x)
+    }
+
+    /// The shear constants, as `origin`.
+    #[inline(always)]
+    pub(crate) fn shear(&self) -> [f32; 3] {
+        self.shear.map(|s| s.x)
+    }
+
+    /// The axis permutation `[kx, ky, kz]`.
+    #[inline(always)]
+    pub(crate) fn axes(&self) -> [usize; 3] {
+        [self.kx, self.ky, self.kz]
+    }
 }
 
 #[cfg(test)]

@@ -46,9 +46,9 @@ pub(super) fn avx512_available() -> bool {
 }
 
 /// Walks `nodes` for `ray` from `root` (`nodes[0]`, or an entry node of some of its
-/// subtrees), handing leaves to `leaf`, which returns true when the query is answered.
-/// `nodes` must come from a `Bvh` built while `available()` was true (the only way
-/// `Bvh::wide8` is filled).
+/// subtrees), testing leaves with `leaves` (`LeafQuery::test`'s answers, two triangle packs
+/// at a time: `simd8/pair.rs`). `nodes` must come from a `Bvh` built while `available()`
+/// was true (the only way `Bvh::wide8` is filled).
 #[inline(always)]
 pub(super) fn traverse<const ORDERED: bool>(
     nodes: &[Wide8Node],
@@ -56,17 +56,17 @@ pub(super) fn traverse<const ORDERED: bool>(
     ray: &TraceRay,
     search: &mut HitSearch,
     stats: &mut Stats,
-    leaf: impl FnMut(u32, u32, f32, (), &mut HitSearch, &mut Stats) -> bool,
+    leaves: &LeafQuery<'_>,
 ) {
     #[cfg(target_arch = "x86_64")]
     {
         debug_assert!(available());
         // SAFETY: `nodes` is non-empty only when AVX2 was detected (see above).
-        unsafe { x86::traverse::<ORDERED>(nodes, root, ray, search, stats, leaf) }
+        unsafe { x86::traverse::<ORDERED>(nodes, root, ray, search, stats, leaves) }
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        let _ = (nodes, root, ray, search, stats, leaf);
+        let _ = (nodes, root, ray, search, stats, leaves);
         unreachable!("8-wide nodes are only built on x86-64 with AVX2")
     }
 }
@@ -124,6 +124,9 @@ pub(super) fn traverse_packet(
 
 #[cfg(target_arch = "x86_64")]
 pub(super) mod avx512;
+
+#[cfg(target_arch = "x86_64")]
+mod pair;
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
@@ -734,9 +737,10 @@ mod x86 {
         ray: &TraceRay,
         search: &mut HitSearch,
         stats: &mut Stats,
-        leaf: impl FnMut(u32, u32, f32, (), &mut HitSearch, &mut Stats) -> bool,
+        leaves: &LeafQuery<'_>,
     ) {
         let ray8 = Ray8::new(ray);
+        let pair_ray = super::pair::PairRay::new(leaves.pack_ray);
         crate::accel::bvh::traverse::walk::<_, _, ORDERED>(
             nodes,
             root,
@@ -751,7 +755,9 @@ mod x86 {
             },
             search,
             stats,
-            leaf,
+            |first, count, _, (), search: &mut HitSearch, stats: &mut Stats| {
+                super::pair::test_leaf(leaves, &pair_ray, first, count, search, stats)
+            },
         )
     }
 

@@ -97,20 +97,16 @@ impl Bvh {
         let mut search = HitSearch::new(t_max, mode);
         let pack_ray = PackRay::new(ray);
         let leaf = self.leaf_query(geometry, ray, &pack_ray);
-        // A leaf closure per walk, each used once: one closure shared by the three walks
-        // stayed a function call (the path tracer's cornell box 8 % slower).
-        macro_rules! test_leaf {
-            () => {
-                |c, n, _, (), s: &mut HitSearch, st: &mut Stats| leaf.test(c, n, s, st)
-            };
-        }
         let (wide8, any) = (&self.wide8, mode == QueryMode::Any);
+        // The 8-wide walks make their leaf closures themselves, inside their AVX2
+        // compilation (a leaf closure per walk, each used once: one closure shared by the
+        // walks stayed a function call, the path tracer's cornell box 8 % slower).
         match root {
             Root::Eight(node) if any => {
-                super::simd8::traverse::<false>(wide8, node, ray, &mut search, stats, test_leaf!())
+                super::simd8::traverse::<false>(wide8, node, ray, &mut search, stats, &leaf)
             }
             Root::Eight(node) => {
-                super::simd8::traverse::<true>(wide8, node, ray, &mut search, stats, test_leaf!())
+                super::simd8::traverse::<true>(wide8, node, ray, &mut search, stats, &leaf)
             }
             Root::Four(node) => {
                 // The 4-wide layout (CPUs without AVX2) keeps one walk, ordered.
@@ -131,7 +127,7 @@ impl Bvh {
                     },
                     &mut search,
                     stats,
-                    test_leaf!(),
+                    |c, n, _, (), s: &mut HitSearch, st: &mut Stats| leaf.test(c, n, s, st),
                 );
             }
         }
