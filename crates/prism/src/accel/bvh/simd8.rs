@@ -740,7 +740,6 @@ mod x86 {
         leaves: &LeafQuery<'_>,
     ) {
         let ray8 = Ray8::new(ray);
-        let pair_ray = super::pair::PairRay::new(leaves.pack_ray);
         crate::accel::bvh::traverse::walk::<_, _, ORDERED>(
             nodes,
             root,
@@ -756,7 +755,7 @@ mod x86 {
             search,
             stats,
             |first, count, _, (), search: &mut HitSearch, stats: &mut Stats| {
-                super::pair::test_leaf(leaves, &pair_ray, first, count, search, stats)
+                super::pair::test_leaf(leaves, first, count, search, stats)
             },
         )
     }

@@ -216,7 +216,6 @@ fn lane_mask(pack: &TrianglePack) -> u32 {
 #[inline]
 pub(in crate::accel::bvh) fn test_leaf(
     leaves: &LeafQuery<'_>,
-    ray: &PairRay,
     first: u32,
     count: u32,
     search: &mut HitSearch,
@@ -228,7 +227,7 @@ pub(in crate::accel::bvh) fn test_leaf(
     let packs = &leaves.packs[first as usize..(first + (count & !PACKED)) as usize];
     let mut pairs = packs.chunks_exact(2);
     for pair in &mut pairs {
-        if test_pair(&pair[0], &pair[1], leaves, ray, search, stats) {
+        if test_pair(&pair[0], &pair[1], leaves, search, stats) {
             return true;
         }
     }
@@ -246,11 +245,13 @@ fn test_pair(
     first: &TrianglePack,
     second: &TrianglePack,
     leaves: &LeafQuery<'_>,
-    ray: &PairRay,
     search: &mut HitSearch,
     stats: &mut Stats,
 ) -> bool {
     stats.count_tests(ShapeKind::Triangle, first.len() as u64);
+    // The ray's constants broadcast here, from memory, rather than once per walk: held
+    // in registers through the walk they crowded its box tests (primary rays slower).
+    let ray = &PairRay::new(leaves.pack_ray);
     // Both packs at the bound the first one gets: the bound only shrinks as the first
     // pack's hits are kept, and `take_pack_lanes` holds each lane to the search's bound
     // for it when it comes to the lane, so the second pack's answers are unchanged.
@@ -457,8 +458,6 @@ mod tests {
                     ray: &ray,
                     pack_ray: &pack_ray,
                 };
-                // SAFETY: AVX2 was detected above.
-                let pair_ray = unsafe { PairRay::new(&pack_ray) };
                 // A hit of the leaf, for priors that tie with it.
                 let leaf_hit = tris[..4 * n].iter().enumerate().find_map(|(k, v)| {
                     intersect_triangle(&ray, v[0], v[1], v[2], f32::INFINITY)
@@ -489,9 +488,8 @@ mod tests {
                         let count = PACKED | n as u32;
                         let four_answer = leaves.test(0, count, &mut four, &mut four_stats);
                         // SAFETY: AVX2 was detected above.
-                        let eight_answer = unsafe {
-                            test_leaf(&leaves, &pair_ray, 0, count, &mut eight, &mut eight_stats)
-                        };
+                        let eight_answer =
+                            unsafe { test_leaf(&leaves, 0, count, &mut eight, &mut eight_stats) };
                         let at = format!("scale {scale} case {case} {mode:?} {prior:?}");
                         assert_eq!(eight_answer, four_answer, "{at}");
                         let key =
