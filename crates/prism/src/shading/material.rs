@@ -206,7 +206,7 @@ impl Material {
 }
 
 /// 2⁻²⁰: a highlight weight at least this, times a power of at least 2⁻¹⁰⁰, is a normal
-/// number (a constant: `powi` is a call at run time).
+/// number.
 const SPECULAR_FLOOR: f32 = 1.0 / (1u32 << 20) as f32;
 
 /// Bounds on log₂(cˢ) for 0 < c < 1 and a finite s ≥ 1, from c's exponent and mantissa

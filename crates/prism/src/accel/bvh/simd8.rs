@@ -347,6 +347,47 @@ mod x86 {
         out
     }
 
+    /// pbrt-v4's bound on the rounding of the watertight test's t in eight lanes, from the
+    /// sheared vertices' x, y and z, the edge functions and 1 / det: the scalar test's
+    /// operations in its order, shared by the 8-lane kernels (one triangle against eight
+    /// rays here, eight triangles against one ray in `pair.rs`).
+    #[target_feature(enable = "avx2,popcnt")]
+    #[inline]
+    pub(super) fn t_rounding_bound(
+        x: [__m256; 3],
+        y: [__m256; 3],
+        z: [__m256; 3],
+        edges: [__m256; 3],
+        inv: __m256,
+    ) -> __m256 {
+        let (add, mul, splat) = (_mm256_add_ps, _mm256_mul_ps, |x: f32| _mm256_set1_ps(x));
+        let abs = |x: __m256| _mm256_andnot_ps(splat(-0.0), x);
+        let abs_max =
+            |v: [__m256; 3]| _mm256_max_ps(_mm256_max_ps(abs(v[0]), abs(v[1])), abs(v[2]));
+        let (max_x, max_y, max_z) = (abs_max(x), abs_max(y), abs_max(z));
+        let delta_z = mul(splat(gamma(3)), max_z);
+        let delta_x = mul(splat(gamma(5)), add(max_x, max_z));
+        let delta_y = mul(splat(gamma(5)), add(max_y, max_z));
+        let delta_e = mul(
+            splat(2.0),
+            add(
+                add(mul(mul(splat(gamma(2)), max_x), max_y), mul(delta_y, max_x)),
+                mul(delta_x, max_y),
+            ),
+        );
+        let max_e = abs_max(edges);
+        mul(
+            mul(
+                splat(3.0),
+                add(
+                    add(mul(mul(splat(gamma(3)), max_e), max_z), mul(delta_e, max_z)),
+                    mul(delta_z, max_e),
+                ),
+            ),
+            abs(inv),
+        )
+    }
+
     /// Triangle `lane` of `pack` against the rays of `rays` (a bit per ray), which share
     /// the axis permutation `k`, eight rays per step: the whole watertight test as
     /// `TrianglePack::hits` runs it for one ray and four triangles (the same operations in
@@ -387,8 +428,6 @@ mod x86 {
         let gt = |x| _mm256_cmp_ps::<_CMP_GT_OQ>(x, zero);
         let or = |x, y| _mm256_or_ps(x, y);
         let and = |x, y| _mm256_and_ps(x, y);
-        let abs_max =
-            |x: [__m256; 3]| _mm256_max_ps(_mm256_max_ps(abs(x[0]), abs(x[1])), abs(x[2]));
         let prim = pack.ids[lane];
         for group in 0..8 {
             let at = 8 * group;
@@ -442,32 +481,8 @@ mod x86 {
                 // The division and pbrt-v4's bound on the rounding of t, as the scalar test.
                 let inv = _mm256_div_ps(splat(1.0), det);
                 let t = mul(t_scaled, inv);
-                let (max_x, max_y, max_z) = (
-                    abs_max([ax, bx, cx]),
-                    abs_max([ay, by, cy]),
-                    abs_max([az, bz, cz]),
-                );
-                let delta_z = mul(splat(gamma(3)), max_z);
-                let delta_x = mul(splat(gamma(5)), add(max_x, max_z));
-                let delta_y = mul(splat(gamma(5)), add(max_y, max_z));
-                let delta_e = mul(
-                    splat(2.0),
-                    add(
-                        add(mul(mul(splat(gamma(2)), max_x), max_y), mul(delta_y, max_x)),
-                        mul(delta_x, max_y),
-                    ),
-                );
-                let max_e = abs_max([u, v, w]);
-                let delta_t = mul(
-                    mul(
-                        splat(3.0),
-                        add(
-                            add(mul(mul(splat(gamma(3)), max_e), max_z), mul(delta_e, max_z)),
-                            mul(delta_z, max_e),
-                        ),
-                    ),
-                    abs(inv),
-                );
+                let delta_t =
+                    t_rounding_bound([ax, bx, cx], [ay, by, cy], [az, bz, cz], [u, v, w], inv);
                 let infinity = splat(f32::INFINITY);
                 let finite = and(
                     _mm256_cmp_ps::<_CMP_LT_OQ>(abs(t), infinity),

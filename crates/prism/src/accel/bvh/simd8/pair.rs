@@ -12,9 +12,9 @@
 
 use super::super::leaves::PACKED;
 use super::super::traverse::LeafQuery;
+use super::x86::t_rounding_bound;
 use crate::accel::query::HitSearch;
 use crate::geometry::{DecidedHit, PackRay, ShapeKind, TrianglePack};
-use crate::math::robust::gamma;
 use crate::stats::Stats;
 use std::arch::x86_64::*;
 
@@ -162,33 +162,7 @@ pub(in crate::accel::bvh) fn pair_hits(
     }
     let inv = _mm256_div_ps(splat(1.0), det);
     let t = mul(t_scaled, inv);
-    let abs_max = |x: [__m256; 3]| _mm256_max_ps(_mm256_max_ps(abs(x[0]), abs(x[1])), abs(x[2]));
-    let (max_x, max_y, max_z) = (
-        abs_max([ax, bx, cx]),
-        abs_max([ay, by, cy]),
-        abs_max([az, bz, cz]),
-    );
-    let delta_z = mul(splat(gamma(3)), max_z);
-    let delta_x = mul(splat(gamma(5)), add(max_x, max_z));
-    let delta_y = mul(splat(gamma(5)), add(max_y, max_z));
-    let delta_e = mul(
-        splat(2.0),
-        add(
-            add(mul(mul(splat(gamma(2)), max_x), max_y), mul(delta_y, max_x)),
-            mul(delta_x, max_y),
-        ),
-    );
-    let max_e = abs_max([u, v, w]);
-    let delta_t = mul(
-        mul(
-            splat(3.0),
-            add(
-                add(mul(mul(splat(gamma(3)), max_e), max_z), mul(delta_e, max_z)),
-                mul(delta_z, max_e),
-            ),
-        ),
-        abs(inv),
-    );
+    let delta_t = t_rounding_bound([ax, bx, cx], [ay, by, cy], [az, bz, cz], [u, v, w], inv);
     let infinity = splat(f32::INFINITY);
     let finite = mask(lt(abs(t), infinity)) & mask(lt(abs(delta_t), infinity));
     let within = mask(and(lt(t, splat(t_max)), gt(t, delta_t)));
