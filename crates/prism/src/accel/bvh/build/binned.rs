@@ -31,6 +31,8 @@ impl BinnedSah {
 /// right-to-left sweep's running areas and counts for one axis.
 pub(super) struct Sweep {
     bins: Vec<Bin>,
+    /// The second set of bins `Binning::fill` adds to.
+    spare: Vec<Bin>,
     right_area: Vec<f32>,
     right_count: Vec<u32>,
 }
@@ -81,18 +83,36 @@ impl Binning {
         (c - self.lo) * self.scale
     }
 
-    /// Adds `refs` to `bins` (three axes' worth, axis-major), reading each reference once.
-    fn fill(&self, refs: &[PrimRef], bins: &mut [Bin]) {
+    /// Adds `refs` to `bins` (three axes' worth, axis-major), reading each reference once;
+    /// `spare` (as long as `bins`, empty) is scratch. Even references go to `bins`, odd
+    /// ones to `spare`, merged at the end: a mesh's triangles come in order, so neighbours
+    /// often land in the same bins, and with one set each update waited for the store of
+    /// the one before it. Unions and counts are exact, so the bins are the same.
+    fn fill(&self, refs: &[PrimRef], bins: &mut [Bin], spare: &mut [Bin]) {
+        let pairs = refs.chunks_exact(2);
+        let odd = pairs.remainder();
+        for pair in pairs {
+            self.add(&pair[0], bins);
+            self.add(&pair[1], spare);
+        }
+        for r in odd {
+            self.add(r, bins);
+        }
+        for (bin, other) in bins.iter_mut().zip(spare.iter()) {
+            *bin = bin.merge(other);
+        }
+    }
+
+    /// Adds one reference to the bins of its centroid on the three axes.
+    #[inline(always)]
+    fn add(&self, r: &PrimRef, bins: &mut [Bin]) {
         let nb = self.bins;
-        let (x, rest) = bins.split_at_mut(nb);
-        let (y, z) = rest.split_at_mut(nb);
-        for r in refs {
-            let (min, max) = (r.min(), r.max());
-            let [bx, by, bz] = self.bins_of(0.5 * (min + max));
-            for bin in [&mut x[bx], &mut y[by], &mut z[bz]] {
-                bin.count += 1;
-                bin.bounds.grow(min, max);
-            }
+        let (min, max) = (r.min(), r.max());
+        let [bx, by, bz] = self.bins_of(0.5 * (min + max));
+        for bin in [bx, nb + by, 2 * nb + bz] {
+            let bin = &mut bins[bin];
+            bin.count += 1;
+            bin.bounds.grow(min, max);
         }
     }
 }
@@ -103,6 +123,7 @@ impl SplitRule for BinnedSah {
     fn scratch(&self) -> Sweep {
         Sweep {
             bins: vec![Bin::EMPTY; 3 * self.bins],
+            spare: vec![Bin::EMPTY; 3 * self.bins],
             right_area: vec![0.0; self.bins],
             right_count: vec![0; self.bins],
         }
@@ -136,8 +157,8 @@ impl SplitRule for BinnedSah {
             last: Vec3A::splat((nb - 1) as f32),
             bins: nb,
         };
-        let bins = &mut sweep.bins[..3 * nb];
-        self.fill_bins(&binning, refs, bins);
+        let (bins, spare) = (&mut sweep.bins[..3 * nb], &mut sweep.spare[..3 * nb]);
+        self.fill_bins(&binning, refs, bins, spare);
         match self.best_split(sweep, nb, bounds, scale, prims) {
             Some((axis, k, cost)) => {
                 if n <= self.max_leaf_size && cost >= prims.leaf_cost(n) {
@@ -166,10 +187,11 @@ impl SplitRule for BinnedSah {
 
 impl BinnedSah {
     /// Bins `refs` on all three axes, in parallel chunks for the nodes near the top.
-    fn fill_bins(&self, binning: &Binning, refs: &[PrimRef], bins: &mut [Bin]) {
+    fn fill_bins(&self, binning: &Binning, refs: &[PrimRef], bins: &mut [Bin], spare: &mut [Bin]) {
         bins.fill(Bin::EMPTY);
         if refs.len() < PARALLEL_PASS {
-            binning.fill(refs, bins);
+            spare.fill(Bin::EMPTY);
+            binning.fill(refs, bins, spare);
             return;
         }
         // Unions and counts are exact, so how rayon merges the chunks cannot change them.
@@ -177,7 +199,8 @@ impl BinnedSah {
             .par_chunks(PARALLEL_PASS / 2)
             .map(|chunk| {
                 let mut local = vec![Bin::EMPTY; bins.len()];
-                binning.fill(chunk, &mut local);
+                let mut spare = vec![Bin::EMPTY; bins.len()];
+                binning.fill(chunk, &mut local, &mut spare);
                 local
             })
             .reduce(
@@ -204,6 +227,7 @@ impl BinnedSah {
             bins,
             right_area,
             right_count,
+            ..
         } = sweep;
         for axis in 0..3 {
             if scale[axis] <= 0.0 {
@@ -344,7 +368,7 @@ mod tests {
                 bins: nb,
             };
             let mut bins = vec![Bin::EMPTY; 3 * nb];
-            binning.fill(&refs, &mut bins);
+            binning.fill(&refs, &mut bins, &mut vec![Bin::EMPTY; 3 * nb]);
             for axis in 0..3 {
                 let axis_bins = &bins[axis * nb..][..nb];
                 assert_eq!(axis_bins.iter().map(|b| b.count).sum::<u32>(), 500);
@@ -365,6 +389,42 @@ mod tests {
                     assert!(indices.iter().copied().eq(0..500));
                 }
             }
+        }
+    }
+
+    /// The two sets of bins merge into exactly the bins of one reference at a time, for
+    /// an odd and an even number of references.
+    #[test]
+    fn two_sets_of_bins_merge_into_the_bins_of_one() {
+        let nb = 16;
+        for n in [1, 2, 499, 500] {
+            let refs = references(n, -3.0, 0.5);
+            let extent = refs.iter().fold(SimdBox::EMPTY, |mut b, r| {
+                b.grow_point(r.centroid());
+                b
+            });
+            let binning = Binning {
+                lo: extent.min,
+                scale: Vec3A::select(
+                    (extent.max - extent.min).cmpgt(Vec3A::ZERO),
+                    nb as f32 / (extent.max - extent.min),
+                    Vec3A::ZERO,
+                ),
+                last: Vec3A::splat((nb - 1) as f32),
+                bins: nb,
+            };
+            let mut bins = vec![Bin::EMPTY; 3 * nb];
+            binning.fill(&refs, &mut bins, &mut vec![Bin::EMPTY; 3 * nb]);
+            let mut one = vec![Bin::EMPTY; 3 * nb];
+            for r in &refs {
+                binning.add(r, &mut one);
+            }
+            for (a, b) in bins.iter().zip(&one) {
+                assert_eq!(a.count, b.count, "{n} references");
+                assert_eq!(a.bounds.min.to_array(), b.bounds.min.to_array());
+                assert_eq!(a.bounds.max.to_array(), b.bounds.max.to_array());
+            }
+            assert_eq!(bins.iter().map(|b| b.count).sum::<u32>(), 3 * n);
         }
     }
 
