@@ -28,6 +28,19 @@ fn frame(ws: &mut Socket) -> (FrameHeader, Vec<u8>) {
     }
 }
 
+/// Process CPU time in seconds (user + system, every thread: the server's render and
+/// network threads and this client), from /proc/self/stat; 0 where there is none.
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    // utime and stime are the 12th and 13th fields after the command name's ')'.
+    let fields: Vec<f64> = stat.rsplit_once(')').map_or(vec![], |(_, r)| {
+        r.split_whitespace()
+            .map(|v| v.parse().unwrap_or(0.0))
+            .collect()
+    });
+    (fields.get(11).unwrap_or(&0.0) + fields.get(12).unwrap_or(&0.0)) / 100.0
+}
+
 fn percentile(sorted: &[f64], p: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * p).round() as usize]
 }
@@ -62,7 +75,7 @@ fn main() {
     // Frames per second: frames rendered (the spp count) over a stretch of accumulation,
     // and frames received (a slow client skips frames; this one keeps up).
     let (first, _) = frame(&mut ws);
-    let start = Instant::now();
+    let (start, cpu_start) = (Instant::now(), cpu_seconds());
     let mut received = 0u32;
     let mut frame_ms = Vec::new();
     let mut rays = Vec::new();
@@ -75,6 +88,7 @@ fn main() {
         last = h;
     }
     let elapsed = start.elapsed().as_secs_f64();
+    let cpu = cpu_seconds() - cpu_start;
     let rendered = (last.spp - first.spp) as f64;
     frame_ms.sort_by(f64::total_cmp);
     rays.sort_by(f64::total_cmp);
@@ -85,6 +99,13 @@ fn main() {
         received as f64 / elapsed,
         percentile(&frame_ms, 0.5),
         percentile(&rays, 0.5) / 1e6
+    );
+    // CPU time a frame of the whole process (render, encoding, WebSocket, this client):
+    // the frame rate two cores would reach if nothing else ran on them.
+    let cpu_ms = 1e3 * cpu / rendered.max(1.0);
+    println!(
+        "CPU per frame (server and client): {cpu_ms:.1} ms; {:.1} frames/s on {cores} cores if they were this process's alone",
+        cores as f64 * 1e3 / cpu_ms.max(1e-9)
     );
 
     // Time to the first frame after a camera move (a preview when full frames are slow)
