@@ -470,13 +470,24 @@ impl Engine {
 /// mouse events.
 const PREVIEW_TIME: Duration = Duration::from_millis(25);
 
+/// The slowest full frame that follows a change without a preview. A full frame reaches
+/// the page a band in flight, the encoding and the message after its render, up to a
+/// fifth more, and its time swings by as much on a shared machine: frames of 41 ms put the
+/// first frame after a move at 46 ms (median) and 52 ms (90th percentile), over the 50 ms
+/// a move should take to show.
+const FULL_FRAME_FAST_ENOUGH: Duration = Duration::from_millis(30);
+
 /// The scale of a preview after a change, each way, from the last full frame's render
 /// time: rays are in proportion to pixels, so √(PREVIEW_TIME / last) renders in about
 /// PREVIEW_TIME; between 1/8 (fewer pixels show nothing) and 1/2 (more saves too little to
-/// be worth a frame that is thrown away). None when full frames are fast enough already.
+/// be worth a frame that is thrown away). None when full frames are fast enough already
+/// (and before the first, when nothing is known).
 fn preview_scale(last_full: Duration) -> Option<f64> {
-    let ratio = PREVIEW_TIME.as_secs_f64() / last_full.as_secs_f64().max(1e-9);
-    (ratio < 0.5).then(|| ratio.sqrt().clamp(0.125, 0.5))
+    if last_full <= FULL_FRAME_FAST_ENOUGH {
+        return None;
+    }
+    let ratio = PREVIEW_TIME.as_secs_f64() / last_full.as_secs_f64();
+    Some(ratio.sqrt().clamp(0.125, 0.5))
 }
 
 /// A scene name as a safe file name part: `builtin:whitted` → `whitted`, a path → its stem.
@@ -502,7 +513,10 @@ mod tests {
     #[test]
     fn previews_come_only_for_slow_frames_and_take_about_their_budget() {
         assert_eq!(preview_scale(Duration::from_millis(20)), None);
-        assert_eq!(preview_scale(Duration::from_millis(50)), None);
+        assert_eq!(preview_scale(Duration::from_millis(30)), None);
+        // Frames a little slower than that would land near the 50 ms a move may take.
+        assert_eq!(preview_scale(Duration::from_millis(31)), Some(0.5));
+        assert_eq!(preview_scale(Duration::from_millis(41)), Some(0.5));
         assert_eq!(preview_scale(Duration::from_millis(60)), Some(0.5));
         let s = preview_scale(Duration::from_millis(400)).unwrap();
         assert!((s - 0.25).abs() < 1e-9, "{s}");
