@@ -6,6 +6,7 @@
 //!
 //! cargo run --release -p prism-serve --example viewer_bench -- [SCENE] [WIDTHxHEIGHT] [SECONDS]
 
+use prism_lab::bench::Clock;
 use prism_serve::protocol::{split_binary, FrameHeader};
 use prism_serve::{Server, ServerConfig};
 use std::net::{Ipv4Addr, TcpStream};
@@ -26,19 +27,6 @@ fn frame(ws: &mut Socket) -> (FrameHeader, Vec<u8>) {
             }
         }
     }
-}
-
-/// Process CPU time in seconds (user + system, every thread: the server's render and
-/// network threads and this client), from /proc/self/stat; 0 where there is none.
-fn cpu_seconds() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    // utime and stime are the 12th and 13th fields after the command name's ')'.
-    let fields: Vec<f64> = stat.rsplit_once(')').map_or(vec![], |(_, r)| {
-        r.split_whitespace()
-            .map(|v| v.parse().unwrap_or(0.0))
-            .collect()
-    });
-    (fields.get(11).unwrap_or(&0.0) + fields.get(12).unwrap_or(&0.0)) / 100.0
 }
 
 fn percentile(sorted: &[f64], p: f64) -> f64 {
@@ -75,7 +63,8 @@ fn main() {
     // Frames per second: frames rendered (the spp count) over a stretch of accumulation,
     // and frames received (a slow client skips frames; this one keeps up).
     let (first, _) = frame(&mut ws);
-    let (start, cpu_start) = (Instant::now(), cpu_seconds());
+    // Process CPU time: the server's render and network threads and this client.
+    let (start, cpu_watch) = (Instant::now(), Clock::ProcessCpu.start());
     let mut received = 0u32;
     let mut frame_ms = Vec::new();
     let mut rays = Vec::new();
@@ -88,7 +77,7 @@ fn main() {
         last = h;
     }
     let elapsed = start.elapsed().as_secs_f64();
-    let cpu = cpu_seconds() - cpu_start;
+    let cpu = cpu_watch.elapsed().as_secs_f64();
     let rendered = (last.spp - first.spp) as f64;
     frame_ms.sort_by(f64::total_cmp);
     rays.sort_by(f64::total_cmp);

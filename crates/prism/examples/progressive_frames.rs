@@ -6,25 +6,9 @@
 //! cargo run --release -p prism --example progressive_frames -- [SCENE] [WIDTHxHEIGHT] [FRAMES] [THREADS]
 
 use prism::render::Progressive;
+use prism_lab::bench::Clock;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
-
-/// Process CPU time in seconds (user + system, every thread).
-fn cpu_seconds() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    // Fields after the command name (which may hold spaces) start after the last ')'.
-    let fields: Vec<&str> = stat
-        .rsplit_once(')')
-        .map_or(vec![], |(_, r)| r.split_whitespace().collect());
-    let ticks = |i: usize| {
-        fields
-            .get(i)
-            .and_then(|v| v.parse::<f64>().ok())
-            .unwrap_or(0.0)
-    };
-    // utime and stime are fields 14 and 15 of the whole line: 12 and 13 after the name.
-    (ticks(11) + ticks(12)) / 100.0
-}
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -56,13 +40,13 @@ fn main() {
     let (mut walls, mut cpus) = (Vec::new(), Vec::new());
     let mut rays = 0;
     for _ in 0..frames {
-        let (w0, c0) = (Instant::now(), cpu_seconds());
+        let (w0, cpu) = (Instant::now(), Clock::ProcessCpu.start());
         rays = p
             .advance(&prepared, &options, 1, &cancel)
             .unwrap()
             .total_rays();
         walls.push(w0.elapsed().as_secs_f64());
-        cpus.push(cpu_seconds() - c0);
+        cpus.push(cpu.elapsed().as_secs_f64());
     }
     let (wall, cpu) = (median(walls), cpus.iter().sum::<f64>() / frames as f64);
     println!(

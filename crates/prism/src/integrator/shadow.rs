@@ -336,8 +336,9 @@ impl<'a> Shadows<'a> {
                 &mut hits[..m],
                 stats,
             );
-            // Each ray's step, as `transmittance` takes it; the rays that go on form the
-            // next segment's packet (compacted in place after the first).
+            // Each ray's step, as `transmittance` takes it; the rays that go on are
+            // gathered in `next` (the segment's rays are still borrowed) and form the next
+            // segment's packet.
             let mut next = ArrayVec::<(usize, Ray, f32), PACKET_MAX>::new();
             for k in 0..m {
                 let i = if segment == 0 { k } else { walking[k] };
