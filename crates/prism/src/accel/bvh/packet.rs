@@ -184,20 +184,37 @@ impl RaySoa {
         TraceRay::with_constants(ray, lane(&self.inv_dir), self.axes[i], lane(&self.shear))
     }
 
-    #[inline(always)]
+    /// The rays of `rays` in SoA form (a packet's own copy; `query` reuses one per thread).
+    #[cfg(test)]
     pub(super) fn new(rays: &[Ray]) -> RaySoa {
-        assert!(rays.len() <= PACKET_MAX);
-        let mut soa = RaySoa {
+        let mut soa = RaySoa::empty();
+        soa.fill(rays);
+        soa
+    }
+
+    /// Room for a packet, no lanes filled.
+    fn empty() -> RaySoa {
+        RaySoa {
             origin: [[0.0; PACKET_MAX]; 3],
             dir: [[0.0; PACKET_MAX]; 3],
             inv_dir: [[0.0; PACKET_MAX]; 3],
             shear: [[0.0; PACKET_MAX]; 3],
             axes: [0; PACKET_MAX],
             permutation: None,
-            lanes: rays.len().next_multiple_of(16),
-        };
+            lanes: 0,
+        }
+    }
+
+    /// Fills the lanes of `rays` and their padding; lanes past those keep what an earlier
+    /// packet left there, which nothing reads.
+    #[inline(always)]
+    pub(super) fn fill(&mut self, rays: &[Ray]) {
+        assert!(rays.len() <= PACKET_MAX);
+        let soa = self;
+        soa.lanes = rays.len().next_multiple_of(16);
+        soa.permutation = None;
         let Some(first) = rays.first() else {
-            return soa;
+            return;
         };
         for (i, r) in rays.iter().enumerate() {
             (soa.origin[0][i], soa.origin[1][i], soa.origin[2][i]) =
@@ -234,7 +251,6 @@ impl RaySoa {
         {
             soa.permutation = Some(permutation(first));
         }
-        soa
     }
 }
 
@@ -276,30 +292,37 @@ impl CullBound for PacketSearch {
 }
 
 impl PacketSearch {
-    fn new(t_max: &[f32], mode: QueryMode) -> PacketSearch {
-        let searches: ArrayVec<HitSearch, PACKET_MAX> =
-            t_max.iter().map(|&t| HitSearch::new(t, mode)).collect();
-        let all = if searches.len() == 64 {
-            u64::MAX
-        } else {
-            (1u64 << searches.len()) - 1
-        };
-        let mut bound = [f32::NEG_INFINITY; PACKET_MAX];
-        let mut nested = [f32::NEG_INFINITY; PACKET_MAX];
-        let mut open_bound = [f32::INFINITY; PACKET_MAX];
-        bound[..t_max.len()].copy_from_slice(t_max);
-        nested[..t_max.len()].copy_from_slice(t_max);
-        open_bound[..t_max.len()].copy_from_slice(t_max);
+    /// Room for a packet's searches, none started.
+    fn empty() -> PacketSearch {
         PacketSearch {
-            t_max: t_max.iter().copied().fold(0.0, f32::max),
-            t_min: t_max.iter().copied().fold(f32::INFINITY, f32::min),
-            searches,
+            searches: ArrayVec::new(),
             done: 0,
-            all,
-            bound,
-            nested,
-            open_bound,
+            all: 0,
+            t_max: 0.0,
+            t_min: f32::INFINITY,
+            bound: [f32::NEG_INFINITY; PACKET_MAX],
+            nested: [f32::NEG_INFINITY; PACKET_MAX],
+            open_bound: [f32::INFINITY; PACKET_MAX],
         }
+    }
+
+    /// Starts a search per ray, ray i's up to `t_max[i]`.
+    #[inline(always)]
+    fn reset(&mut self, t_max: &[f32], mode: QueryMode) {
+        let n = t_max.len();
+        self.searches.clear();
+        self.searches
+            .extend(t_max.iter().map(|&t| HitSearch::new(t, mode)));
+        self.all = if n == 64 { u64::MAX } else { (1u64 << n) - 1 };
+        self.done = 0;
+        self.bound[..n].copy_from_slice(t_max);
+        self.nested[..n].copy_from_slice(t_max);
+        self.open_bound[..n].copy_from_slice(t_max);
+        self.bound[n..].fill(f32::NEG_INFINITY);
+        self.nested[n..].fill(f32::NEG_INFINITY);
+        self.open_bound[n..].fill(f32::INFINITY);
+        self.t_max = t_max.iter().copied().fold(0.0, f32::max);
+        self.t_min = t_max.iter().copied().fold(f32::INFINITY, f32::min);
     }
 
     /// The nearest bound of the rays still searching.
@@ -451,10 +474,75 @@ pub(super) fn query(
     answers: &mut [Option<Hit>],
     stats: &mut Stats,
 ) {
-    use crate::accel::Accel;
     assert!(rays.len() <= PACKET_MAX && t_max.len() == rays.len() && answers.len() == rays.len());
-    let soa = RaySoa::new(rays);
-    let bounds = match PacketBounds::of(&soa) {
+    SCRATCH.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut scratch) => query_in(
+            &mut scratch,
+            bvh,
+            geometry,
+            rays,
+            t_max,
+            mode,
+            answers,
+            stats,
+        ),
+        // A query inside a query (none today) gets room of its own.
+        Err(_) => {
+            let mut scratch = Box::new(Scratch::new());
+            query_in(
+                &mut scratch,
+                bvh,
+                geometry,
+                rays,
+                t_max,
+                mode,
+                answers,
+                stats,
+            )
+        }
+    });
+}
+
+/// What a packet query works in: its rays in SIMD lanes and its per-ray searches, about
+/// 6 KiB. Built afresh for every packet, zeroed and then copied into place, they cost a
+/// few percent of a frame of the viewer's default scene; one per thread is refilled
+/// instead (`RaySoa::fill`, `PacketSearch::reset`).
+struct Scratch {
+    soa: RaySoa,
+    search: PacketSearch,
+}
+
+impl Scratch {
+    fn new() -> Scratch {
+        Scratch {
+            soa: RaySoa::empty(),
+            search: PacketSearch::empty(),
+        }
+    }
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Box<Scratch>> = std::cell::RefCell::new(Box::new(Scratch::new()));
+}
+
+/// `query` in `scratch`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn query_in(
+    scratch: &mut Scratch,
+    bvh: &Bvh,
+    geometry: &Geometry,
+    rays: &[Ray],
+    t_max: &[f32],
+    mode: QueryMode,
+    answers: &mut [Option<Hit>],
+    stats: &mut Stats,
+) {
+    use crate::accel::Accel;
+    let Scratch { soa, search } = scratch;
+    soa.fill(rays);
+    let soa = &*soa;
+    let bounds = match PacketBounds::of(soa) {
         Some(b) if rays.len() > 1 && !bvh.nodes.first().is_none_or(|n| n.is_leaf()) => b,
         _ => {
             for (i, (&t, answer)) in t_max.iter().zip(answers.iter_mut()).enumerate() {
@@ -467,19 +555,19 @@ pub(super) fn query(
     let first = soa.ray(0);
     let first_pack_ray = PackRay::new(&first);
     let leaf = bvh.leaf_query(geometry, &first, &first_pack_ray);
-    let mut search = PacketSearch::new(t_max, mode);
+    search.reset(t_max, mode);
     if !bvh.wide8.is_empty() {
         super::simd8::traverse_packet(
             bvh.packet_avx512,
             mode == QueryMode::Any,
             &bvh.wide8,
             &bounds,
-            &soa,
+            soa,
             &leaf,
-            &mut search,
+            search,
             stats,
             |c, n, enter, rays_in, s: &mut PacketSearch, st: &mut Stats| {
-                s.test_leaf_per_ray(&leaf, &soa, (c, n, enter), rays_in, st)
+                s.test_leaf_per_ray(&leaf, soa, (c, n, enter), rays_in, st)
             },
         );
     } else {
@@ -499,10 +587,10 @@ pub(super) fn query(
                     rays: [entering; 8],
                 }
             },
-            &mut search,
+            search,
             stats,
             |c, n, enter, entering, s: &mut PacketSearch, st: &mut Stats| {
-                s.test_leaf_per_ray(&leaf, &soa, (c, n, enter), entering, st);
+                s.test_leaf_per_ray(&leaf, soa, (c, n, enter), entering, st);
                 s.finish_leaf()
             },
         );
