@@ -158,7 +158,9 @@ pub(crate) struct RenderArgs {
     pub adaptive_texture_spp: Option<u32>,
 
     /// Adaptive depth control: stop a reflected or refracted branch whose weight in the
-    /// pixel is below this; 0 traces every branch to the depth limit [default: 1/255].
+    /// pixel is below this, and cast no shadow ray to a light that could add less than
+    /// this to the pixel; 0 traces every branch to the depth limit and tests every light
+    /// [default: 1/255].
     #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub min_weight: Option<f32>,
 

@@ -54,6 +54,7 @@ impl Report {
                 "reflected": s.reflected_rays,
                 "refracted": s.refracted_rays,
                 "pruned_by_min_weight": s.pruned_rays,
+                "shadow_pruned_by_min_weight": s.pruned_shadow_rays,
                 "total": s.total_rays(),
                 "camera_per_pixel": s.primary_rays as f64 / pixels.max(1) as f64,
                 "per_pixel": s.total_rays() as f64 / pixels.max(1) as f64,
@@ -135,6 +136,10 @@ impl Report {
         println!(
             "{:<18} {:>14}   (reflected/refracted rays below min_weight, each with its subtree)",
             "pruned", s.pruned_rays
+        );
+        println!(
+            "{:<18} {:>14}   (shadow rays whose light could change the pixel by less than min_weight)",
+            "pruned shadow", s.pruned_shadow_rays
         );
         if s.adaptive_splits > 0 {
             println!("{:<18} {:>14}", "adaptive splits", s.adaptive_splits);

@@ -96,7 +96,10 @@ pub struct RenderOptions {
     /// Adaptive depth control: a reflected or refracted ray whose weight in the pixel (the
     /// product of reflection and transmission weights from the eye) is below this is not
     /// traced. The default, 1/255, is POV-Ray's `adc_bailout`: such a ray cannot change an
-    /// 8-bit pixel by more than about a level. 0 traces every ray up to `max_depth`.
+    /// 8-bit pixel by more than about a level. The same threshold tests shadows
+    /// adaptively: a light whose diffuse and highlight terms, unshadowed and times the
+    /// ray's weight, would stay below it in every channel casts no shadow ray and adds
+    /// nothing. 0 traces every ray up to `max_depth` and tests every light.
     pub min_weight: f32,
     /// Follow the SPD testing procedure's ray-tree rules (Haines, SPD rules 8 and 9): every
     /// hit on a surface with Ks > 0 or T > 0 spawns a reflection ray, and every hit on a

@@ -26,6 +26,9 @@ pub struct Stats {
     /// Reflected or refracted rays not traced because their weight in the pixel fell below
     /// `min_weight` (adaptive depth control); each also saves its whole subtree.
     pub pruned_rays: u64,
+    /// Shadow rays not cast because the light could change the pixel by less than
+    /// `min_weight` whatever they found (adaptive shadow testing).
+    pub pruned_shadow_rays: u64,
     /// Squares split by adaptive sampling.
     pub adaptive_splits: u64,
     /// Textured pixels that adaptive sampling gave the stratified pass.
@@ -95,6 +98,7 @@ impl AddAssign for Stats {
         self.reflected_rays += o.reflected_rays;
         self.refracted_rays += o.refracted_rays;
         self.pruned_rays += o.pruned_rays;
+        self.pruned_shadow_rays += o.pruned_shadow_rays;
         self.adaptive_splits += o.adaptive_splits;
         self.adaptive_stratified += o.adaptive_stratified;
         self.total_internal_reflections += o.total_internal_reflections;

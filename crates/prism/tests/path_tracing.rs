@@ -707,11 +707,14 @@ fn point_spot_and_directional_lights_give_the_path_tracer_whitteds_direct_light(
             cos_outer: 0.8,
         },
     ];
+    // Every light tested: the default threshold leaves out lights that could change a
+    // pixel by less than 1/255 (adaptive shadow testing), which the path tracer counts.
     let whitted = RenderOptions {
         width: 48,
         height: 32,
         max_depth: 2,
         threads: 2,
+        min_weight: 0.0,
         ..RenderOptions::default()
     };
     let path = RenderOptions {

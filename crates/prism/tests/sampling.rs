@@ -3,12 +3,16 @@
 //! every sampler is bit-identical for any thread count and tile size; filters keep a flat
 //! image flat; adaptive depth control with a zero threshold changes nothing.
 
+use prism::camera::{Camera, Projection};
+use prism::geometry::{Plane, Shape};
 use prism::integrator::Whitted;
-use prism::math::Color;
+use prism::light::Light;
+use prism::math::{Color, Vec3};
 use prism::render::{render, FilterKind, RenderResult};
 use prism::sampling::adaptive::{Square, Visit};
 use prism::sampling::{Sampler, SamplerKind};
 use prism::scene::builtin;
+use prism::shading::{Material, Texture};
 use prism::{RenderOptions, Scene, Stats};
 use std::cell::RefCell;
 use std::collections::{HashMap, HashSet};
@@ -313,16 +317,27 @@ fn a_zero_weight_threshold_traces_the_static_ray_tree() {
     };
     let zero = with(0.0);
     assert_eq!(zero.stats.pruned_rays, 0);
-    // A threshold below every product of weights in the scene prunes nothing either: the
-    // zero threshold is the static depth limit, not a special case.
+    assert_eq!(zero.stats.pruned_shadow_rays, 0);
+    // A threshold below every product of weights in the scene prunes no reflected or
+    // refracted ray either: the zero threshold is the static depth limit, not a special
+    // case. It does prune the shadow rays of the glass's faintest highlights (below
+    // 1e-30, which cannot change a pixel), one shadow ray each; the image is the same.
     let tiny = with(1e-30);
     assert!(bits(&tiny) == bits(&zero));
-    assert_eq!(tiny.stats, zero.stats);
+    assert_eq!(tiny.stats.pruned_rays, 0);
+    assert!(tiny.stats.pruned_shadow_rays > 0);
+    assert_eq!(
+        tiny.stats.shadow_rays + tiny.stats.pruned_shadow_rays,
+        zero.stats.shadow_rays
+    );
+    let rays = |s: &Stats| [s.primary_rays, s.reflected_rays, s.refracted_rays];
+    assert_eq!(rays(&tiny.stats), rays(&zero.stats));
     // The default prunes, saves at least the pruned rays, and changes the image little.
     let default = with(RenderOptions::default().min_weight);
-    assert!(default.stats.pruned_rays > 0);
+    assert!(default.stats.pruned_rays > 0 && default.stats.pruned_shadow_rays > 0);
     let saved = zero.stats.total_rays() - default.stats.total_rays();
-    assert!(saved >= default.stats.pruned_rays, "saved {saved}");
+    let pruned = default.stats.pruned_rays + default.stats.pruned_shadow_rays;
+    assert!(saved >= pruned, "saved {saved}, pruned {pruned}");
     let c = prism_lab::metrics::compare(&zero.film, &default.film, None, 67.0).unwrap();
     assert!(c.flip < 0.01 && c.rmse < 2e-3, "{c:?}");
     // Higher thresholds trace fewer rays.
@@ -333,6 +348,76 @@ fn a_zero_weight_threshold_traces_the_static_ray_tree() {
         last = n;
     }
     assert!(last < zero.stats.total_rays());
+}
+
+#[test]
+fn a_light_that_cannot_change_a_pixel_by_min_weight_casts_no_shadow_ray() {
+    // A white Lambert floor that fills the view, lit straight from above (n·l = 1): a
+    // light of 0.003 could add at most 0.003 to a camera ray's pixel, below the default
+    // min_weight of 1/255, so it casts no shadow ray and adds nothing, exactly as if it
+    // were not there; one of 0.005 could add more and casts its rays.
+    let floor_under = |lights: &[f32]| {
+        let mut scene = Scene {
+            camera: Camera {
+                eye: Vec3::new(0.0, 5.0, 1.0),
+                look_at: Vec3::ZERO,
+                up: Vec3::Y,
+                fov_degrees: 30.0,
+                projection: Projection::Perspective,
+            },
+            ambient: Color::ZERO,
+            background: Color::ZERO,
+            lights: (lights.iter())
+                .map(|&c| Light::Directional {
+                    direction: -Vec3::Y,
+                    color: Color::splat(c),
+                })
+                .collect(),
+            ..Scene::default()
+        };
+        let white = scene.add_material(Material {
+            name: "white".into(),
+            color: Texture::Solid(Color::ONE),
+            ambient: 0.0,
+            diffuse: 1.0,
+            ..Material::default()
+        });
+        let plane = Plane::new(Vec3::ZERO, Vec3::Y).unwrap();
+        scene.geometry.add(Shape::Plane(Box::new(plane)), white);
+        scene
+    };
+    let (dim, faint_but_enough, bright) = (0.003, 0.005, 0.5);
+    for packets in [true, false] {
+        let render_of = |scene: &Scene, min_weight: f32| {
+            let options = RenderOptions {
+                width: 16,
+                height: 12,
+                threads: 1,
+                min_weight,
+                packets,
+                ..scene.options.clone()
+            };
+            run(scene, &options)
+        };
+        let default_weight = RenderOptions::default().min_weight;
+        let with_dim = render_of(&floor_under(&[dim, bright]), default_weight);
+        let without = render_of(&floor_under(&[bright]), default_weight);
+        let hits = with_dim.stats.primary_hits;
+        assert_eq!(hits, 16 * 12, "the floor fills the view");
+        assert!(bits(&with_dim) == bits(&without), "packets {packets}");
+        assert_eq!(with_dim.stats.shadow_rays, hits);
+        assert_eq!(with_dim.stats.pruned_shadow_rays, hits);
+        // Just above the threshold the light is tested.
+        let enough = render_of(&floor_under(&[faint_but_enough, bright]), default_weight);
+        assert_eq!(enough.stats.shadow_rays, 2 * hits);
+        assert_eq!(enough.stats.pruned_shadow_rays, 0);
+        // With no threshold every light is tested, and the dim one adds its light.
+        let exact = render_of(&floor_under(&[dim, bright]), 0.0);
+        assert_eq!(exact.stats.shadow_rays, 2 * hits);
+        assert_eq!(exact.stats.pruned_shadow_rays, 0);
+        let (a, b) = (exact.film.pixels[0], without.film.pixels[0]);
+        assert!((a.x - b.x - dim).abs() < 1e-6, "{a} against {b}");
+    }
 }
 
 #[test]

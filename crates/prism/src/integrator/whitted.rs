@@ -140,7 +140,7 @@ impl<'a> Whitted<'a> {
             lit.clear();
             for (i, s) in surfaces.iter().enumerate() {
                 let Some(s) = s else { continue };
-                if let Some(sample) = self.lit_by(s, light) {
+                if let Some(sample) = self.lit_by(s, light, weights[i], stats) {
                     samples[i] = Some(sample);
                     lit.push(i as u8);
                 }
@@ -367,7 +367,7 @@ impl<'a> Whitted<'a> {
             return self.scene.scene.background;
         };
         let surface = self.surface(ray, hit, depth, stats);
-        let radiance = self.local(&surface, stats, |index, ls, stats| {
+        let radiance = self.local(&surface, weight, stats, |index, ls, stats| {
             self.shadows
                 .visibility(index, depth, &surface.sp, surface.ng, ls, stats)
         });
@@ -412,16 +412,18 @@ impl<'a> Whitted<'a> {
     }
 
     /// Local illumination: ambient, plus diffuse and highlight from every light that
-    /// `visibility(light index, sample)` says reaches the surface.
+    /// `visibility(light index, sample)` says reaches the surface, whose ray has `weight`
+    /// in the pixel.
     fn local(
         &self,
         surface: &Surface,
+        weight: Color,
         stats: &mut Stats,
         mut visibility: impl FnMut(usize, &LightSample, &mut Stats) -> Color,
     ) -> Color {
         let mut radiance = self.own_radiance(surface);
         for (index, light) in self.scene.scene.lights.iter().enumerate() {
-            let Some((ls, reflected)) = self.lit_by(surface, light) else {
+            let Some((ls, reflected)) = self.lit_by(surface, light, weight, stats) else {
                 continue;
             };
             let visibility = visibility(index, &ls, stats);
@@ -441,17 +443,26 @@ impl<'a> Whitted<'a> {
         radiance
     }
 
-    /// Whether `light` needs a shadow ray from `surface`: its sample, and what is known of
-    /// the fraction of it the surface sends to the eye (diffuse plus highlight), where the
-    /// light is in front of the surface (SPD rule 10) and that fraction is not exactly
-    /// zero. A zero fraction (a glass's highlight far from the mirror direction underflows
-    /// to 0, a surface without diffuse or highlight) adds nothing however much light gets
-    /// through, so its shadow ray is not cast; SPD's rules count every shadow ray, so under
-    /// them it is. Where the diffuse term is zero, whether the highlight is zero is
-    /// decided here, mostly from bounds (`Material::highlight_unless_nonzero`); its value,
-    /// a power function, waits until the light is seen to get through.
+    /// Whether `light` needs a shadow ray from `surface`, whose ray has `weight` in the
+    /// pixel: its sample, and what is known of the fraction of it the surface sends to the
+    /// eye (diffuse plus highlight), where the light is in front of the surface (SPD rule
+    /// 10) and that fraction could change the pixel by `min_weight` or more if the light got
+    /// through unfiltered (adaptive shadow testing, as adaptive depth control prunes
+    /// reflected and refracted rays; a pruned light adds nothing, as a blocked one). A zero
+    /// fraction (a glass's highlight far from the mirror direction underflows to 0) is
+    /// never worth a ray, even with `min_weight` 0, and is not counted as pruned. SPD's
+    /// rules cast every shadow ray. Where the diffuse term alone decides that the ray is
+    /// cast, the highlight's power function waits until the light is seen to get through;
+    /// where it does not, the highlight is worked out here (exactly, as `light_term` would),
+    /// mostly decided to be zero from bounds (`Material::highlight_unless_nonzero`).
     #[inline]
-    fn lit_by(&self, surface: &Surface, light: &Light) -> Option<(LightSample, Reflected)> {
+    fn lit_by(
+        &self,
+        surface: &Surface,
+        light: &Light,
+        weight: Color,
+        stats: &mut Stats,
+    ) -> Option<(LightSample, Reflected)> {
         let ls = self.light_sample(surface, light)?;
         let Surface {
             material,
@@ -461,19 +472,39 @@ impl<'a> Whitted<'a> {
             ..
         } = *surface;
         let diffuse = material.diffuse * ns.dot(ls.to_light).max(0.0) * color;
-        if self.spd_rules || diffuse != Color::ZERO {
-            return Some((
-                ls,
-                Reflected {
-                    diffuse,
-                    highlight: None,
-                },
-            ));
+        // What the light could add to the pixel at most, per unit of reflected fraction.
+        let reach = weight * ls.color;
+        if self.spd_rules
+            || (diffuse != Color::ZERO && (reach * diffuse).max_element() >= self.min_weight)
+        {
+            let highlight = None;
+            return Some((ls, Reflected { diffuse, highlight }));
         }
-        // Whether the highlight is zero, mostly decided without its power (then worked
-        // out later, where the light is seen to get through, as for other surfaces).
-        let highlight = material.highlight_unless_nonzero(ns, ls.to_light, to_eye);
-        (highlight != Some(0.0)).then_some((ls, Reflected { diffuse, highlight }))
+        let highlight = if diffuse != Color::ZERO {
+            material.highlight_term(ns, ls.to_light, to_eye)
+        } else {
+            match material.highlight_unless_nonzero(ns, ls.to_light, to_eye) {
+                Some(0.0) => return None,
+                Some(h) => h,
+                // Not zero: with no threshold the ray is cast, and the power can wait.
+                None if self.min_weight <= 0.0 => {
+                    return Some((
+                        ls,
+                        Reflected {
+                            diffuse,
+                            highlight: None,
+                        },
+                    ));
+                }
+                None => material.highlight_term(ns, ls.to_light, to_eye),
+            }
+        };
+        if (reach * (diffuse + Color::splat(highlight))).max_element() < self.min_weight {
+            stats.pruned_shadow_rays += 1;
+            return None;
+        }
+        let highlight = Some(highlight);
+        Some((ls, Reflected { diffuse, highlight }))
     }
 
     /// The light a sample adds to `surface`, which reflects `reflected` of it towards the
