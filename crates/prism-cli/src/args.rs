@@ -159,8 +159,8 @@ pub(crate) struct RenderArgs {
 
     /// Adaptive depth control: stop a reflected or refracted branch whose weight in the
     /// pixel is below this, and cast no shadow ray to a light that could add less than
-    /// this to the pixel; 0 traces every branch to the depth limit and tests every light
-    /// [default: 1/255].
+    /// this to the pixel (it gets through as much as the tested lights do); 0 traces every
+    /// branch to the depth limit and tests every light [default: 1/255].
     #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub min_weight: Option<f32>,
 

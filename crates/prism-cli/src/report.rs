@@ -138,7 +138,7 @@ impl Report {
             "pruned", s.pruned_rays
         );
         println!(
-            "{:<18} {:>14}   (shadow rays whose light could change the pixel by less than min_weight)",
+            "{:<18} {:>14}   (shadow rays not cast: the light could add less than min_weight)",
             "pruned shadow", s.pruned_shadow_rays
         );
         if s.adaptive_splits > 0 {

@@ -98,8 +98,9 @@ pub struct RenderOptions {
     /// traced. The default, 1/255, is POV-Ray's `adc_bailout`: such a ray cannot change an
     /// 8-bit pixel by more than about a level. The same threshold tests shadows
     /// adaptively: a light whose diffuse and highlight terms, unshadowed and times the
-    /// ray's weight, would stay below it in every channel casts no shadow ray and adds
-    /// nothing. 0 traces every ray up to `max_depth` and tests every light.
+    /// ray's weight, would stay below it in every channel casts no shadow ray; it gets
+    /// through as much as the lights tested there do (Ward 1991). 0 traces every ray up to
+    /// `max_depth` and tests every light.
     pub min_weight: f32,
     /// Follow the SPD testing procedure's ray-tree rules (Haines, SPD rules 8 and 9): every
     /// hit on a surface with Ks > 0 or T > 0 spawns a reflection ray, and every hit on a

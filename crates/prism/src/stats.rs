@@ -27,7 +27,8 @@ pub struct Stats {
     /// `min_weight` (adaptive depth control); each also saves its whole subtree.
     pub pruned_rays: u64,
     /// Shadow rays not cast because the light could change the pixel by less than
-    /// `min_weight` whatever they found (adaptive shadow testing).
+    /// `min_weight` whatever they found; the light gets through as much as the tested
+    /// lights at the point do (adaptive shadow testing).
     pub pruned_shadow_rays: u64,
     /// Squares split by adaptive sampling.
     pub adaptive_splits: u64,

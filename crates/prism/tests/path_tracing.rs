@@ -707,8 +707,9 @@ fn point_spot_and_directional_lights_give_the_path_tracer_whitteds_direct_light(
             cos_outer: 0.8,
         },
     ];
-    // Every light tested: the default threshold leaves out lights that could change a
-    // pixel by less than 1/255 (adaptive shadow testing), which the path tracer counts.
+    // Every light tested: by default a light that could change a pixel by less than
+    // 1/255 casts no shadow ray, its visibility estimated from the other lights'
+    // (adaptive shadow testing), where the path tracer tests it.
     let whitted = RenderOptions {
         width: 48,
         height: 32,

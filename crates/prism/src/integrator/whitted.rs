@@ -136,13 +136,18 @@ impl<'a> Whitted<'a> {
         // The surfaces a light reaches (`lit_by`), in lane order, and its sample there.
         let mut lit: ArrayVec<u8, PACKET_MAX> = ArrayVec::new();
         let mut samples = [None::<(LightSample, Reflected)>; PACKET_MAX];
+        let mut faint = [FaintLights::default(); PACKET_MAX];
         for (index, light) in scene.lights.iter().enumerate() {
             lit.clear();
             for (i, s) in surfaces.iter().enumerate() {
                 let Some(s) = s else { continue };
-                if let Some(sample) = self.lit_by(s, light, weights[i], stats) {
-                    samples[i] = Some(sample);
-                    lit.push(i as u8);
+                match self.lit_by(s, light, weights[i], stats) {
+                    Some((ls, reflected, Seen::ByShadowRay)) => {
+                        samples[i] = Some((ls, reflected));
+                        lit.push(i as u8);
+                    }
+                    Some((ls, reflected, Seen::Estimated)) => faint[i].add_faint(&ls, reflected),
+                    None => {}
                 }
             }
             let sample = |i: usize| samples[i].expect("lit surfaces have samples");
@@ -153,6 +158,7 @@ impl<'a> Whitted<'a> {
                     let before = stats.total_rays();
                     let seen = (self.shadows).visibility(index, depth, &s.sp, s.ng, &ls, stats);
                     rays_of[owners[i]] += (stats.total_rays() - before) as u32;
+                    faint[i].add_tested(&ls, reflected, seen);
                     colors[i] += self.light_term(s, &ls, reflected, seen);
                 }
                 continue;
@@ -193,8 +199,12 @@ impl<'a> Whitted<'a> {
             }
             for (&i, &seen) in lit.iter().zip(&seen[..m]) {
                 let (i, (ls, reflected)) = (usize::from(i), sample(usize::from(i)));
+                faint[i].add_tested(&ls, reflected, seen);
                 colors[i] += self.light_term(surface(i), &ls, reflected, seen);
             }
+        }
+        for (color, faint) in colors.iter_mut().zip(&faint[..n]) {
+            faint.add_estimate(color);
         }
         if depth >= self.max_depth {
             return;
@@ -422,13 +432,20 @@ impl<'a> Whitted<'a> {
         mut visibility: impl FnMut(usize, &LightSample, &mut Stats) -> Color,
     ) -> Color {
         let mut radiance = self.own_radiance(surface);
+        let mut faint = FaintLights::default();
         for (index, light) in self.scene.scene.lights.iter().enumerate() {
-            let Some((ls, reflected)) = self.lit_by(surface, light, weight, stats) else {
+            let Some((ls, reflected, seen)) = self.lit_by(surface, light, weight, stats) else {
                 continue;
             };
+            if let Seen::Estimated = seen {
+                faint.add_faint(&ls, reflected);
+                continue;
+            }
             let visibility = visibility(index, &ls, stats);
+            faint.add_tested(&ls, reflected, visibility);
             radiance += self.light_term(surface, &ls, reflected, visibility);
         }
+        faint.add_estimate(&mut radiance);
         radiance
     }
 
@@ -443,18 +460,21 @@ impl<'a> Whitted<'a> {
         radiance
     }
 
-    /// Whether `light` needs a shadow ray from `surface`, whose ray has `weight` in the
-    /// pixel: its sample, and what is known of the fraction of it the surface sends to the
-    /// eye (diffuse plus highlight), where the light is in front of the surface (SPD rule
-    /// 10) and that fraction could change the pixel by `min_weight` or more if the light got
-    /// through unfiltered (adaptive shadow testing, as adaptive depth control prunes
-    /// reflected and refracted rays; a pruned light adds nothing, as a blocked one). A zero
-    /// fraction (a glass's highlight far from the mirror direction underflows to 0) is
-    /// never worth a ray, even with `min_weight` 0, and is not counted as pruned. SPD's
-    /// rules cast every shadow ray. Where the diffuse term alone decides that the ray is
-    /// cast, the highlight's power function waits until the light is seen to get through;
-    /// where it does not, the highlight is worked out here (exactly, as `light_term` would),
-    /// mostly decided to be zero from bounds (`Material::highlight_unless_nonzero`).
+    /// What `light` sends towards `surface`, whose ray has `weight` in the pixel, and how
+    /// much of it gets there is to be found out: its sample, and what is known of the
+    /// fraction of it the surface sends to the eye (diffuse plus highlight), where the
+    /// light is in front of the surface (SPD rule 10) and that fraction is not exactly zero
+    /// (a glass's highlight far from the mirror direction underflows to 0, and adds
+    /// nothing however much light gets through). A light that could change the pixel by
+    /// less than `min_weight` even unblocked casts no shadow ray: how much of it gets
+    /// through is estimated from the lights tested at the point (`FaintLights`, adaptive
+    /// shadow testing after Ward 1991, as adaptive depth control prunes reflected and
+    /// refracted rays). With `min_weight` 0 and under SPD's rules (which cast every shadow
+    /// ray) every other light is tested. Where the diffuse term alone settles that the ray
+    /// is cast, the highlight's power function waits until the light is seen to get
+    /// through; where it does not, the highlight is worked out here (exactly, as
+    /// `light_term` would), mostly decided to be zero from bounds
+    /// (`Material::highlight_unless_nonzero`).
     #[inline]
     fn lit_by(
         &self,
@@ -462,7 +482,7 @@ impl<'a> Whitted<'a> {
         light: &Light,
         weight: Color,
         stats: &mut Stats,
-    ) -> Option<(LightSample, Reflected)> {
+    ) -> Option<(LightSample, Reflected, Seen)> {
         let ls = self.light_sample(surface, light)?;
         let Surface {
             material,
@@ -478,7 +498,7 @@ impl<'a> Whitted<'a> {
             || (diffuse != Color::ZERO && (reach * diffuse).max_element() >= self.min_weight)
         {
             let highlight = None;
-            return Some((ls, Reflected { diffuse, highlight }));
+            return Some((ls, Reflected { diffuse, highlight }, Seen::ByShadowRay));
         }
         let highlight = if diffuse != Color::ZERO {
             material.highlight_term(ns, ls.to_light, to_eye)
@@ -488,23 +508,21 @@ impl<'a> Whitted<'a> {
                 Some(h) => h,
                 // Not zero: with no threshold the ray is cast, and the power can wait.
                 None if self.min_weight <= 0.0 => {
-                    return Some((
-                        ls,
-                        Reflected {
-                            diffuse,
-                            highlight: None,
-                        },
-                    ));
+                    let highlight = None;
+                    return Some((ls, Reflected { diffuse, highlight }, Seen::ByShadowRay));
                 }
                 None => material.highlight_term(ns, ls.to_light, to_eye),
             }
         };
-        if (reach * (diffuse + Color::splat(highlight))).max_element() < self.min_weight {
+        let faint = (reach * (diffuse + Color::splat(highlight))).max_element() < self.min_weight;
+        let seen = if faint {
             stats.pruned_shadow_rays += 1;
-            return None;
-        }
+            Seen::Estimated
+        } else {
+            Seen::ByShadowRay
+        };
         let highlight = Some(highlight);
-        Some((ls, Reflected { diffuse, highlight }))
+        Some((ls, Reflected { diffuse, highlight }, seen))
     }
 
     /// The light a sample adds to `surface`, which reflects `reflected` of it towards the
@@ -642,8 +660,69 @@ impl Batch {
 /// since every level of packets keeps a few kilobytes on the stack.
 const PACKET_DEPTH: u32 = 8;
 
+/// How much of a light sample reaches a shading point is found (`Whitted::lit_by`).
+#[derive(Clone, Copy)]
+enum Seen {
+    /// By a shadow ray.
+    ByShadowRay,
+    /// Not at all: the light is too faint to be worth a ray, and gets through as much as
+    /// the tested lights do (`FaintLights`).
+    Estimated,
+}
+
+/// Ward's estimate for the lights at one shading point too faint to be worth a shadow ray
+/// ("Adaptive Shadow Testing for Ray Tracing", 1991): their light as if unblocked, scaled by
+/// the fraction of the tested lights' light that got through there (all of it where no
+/// light was tested). Where every tested light is seen, or blocked, the faint ones are
+/// taken to be too, which is what makes the estimate good: shadows are mostly shared.
+#[derive(Clone, Copy, Default)]
+struct FaintLights {
+    /// The faint lights' terms, unblocked.
+    unblocked: Color,
+    /// The tested lights' terms unblocked, over the three channels (the diffuse part alone
+    /// where the highlight waits for the shadow ray), and the part of that seen.
+    tested: f32,
+    seen: f32,
+}
+
+impl FaintLights {
+    /// A light's term as if nothing blocked it (without the highlight where that waits).
+    #[inline]
+    fn unblocked(ls: &LightSample, reflected: Reflected) -> Color {
+        ls.color * (reflected.diffuse + Color::splat(reflected.highlight.unwrap_or(0.0)))
+    }
+
+    #[inline]
+    fn add_faint(&mut self, ls: &LightSample, reflected: Reflected) {
+        self.unblocked += Self::unblocked(ls, reflected);
+    }
+
+    #[inline]
+    fn add_tested(&mut self, ls: &LightSample, reflected: Reflected, visibility: Color) {
+        let unblocked = Self::unblocked(ls, reflected);
+        self.tested += unblocked.element_sum();
+        self.seen += (unblocked * visibility).element_sum();
+    }
+
+    /// Adds the faint lights' estimated light to `radiance` (nothing without faint lights,
+    /// so that renders that test every light keep their sums as they were).
+    #[inline]
+    fn add_estimate(&self, radiance: &mut Color) {
+        if self.unblocked == Color::ZERO {
+            return;
+        }
+        let through = if self.tested > 0.0 {
+            self.seen / self.tested
+        } else {
+            1.0
+        };
+        *radiance += self.unblocked * through;
+    }
+}
+
 /// What a surface reflects of a light sample towards the eye: its diffuse term, and its
-/// highlight where `Whitted::lit_by` worked it out to see whether it is zero.
+/// highlight where `Whitted::lit_by` worked it out (to see whether it is zero, or whether
+/// the light is faint).
 #[derive(Clone, Copy)]
 struct Reflected {
     diffuse: Color,

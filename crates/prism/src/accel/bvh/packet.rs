@@ -475,31 +475,13 @@ pub(super) fn query(
     stats: &mut Stats,
 ) {
     assert!(rays.len() <= PACKET_MAX && t_max.len() == rays.len() && answers.len() == rays.len());
+    let mut run = |scratch: &mut Scratch| {
+        query_in(scratch, bvh, geometry, rays, t_max, mode, answers, stats);
+    };
     SCRATCH.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut scratch) => query_in(
-            &mut scratch,
-            bvh,
-            geometry,
-            rays,
-            t_max,
-            mode,
-            answers,
-            stats,
-        ),
+        Ok(mut scratch) => run(&mut scratch),
         // A query inside a query (none today) gets room of its own.
-        Err(_) => {
-            let mut scratch = Box::new(Scratch::new());
-            query_in(
-                &mut scratch,
-                bvh,
-                geometry,
-                rays,
-                t_max,
-                mode,
-                answers,
-                stats,
-            )
-        }
+        Err(_) => run(&mut Box::new(Scratch::new())),
     });
 }
 
