@@ -89,10 +89,23 @@ pub(crate) fn spawns(
     if w.max_element() <= 0.0 {
         return false;
     }
-    if (weight * w).max_element() >= min_weight {
+    if changes_pixel(min_weight, weight, w) {
         true
     } else {
         stats.pruned_rays += 1;
         false
     }
+}
+
+/// Whether a term worth `w` (per unit of radiance) to a ray of weight `weight` in its pixel
+/// could change some channel of the pixel by `min_weight`: the one rule of adaptive depth
+/// control (`spawns`) and of adaptive shadow testing (the Whitted integrator's faint
+/// lights).
+#[inline]
+pub(crate) fn changes_pixel(
+    min_weight: f32,
+    weight: crate::math::Color,
+    w: crate::math::Color,
+) -> bool {
+    (weight * w).max_element() >= min_weight
 }

@@ -30,6 +30,9 @@ pub struct Whitted<'a> {
     max_depth: u32,
     min_weight: f32,
     spd_rules: bool,
+    /// Whether every light in front of a surface is tested (`min_weight` 0, or the SPD
+    /// rules): then no light is faint, and nothing is kept for Ward's estimate.
+    tests_every_light: bool,
 }
 
 impl<'a> Whitted<'a> {
@@ -42,6 +45,7 @@ impl<'a> Whitted<'a> {
             max_depth: options.max_depth,
             min_weight: options.min_weight,
             spd_rules: options.spd_rules,
+            tests_every_light: options.spd_rules || options.min_weight <= 0.0,
         }
     }
 
@@ -158,7 +162,9 @@ impl<'a> Whitted<'a> {
                     let before = stats.total_rays();
                     let seen = (self.shadows).visibility(index, depth, &s.sp, s.ng, &ls, stats);
                     rays_of[owners[i]] += (stats.total_rays() - before) as u32;
-                    faint[i].add_tested(&ls, reflected, seen);
+                    if !self.tests_every_light {
+                        faint[i].add_tested(&ls, reflected, seen);
+                    }
                     colors[i] += self.light_term(s, &ls, reflected, seen);
                 }
                 continue;
@@ -199,12 +205,16 @@ impl<'a> Whitted<'a> {
             }
             for (&i, &seen) in lit.iter().zip(&seen[..m]) {
                 let (i, (ls, reflected)) = (usize::from(i), sample(usize::from(i)));
-                faint[i].add_tested(&ls, reflected, seen);
+                if !self.tests_every_light {
+                    faint[i].add_tested(&ls, reflected, seen);
+                }
                 colors[i] += self.light_term(surface(i), &ls, reflected, seen);
             }
         }
-        for (color, faint) in colors.iter_mut().zip(&faint[..n]) {
-            faint.add_estimate(color);
+        if !self.tests_every_light {
+            for (color, faint) in colors.iter_mut().zip(&faint[..n]) {
+                faint.add_estimate(color);
+            }
         }
         if depth >= self.max_depth {
             return;
@@ -442,10 +452,14 @@ impl<'a> Whitted<'a> {
                 continue;
             }
             let visibility = visibility(index, &ls, stats);
-            faint.add_tested(&ls, reflected, visibility);
+            if !self.tests_every_light {
+                faint.add_tested(&ls, reflected, visibility);
+            }
             radiance += self.light_term(surface, &ls, reflected, visibility);
         }
-        faint.add_estimate(&mut radiance);
+        if !self.tests_every_light {
+            faint.add_estimate(&mut radiance);
+        }
         radiance
     }
 
@@ -495,7 +509,7 @@ impl<'a> Whitted<'a> {
         // What the light could add to the pixel at most, per unit of reflected fraction.
         let reach = weight * ls.color;
         if self.spd_rules
-            || (diffuse != Color::ZERO && (reach * diffuse).max_element() >= self.min_weight)
+            || (diffuse != Color::ZERO && super::changes_pixel(self.min_weight, reach, diffuse))
         {
             let highlight = None;
             return Some((ls, Reflected { diffuse, highlight }, Seen::ByShadowRay));
@@ -507,14 +521,15 @@ impl<'a> Whitted<'a> {
                 Some(0.0) => return None,
                 Some(h) => h,
                 // Not zero: with no threshold the ray is cast, and the power can wait.
-                None if self.min_weight <= 0.0 => {
+                None if self.tests_every_light => {
                     let highlight = None;
                     return Some((ls, Reflected { diffuse, highlight }, Seen::ByShadowRay));
                 }
                 None => material.highlight_term(ns, ls.to_light, to_eye),
             }
         };
-        let faint = (reach * (diffuse + Color::splat(highlight))).max_element() < self.min_weight;
+        let faint =
+            !super::changes_pixel(self.min_weight, reach, diffuse + Color::splat(highlight));
         let seen = if faint {
             stats.pruned_shadow_rays += 1;
             Seen::Estimated
