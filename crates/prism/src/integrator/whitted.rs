@@ -139,22 +139,26 @@ impl<'a> Whitted<'a> {
         let mut batch = Batch::new();
         // The surfaces a light reaches (`lit_by`), in lane order, and its sample there.
         let mut lit: ArrayVec<u8, PACKET_MAX> = ArrayVec::new();
-        let mut samples = [None::<(LightSample, Reflected)>; PACKET_MAX];
+        // Written in place by `lit_by`: returned by value, the samples were copied through
+        // the stack in pieces whose loads stalled on the stores before them (a tenth of
+        // `shade_packet`'s time in a viewer frame).
+        let mut samples = [Lit::NONE; PACKET_MAX];
         let mut faint = [FaintLights::default(); PACKET_MAX];
         for (index, light) in scene.lights.iter().enumerate() {
             lit.clear();
             for (i, s) in surfaces.iter().enumerate() {
                 let Some(s) = s else { continue };
-                match self.lit_by(s, light, weights[i], stats) {
-                    Some((ls, reflected, Seen::ByShadowRay)) => {
-                        samples[i] = Some((ls, reflected));
-                        lit.push(i as u8);
-                    }
-                    Some((ls, reflected, Seen::Estimated)) => faint[i].add_faint(&ls, reflected),
+                let sample = &mut samples[i];
+                match self.lit_by(s, light, weights[i], sample, stats) {
+                    Some(Seen::ByShadowRay) => lit.push(i as u8),
+                    Some(Seen::Estimated) => faint[i].add_faint(&sample.ls, sample.reflected),
                     None => {}
                 }
             }
-            let sample = |i: usize| samples[i].expect("lit surfaces have samples");
+            let sample = |i: usize| {
+                let Lit { ls, reflected } = samples[i];
+                (ls, reflected)
+            };
             if !self.shadows.answers_packets(index) {
                 for &i in &lit {
                     let (i, (ls, reflected)) = (usize::from(i), sample(usize::from(i)));
@@ -444,9 +448,11 @@ impl<'a> Whitted<'a> {
         let mut radiance = self.own_radiance(surface);
         let mut faint = FaintLights::default();
         for (index, light) in self.scene.scene.lights.iter().enumerate() {
-            let Some((ls, reflected, seen)) = self.lit_by(surface, light, weight, stats) else {
+            let mut sample = Lit::NONE;
+            let Some(seen) = self.lit_by(surface, light, weight, &mut sample, stats) else {
                 continue;
             };
+            let Lit { ls, reflected } = sample;
             if let Seen::Estimated = seen {
                 faint.add_faint(&ls, reflected);
                 continue;
@@ -475,7 +481,7 @@ impl<'a> Whitted<'a> {
     }
 
     /// What `light` sends towards `surface`, whose ray has `weight` in the pixel, and how
-    /// much of it gets there is to be found out: its sample, and what is known of the
+    /// much of it gets there is to be found out: its sample (written to `out`), and what is known of the
     /// fraction of it the surface sends to the eye (diffuse plus highlight), where the
     /// light is in front of the surface (SPD rule 10) and that fraction is not exactly zero
     /// (a glass's highlight far from the mirror direction underflows to 0, and adds
@@ -495,9 +501,11 @@ impl<'a> Whitted<'a> {
         surface: &Surface,
         light: &Light,
         weight: Color,
+        out: &mut Lit,
         stats: &mut Stats,
-    ) -> Option<(LightSample, Reflected, Seen)> {
+    ) -> Option<Seen> {
         let ls = self.light_sample(surface, light)?;
+        out.ls = ls;
         let Surface {
             material,
             color,
@@ -511,8 +519,11 @@ impl<'a> Whitted<'a> {
         if self.spd_rules
             || (diffuse != Color::ZERO && super::changes_pixel(self.min_weight, reach, diffuse))
         {
-            let highlight = None;
-            return Some((ls, Reflected { diffuse, highlight }, Seen::ByShadowRay));
+            out.reflected = Reflected {
+                diffuse,
+                highlight: None,
+            };
+            return Some(Seen::ByShadowRay);
         }
         let highlight = if diffuse != Color::ZERO {
             material.highlight_term(ns, ls.to_light, to_eye)
@@ -522,8 +533,11 @@ impl<'a> Whitted<'a> {
                 Some(h) => h,
                 // Not zero: with no threshold the ray is cast, and the power can wait.
                 None if self.tests_every_light => {
-                    let highlight = None;
-                    return Some((ls, Reflected { diffuse, highlight }, Seen::ByShadowRay));
+                    out.reflected = Reflected {
+                        diffuse,
+                        highlight: None,
+                    };
+                    return Some(Seen::ByShadowRay);
                 }
                 None => material.highlight_term(ns, ls.to_light, to_eye),
             }
@@ -536,8 +550,11 @@ impl<'a> Whitted<'a> {
         } else {
             Seen::ByShadowRay
         };
-        let highlight = Some(highlight);
-        Some((ls, Reflected { diffuse, highlight }, seen))
+        out.reflected = Reflected {
+            diffuse,
+            highlight: Some(highlight),
+        };
+        Some(seen)
     }
 
     /// The light a sample adds to `surface`, which reflects `reflected` of it towards the
@@ -733,6 +750,29 @@ impl FaintLights {
         };
         *radiance += self.unblocked * through;
     }
+}
+
+/// A light's sample at a shading point and what the surface reflects of it, as
+/// `Whitted::lit_by` writes them.
+#[derive(Clone, Copy)]
+struct Lit {
+    ls: LightSample,
+    reflected: Reflected,
+}
+
+impl Lit {
+    /// A slot before `lit_by` fills it.
+    const NONE: Lit = Lit {
+        ls: LightSample {
+            to_light: Vec3::ZERO,
+            distance: 0.0,
+            color: Color::ZERO,
+        },
+        reflected: Reflected {
+            diffuse: Color::ZERO,
+            highlight: None,
+        },
+    };
 }
 
 /// What a surface reflects of a light sample towards the eye: its diffuse term, and its
