@@ -9,7 +9,8 @@
 # Usage: bench/render-vs.sh REVISION [output file]   e.g. bench/render-vs.sh 29d38f2
 # PRISM_LOCK names a lock file that serialises each timed render with other builds and
 # benchmarks on a shared machine (default /tmp/prism-cargo.lock). PRISM_OLD_BINARY names a
-# prism binary already built at REVISION, which then is not built again.
+# prism binary already built at REVISION, which then is not built again. SHADOWS, when set,
+# is passed to every render as `--shadows` (e.g. SHADOWS=both).
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -17,6 +18,10 @@ rev=${1:?usage: bench/render-vs.sh REVISION [output file]}
 out=${2:-/dev/stdout}
 rounds=${ROUNDS:-3}
 lock=${PRISM_LOCK:-/tmp/prism-cargo.lock}
+shadows=()
+if [[ -n ${SHADOWS:-} ]]; then
+    shadows=(--shadows "$SHADOWS")
+fi
 cd "$root"
 
 work=$(mktemp -d)
@@ -52,15 +57,15 @@ fi
 scenes+=(builtin:whitted builtin:cornell builtin:sphereflake builtin:torusknot)
 
 {
-    echo "# whole renders: $(git rev-parse --short HEAD) against $rev, 1 render thread, CPU s, median of $rounds in turns"
+    echo "# whole renders: $(git rev-parse --short HEAD) against $rev, 1 render thread, CPU s, median of $rounds in turns${SHADOWS:+, --shadows $SHADOWS}"
     printf '%-14s %8s %8s %7s  %s\n' scene before after speedup image
     for s in "${scenes[@]}"; do
         if [[ $s == builtin:* ]]; then
             name=${s#builtin:}
-            args=(render -b "$name" --threads 1)
+            args=(render -b "$name" --threads 1 "${shadows[@]}")
         else
             name=$(basename "$s" .nff)
-            args=(render "$s" --preset spd --threads 1)
+            args=(render "$s" --preset spd --threads 1 "${shadows[@]}")
         fi
         old=() new=()
         for _ in $(seq "$rounds"); do

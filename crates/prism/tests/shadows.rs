@@ -121,6 +121,36 @@ fn agrees(
     blocked
 }
 
+/// The buffer's packet answers for `rays` (each with its distance and the accelerator's
+/// answer), in packets of 64 in the given order and of 7 (a packet's rays spread over many
+/// cells, and a last packet of fewer), against the accelerator's.
+fn check_packets(
+    buffer: &LightBuffer,
+    g: &Geometry,
+    intersector: &SceneIntersector,
+    rays: &[(Ray, f32, bool)],
+    what: &str,
+) {
+    for size in [64, 7] {
+        for (k, chunk) in rays.chunks(size).enumerate() {
+            let packet: Vec<Ray> = chunk.iter().map(|r| r.0).collect();
+            let t_max: Vec<f32> = chunk.iter().map(|r| r.1).collect();
+            let mut answers = vec![None; chunk.len()];
+            let mut stats = Stats::default();
+            buffer.any_hit_packet(g, intersector, &packet, &t_max, &mut answers, &mut stats);
+            for (i, (r, answer)) in chunk.iter().zip(&answers).enumerate() {
+                assert_eq!(
+                    answer.is_some(),
+                    r.2,
+                    "{what}: packet {k} of {size}, ray {i} ({:?}): the buffer's packet says {answer:?}",
+                    r.0
+                );
+            }
+            assert_eq!(stats.light_buffer_queries, chunk.len() as u64);
+        }
+    }
+}
+
 /// A buffer of `res` cells a side, within a generous budget.
 fn params(res: u32) -> BufferParams {
     BufferParams {
@@ -164,6 +194,7 @@ fn check_light(
     );
     let mut blocked = 0;
     let total = points.len();
+    let mut answered = Vec::new();
     for (p, p_error, n) in points {
         let d = light - p;
         let distance = d.length();
@@ -197,7 +228,16 @@ fn check_light(
             );
         }
         blocked += occluded as usize;
+        answered.push((ray, distance, occluded));
     }
+    let what = format!("light {light}, res {res}");
+    check_packets(&buffers[0], g, intersector, &answered, &what);
+    // As a render gathers them: rays of neighbouring points, in the order of their cells.
+    answered.sort_by(|a, b| {
+        let key = |r: &Ray| (r.dir.x.to_bits(), r.dir.y.to_bits());
+        key(&a.0).cmp(&key(&b.0))
+    });
+    check_packets(&buffers[0], g, intersector, &answered, &what);
     (blocked, total)
 }
 
@@ -292,11 +332,12 @@ fn check_directional(
         points.push((f - to_light * reach * 1e4, Vec3::ZERO, Vec3::Y));
     }
     let (mut blocked, mut stats) = (0, Stats::default());
+    let mut answered = Vec::new();
     for &(p, p_error, n) in &points {
         let ng = if n.dot(to_light) < 0.0 { -n } else { n };
         let ray = Ray::new(offset_ray_origin(p, p_error, ng, to_light), to_light);
         let what = format!("direction {to_light}, point {p}, res {res}");
-        blocked += agrees(
+        let b = agrees(
             &buffer,
             g,
             intersector,
@@ -304,8 +345,12 @@ fn check_directional(
             f32::INFINITY,
             &mut stats,
             &what,
-        ) as usize;
+        );
+        blocked += b as usize;
+        answered.push((ray, f32::INFINITY, b));
     }
+    let what = format!("direction {to_light}, res {res}");
+    check_packets(&buffer, g, intersector, &answered, &what);
     // Each ray asked twice (any and nearest).
     let answered = (stats.light_buffer_queries - stats.light_buffer_fallbacks) / 2;
     (blocked, points.len(), answered)
@@ -411,6 +456,8 @@ fn a_tree_of_one_leaf_answers_as_the_accelerator() {
 /// Every shadow method renders every built-in scene bit for bit as the accelerator does.
 #[test]
 fn every_shadow_method_renders_the_same_image() {
+    // Cache hits in renders whose shadow rays went in packets, over all scenes.
+    let mut packet_cache_hits = 0;
     for name in [
         "whitted",
         "cornell",
@@ -434,27 +481,38 @@ fn every_shadow_method_renders_the_same_image() {
             "both:res=1",
             "light-buffer:res=300",
         ] {
-            options.shadows = method.parse::<ShadowSpec>().unwrap();
-            let result = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
-            let film = result.film.pixels;
-            match &reference {
-                None => reference = Some(film),
-                Some(r) => assert!(
-                    r.iter()
-                        .zip(&film)
-                        .all(|(a, b)| a.to_array().map(f32::to_bits)
-                            == b.to_array().map(f32::to_bits)),
-                    "{name}: {method} renders another image than any-hit"
-                ),
-            }
-            if !["any-hit", "cache", "auto"].contains(&method) {
-                assert!(
-                    result.stats.light_buffer_queries > 0 || scene.lights.is_empty(),
-                    "{name}: {method} built no buffer"
-                );
+            // Shadow rays in packets (camera rays in packets) and one at a time.
+            for packets in [true, false] {
+                options.shadows = method.parse::<ShadowSpec>().unwrap();
+                options.packets = packets;
+                let result = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
+                let film = result.film.pixels;
+                match &reference {
+                    None => reference = Some(film),
+                    Some(r) => assert!(
+                        r.iter()
+                            .zip(&film)
+                            .all(|(a, b)| a.to_array().map(f32::to_bits)
+                                == b.to_array().map(f32::to_bits)),
+                        "{name}: {method} (packets {packets}) renders another image than any-hit"
+                    ),
+                }
+                if !["any-hit", "cache", "auto"].contains(&method) {
+                    assert!(
+                        result.stats.light_buffer_queries > 0 || scene.lights.is_empty(),
+                        "{name}: {method} built no buffer"
+                    );
+                }
+                if packets && method == "cache" {
+                    packet_cache_hits += result.stats.shadow_cache_hits;
+                }
             }
         }
     }
+    assert!(
+        packet_cache_hits > 0,
+        "the cache answered no ray of a packet"
+    );
 }
 
 /// The SPD scenes (Haines' own test scenes) render bit for bit alike with every method.

@@ -6,7 +6,7 @@
 
 use super::{MeasureOptions, RaySet};
 use prism::accel::PACKET_MAX;
-use prism::integrator::{begin_piece, ShadowSpec, Shadows};
+use prism::integrator::{begin_piece, ShadowMethod, ShadowSpec, Shadows};
 use prism::math::Ray;
 use prism::options::PACKET_EDGE;
 use prism::scene::PreparedScene;
@@ -92,29 +92,45 @@ pub fn measure_shadow_methods(
             }
         })
         .collect();
-    let (blocked, stats) = packets.answers(prepared);
-    let n = rays.shadow.len().max(1) as f64;
-    results.push(ShadowMeasured {
-        method: format!("any-hit, packets of {PACKET_MAX}"),
-        build_ms: 0.0,
-        memory_bytes: 0,
-        rays: rays.shadow.len(),
-        blocked: blocked.iter().filter(|&&b| b).count(),
-        tests_per_ray: stats.primitive_tests as f64 / n,
-        node_visits_per_ray: stats.node_visits as f64 / n,
-        cache_hit_rate: 0.0,
-        fallback_rate: 0.0,
-        mrays_per_s: 0.0,
-        mismatch: blocked != reference,
-        notes: Vec::new(),
-    });
-    let mut samples: Vec<Vec<f64>> = vec![Vec::new(); specs.len() + 1];
+    // Beside the methods one ray at a time, the methods as a render traces shadow rays, in
+    // packets: any-hit always, and every other method asked for that answers packets.
+    let any_hit = Shadows::new(prepared, ShadowSpec::default());
+    let lights = prepared.scene.lights.len();
+    let mut in_packets: Vec<(String, &Shadows)> =
+        vec![(format!("any-hit, packets of {PACKET_MAX}"), &any_hit)];
+    for ((shadows, _), spec) in built.iter().zip(specs) {
+        let plain = matches!(spec.method, ShadowMethod::AnyHit | ShadowMethod::Auto);
+        if !plain && (0..lights).all(|l| shadows.answers_packets(l)) {
+            in_packets.push((format!("{spec}, packets of {PACKET_MAX}"), shadows));
+        }
+    }
+    for (method, shadows) in &in_packets {
+        let (blocked, stats) = packets.answers(shadows);
+        let n = rays.shadow.len().max(1) as f64;
+        results.push(ShadowMeasured {
+            method: method.clone(),
+            build_ms: 0.0,
+            memory_bytes: 0,
+            rays: rays.shadow.len(),
+            blocked: blocked.iter().filter(|&&b| b).count(),
+            tests_per_ray: stats.primitive_tests as f64 / n,
+            node_visits_per_ray: stats.node_visits as f64 / n,
+            cache_hit_rate: stats.shadow_cache_hits as f64 / n,
+            fallback_rate: stats.light_buffer_fallbacks as f64 / n,
+            mrays_per_s: 0.0,
+            mismatch: blocked != reference,
+            notes: Vec::new(),
+        });
+    }
+    let mut samples: Vec<Vec<f64>> = vec![Vec::new(); specs.len() + in_packets.len()];
     let started = Instant::now();
     for _ in 0..options.repeat.max(1) {
         for (i, (shadows, _)) in built.iter().enumerate() {
             samples[i].push(sample(shadows, rays, options));
         }
-        samples[specs.len()].push(packets.sample(prepared, options));
+        for (k, (_, shadows)) in in_packets.iter().enumerate() {
+            samples[specs.len() + k].push(packets.sample(shadows, options));
+        }
         if started.elapsed() > options.trace_budget {
             break;
         }
@@ -175,6 +191,8 @@ struct PacketShadows {
     index: Vec<usize>,
     /// Where each packet starts in `rays`, and where the last one ends.
     starts: Vec<usize>,
+    /// Each packet's light.
+    lights: Vec<usize>,
 }
 
 impl PacketShadows {
@@ -196,22 +214,30 @@ impl PacketShadows {
                 starts.push(k);
             }
         }
+        let lights = starts
+            .iter()
+            .map(|&k| set.shadow[order[k]].light as usize)
+            .collect();
         starts.push(order.len());
         PacketShadows {
             rays: order.iter().map(|&i| set.shadow[i].ray).collect(),
             t_max: order.iter().map(|&i| set.shadow[i].t_max).collect(),
             index: order,
             starts,
+            lights,
         }
     }
 
-    /// Answers every packet; `blocked[i]` is for `RaySet::shadow[i]`.
-    fn trace(&self, prepared: &PreparedScene, blocked: &mut [bool], stats: &mut Stats) {
+    /// Answers every packet with `shadows` (from camera-ray hits, depth 1, the cache
+    /// starting empty as a tile's does); `blocked[i]` is for `RaySet::shadow[i]`.
+    fn trace(&self, shadows: &Shadows, blocked: &mut [bool], stats: &mut Stats) {
         let mut answers = [false; PACKET_MAX];
-        for w in self.starts.windows(2) {
+        begin_piece();
+        for (w, &light) in self.starts.windows(2).zip(&self.lights) {
             let (a, b) = (w[0], w[1]);
-            prepared.intersector.occluded_packet(
-                &prepared.scene.geometry,
+            shadows.blocked_packet(
+                light,
+                1,
                 &self.rays[a..b],
                 &self.t_max[a..b],
                 &mut answers[..b - a],
@@ -223,19 +249,19 @@ impl PacketShadows {
         }
     }
 
-    fn answers(&self, prepared: &PreparedScene) -> (Vec<bool>, Stats) {
+    fn answers(&self, shadows: &Shadows) -> (Vec<bool>, Stats) {
         let mut stats = Stats::default();
         let mut blocked = vec![false; self.index.len()];
-        self.trace(prepared, &mut blocked, &mut stats);
+        self.trace(shadows, &mut blocked, &mut stats);
         (blocked, stats)
     }
 
     /// Million rays per second of the packets (`mrays_per_s`).
-    fn sample(&self, prepared: &PreparedScene, options: &MeasureOptions) -> f64 {
+    fn sample(&self, shadows: &Shadows, options: &MeasureOptions) -> f64 {
         let mut stats = Stats::default();
         let mut blocked = vec![false; self.index.len()];
         mrays_per_s(options, self.index.len(), || {
-            self.trace(prepared, &mut blocked, &mut stats);
+            self.trace(shadows, &mut blocked, &mut stats);
             std::hint::black_box(&blocked);
         })
     }
@@ -278,11 +304,22 @@ mod tests {
             min_sample: Duration::ZERO,
             ..MeasureOptions::default()
         };
-        let measured = measure_shadow_methods(&prepared, &rays, &[ShadowSpec::default()], &options);
-        assert_eq!(measured.len(), 2);
-        assert_eq!(measured[1].method, "any-hit, packets of 64");
+        let specs: Vec<ShadowSpec> = ["any-hit", "light-buffer", "both"]
+            .iter()
+            .map(|s| s.parse().unwrap())
+            .collect();
+        let measured = measure_shadow_methods(&prepared, &rays, &specs, &options);
+        let methods: Vec<&str> = measured.iter().map(|m| m.method.as_str()).collect();
+        assert_eq!(
+            methods[3..],
+            [
+                "any-hit, packets of 64",
+                "light-buffer, packets of 64",
+                "both, packets of 64"
+            ]
+        );
         assert!(measured.iter().all(|m| !m.mismatch && m.mrays_per_s > 0.0));
-        assert_eq!(measured[0].blocked, measured[1].blocked);
-        assert!(measured[1].blocked > 0);
+        assert!(measured.iter().all(|m| m.blocked == measured[0].blocked));
+        assert!(measured[0].blocked > 0);
     }
 }

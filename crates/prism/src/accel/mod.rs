@@ -235,6 +235,31 @@ impl SceneIntersector {
             .query(geometry, &tr, t_max, QueryMode::Any, stats)
     }
 
+    /// For a packet of rays (at most `PACKET_MAX`), what `any_hit` answers each: `answers[i]`
+    /// is exactly `any_hit(rays[i])` (a plane's hit where a plane blocks, as it is tested
+    /// first), but coherent rays walk the accelerator together.
+    pub fn any_hit_packet(
+        &self,
+        geometry: &Geometry,
+        rays: &[Ray],
+        t_max: &[f32],
+        answers: &mut [Option<Hit>],
+        stats: &mut Stats,
+    ) {
+        let n = rays.len();
+        (self.accel).query_packet(geometry, rays, &t_max[..n], QueryMode::Any, answers, stats);
+        if self.unbounded.is_empty() {
+            return;
+        }
+        for ((ray, answer), &t_max) in rays.iter().zip(answers.iter_mut()).zip(t_max) {
+            let tr = TraceRay::new(*ray);
+            let mut planes = HitSearch::new(t_max, QueryMode::Any);
+            if (self.unbounded.iter()).any(|&p| planes.test_unbounded(geometry, &tr, p, stats)) {
+                *answer = planes.best();
+            }
+        }
+    }
+
     /// For a packet of rays (at most `PACKET_MAX`), whether anything, planes included, is
     /// hit along ray i with `0 < t < t_max[i]`: `blocked[i]` is exactly `occluded(rays[i])`,
     /// but coherent rays walk the accelerator together (`Accel::query_packet`).

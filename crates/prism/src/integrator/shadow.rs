@@ -277,13 +277,16 @@ impl<'a> Shadows<'a> {
     }
 
     /// Whether the shadow rays of the scene's `index`-th light may be answered as packets:
-    /// when the accelerator answers them (no cache, whose state follows the order of
-    /// rays, and no light buffer). In a scene with transparent surfaces the packet finds
-    /// each ray's first surface (`first_surfaces_packet`), otherwise whether it is blocked
-    /// (`blocked_packet`); an any-hit packet there would have to be traced again through
-    /// the transparent surfaces (on SPD gears that made the render 20 % slower).
-    pub(super) fn answers_packets(&self, index: usize) -> bool {
-        !self.spec.method.uses_cache() && self.buffers.get(index).is_none_or(Option::is_none)
+    /// always, but for a light with a light buffer in a scene with transparent surfaces
+    /// (the walk through them asks the buffer for nearest hits, one ray at a time). In a
+    /// scene with transparent surfaces the packet finds each ray's first surface
+    /// (`transmittance_packet`; the cache, which remembers blockers, has no part there, as
+    /// in `visibility`), otherwise whether it is blocked (`blocked_packet`); an any-hit
+    /// packet there would have to be traced again through the transparent surfaces (on SPD
+    /// gears that made the render 20 % slower).
+    pub fn answers_packets(&self, index: usize) -> bool {
+        let buffered = self.buffers.get(index).is_some_and(Option::is_some);
+        !(buffered && self.scene.has_transmissive)
     }
 
     /// For a packet of shadow rays towards one light that `answers_packets`, in a scene with
@@ -364,27 +367,115 @@ impl<'a> Shadows<'a> {
         stats.shadow_node_visits += stats.node_visits - nodes;
     }
 
-    /// Whether each of a packet of shadow rays (at most `PACKET_MAX`) towards one light
-    /// that `answers_packets` is blocked: ray i from its offset surface point towards the
-    /// light, `distances[i]` away; one any-hit packet query, counted as the shadow rays.
-    /// For a scene without transparent surfaces (`first_surfaces_packet` serves the
-    /// others): a ray that is not blocked sees the light, one that is sees nothing, as
-    /// `visibility` says.
-    pub(super) fn blocked_packet(
+    /// Whether each of a packet of shadow rays (at most `PACKET_MAX`) towards the scene's
+    /// `index`-th light, from hits at `depth` of the ray tree, is blocked: ray i from its
+    /// offset surface point towards the light, `distances[i]` away; counted as the shadow
+    /// rays. The rays walk as one any-hit packet (from the light buffer's cells where the
+    /// light has one); with the cache, the blocker remembered for this light and depth is
+    /// tried on every ray first, and the rest walk. For a scene without transparent
+    /// surfaces (`transmittance_packet` serves the others): a ray that is not blocked sees
+    /// the light, one that is sees nothing, as `visibility` says.
+    pub fn blocked_packet(
         &self,
+        index: usize,
+        depth: u32,
         rays: &[Ray],
         distances: &[f32],
         blocked: &mut [bool],
         stats: &mut Stats,
     ) {
-        let scene = self.scene;
-        stats.shadow_rays += rays.len() as u64;
+        let n = rays.len();
+        stats.shadow_rays += n as u64;
         let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
-        scene
-            .intersector
-            .occluded_packet(&scene.scene.geometry, rays, distances, blocked, stats);
+        if self.spec.method.uses_cache() {
+            self.cached_packet(index, depth, rays, distances, blocked, stats);
+        } else {
+            let mut answers = [None; PACKET_MAX];
+            self.any_hit_packet(index, rays, distances, &mut answers[..n], stats);
+            for (b, answer) in blocked.iter_mut().zip(&answers[..n]) {
+                *b = answer.is_some();
+            }
+        }
         stats.shadow_tests += stats.primitive_tests - tests;
         stats.shadow_node_visits += stats.node_visits - nodes;
+    }
+
+    /// The any-hit answers of a packet towards the `index`-th light: its light buffer's
+    /// where it has one, the accelerator's otherwise.
+    fn any_hit_packet(
+        &self,
+        index: usize,
+        rays: &[Ray],
+        distances: &[f32],
+        answers: &mut [Option<Hit>],
+        stats: &mut Stats,
+    ) {
+        let scene = self.scene;
+        let (geometry, accel) = (&scene.scene.geometry, &scene.intersector);
+        match self.query(index).buffer {
+            Some((b, _)) => b.any_hit_packet(geometry, accel, rays, distances, answers, stats),
+            None => accel.any_hit_packet(geometry, rays, distances, answers, stats),
+        }
+    }
+
+    /// `blocked_packet` with the shadow cache: the blocker remembered for this light and
+    /// depth is tried on every ray of the packet, the rays it does not block walk as one
+    /// packet, and what is remembered afterwards is what single rays in the packet's order
+    /// would leave: the last ray's blocker, or nothing where the last ray is not blocked.
+    /// (Between the packet's rays it does not change, as it would ray by ray: the same
+    /// answers, a few more or fewer cache hits.)
+    fn cached_packet(
+        &self,
+        index: usize,
+        depth: u32,
+        rays: &[Ray],
+        distances: &[f32],
+        blocked: &mut [bool],
+        stats: &mut Stats,
+    ) {
+        let n = rays.len();
+        let geometry = &self.scene.scene.geometry;
+        let slot = index * CACHE_DEPTHS + (depth as usize).min(CACHE_DEPTHS) - 1;
+        let remembered = CACHE.with(|c| c.borrow().get(slot).copied().unwrap_or(u32::MAX));
+        let remembered = (remembered != u32::MAX).then_some(remembered);
+        let mut answers = [None; PACKET_MAX];
+        let mut open: ArrayVec<u8, PACKET_MAX> = ArrayVec::new();
+        for (i, (ray, &t_max)) in rays.iter().zip(distances).enumerate() {
+            if let Some(prim) = remembered {
+                let mut search = HitSearch::new(t_max, QueryMode::Any);
+                if search.test(geometry, &TraceRay::new(*ray), prim, stats) {
+                    stats.shadow_cache_hits += 1;
+                    answers[i] = search.best();
+                    continue;
+                }
+            }
+            open.push(i as u8);
+        }
+        if open.len() == n {
+            self.any_hit_packet(index, rays, distances, &mut answers[..n], stats);
+        } else if !open.is_empty() {
+            let group: ArrayVec<Ray, PACKET_MAX> =
+                open.iter().map(|&i| rays[usize::from(i)]).collect();
+            let bounds: ArrayVec<f32, PACKET_MAX> =
+                open.iter().map(|&i| distances[usize::from(i)]).collect();
+            let mut found = [None; PACKET_MAX];
+            let found = &mut found[..open.len()];
+            self.any_hit_packet(index, &group, &bounds, found, stats);
+            for (&i, &hit) in open.iter().zip(found.iter()) {
+                answers[usize::from(i)] = hit;
+            }
+        }
+        for (b, answer) in blocked.iter_mut().zip(&answers[..n]) {
+            *b = answer.is_some();
+        }
+        let remember = answers[..n]
+            .last()
+            .copied()
+            .flatten()
+            .map_or(u32::MAX, |h| h.prim);
+        if remember != u32::MAX || remembered.is_some() {
+            remember_blocker(slot, remember);
+        }
     }
 
     /// The fraction of light `light` (the scene's `index`-th) that reaches surface point
@@ -509,15 +600,20 @@ fn cached_any_hit(
     // be one wasted test (3 to 4 % hits on SPD tree, teapot and tetra).
     let remember = answer.map_or(u32::MAX, |hit| hit.prim);
     if remember != u32::MAX || remembered.is_some() {
-        CACHE.with(|c| {
-            let mut c = c.borrow_mut();
-            if c.len() <= slot {
-                c.resize(slot + 1, u32::MAX);
-            }
-            c[slot] = remember;
-        });
+        remember_blocker(slot, remember);
     }
     answer.is_some()
+}
+
+/// Sets this thread's cache `slot` to `prim` (u32::MAX for nothing).
+fn remember_blocker(slot: usize, prim: u32) {
+    CACHE.with(|c| {
+        let mut c = c.borrow_mut();
+        if c.len() <= slot {
+            c.resize(slot + 1, u32::MAX);
+        }
+        c[slot] = prim;
+    });
 }
 
 /// Fraction of a light's radiance, per channel, that reaches `origin` along `dir` within

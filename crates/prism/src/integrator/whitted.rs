@@ -200,8 +200,10 @@ impl<'a> Whitted<'a> {
                 }
             } else {
                 let mut blocked = [false; PACKET_MAX];
-                (self.shadows).blocked_packet(&batch.rays, &batch.t_max, &mut blocked[..m], stats);
-                for (seen, &b) in seen.iter_mut().zip(&blocked[..m]) {
+                let (rays, t_max) = (&batch.rays, &batch.t_max);
+                let blocked = &mut blocked[..m];
+                (self.shadows).blocked_packet(index, depth, rays, t_max, blocked, stats);
+                for (seen, &b) in seen.iter_mut().zip(blocked.iter()) {
                     if b {
                         *seen = Color::ZERO;
                     }

@@ -16,7 +16,7 @@
 //! sign on each axis and no zero component (no infinite inverse); other packets are
 //! answered one ray at a time.
 
-use super::traverse::{walk, CullBound, LeafQuery, Visit};
+use super::traverse::{walk, CullBound, LeafQuery, Root, Visit};
 use super::wide::WideNode;
 use super::Bvh;
 use crate::accel::query::HitSearch;
@@ -474,9 +474,28 @@ pub(super) fn query(
     answers: &mut [Option<Hit>],
     stats: &mut Stats,
 ) {
+    query_from(bvh, None, geometry, rays, t_max, mode, answers, stats)
+}
+
+/// `query` over the subtrees below `root` (an entry node, `subtree.rs`), or over the whole
+/// tree without one: `answers[i]` is what `Bvh::walk_from` gives `rays[i]` from that root.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(super) fn query_from(
+    bvh: &Bvh,
+    root: Option<Root<'_>>,
+    geometry: &Geometry,
+    rays: &[Ray],
+    t_max: &[f32],
+    mode: QueryMode,
+    answers: &mut [Option<Hit>],
+    stats: &mut Stats,
+) {
     assert!(rays.len() <= PACKET_MAX && t_max.len() == rays.len() && answers.len() == rays.len());
     let mut run = |scratch: &mut Scratch| {
-        query_in(scratch, bvh, geometry, rays, t_max, mode, answers, stats);
+        query_in(
+            scratch, bvh, root, geometry, rays, t_max, mode, answers, stats,
+        );
     };
     SCRATCH.with(|cell| match cell.try_borrow_mut() {
         Ok(mut scratch) => run(&mut scratch),
@@ -513,6 +532,7 @@ thread_local! {
 fn query_in(
     scratch: &mut Scratch,
     bvh: &Bvh,
+    root: Option<Root<'_>>,
     geometry: &Geometry,
     rays: &[Ray],
     t_max: &[f32],
@@ -528,7 +548,10 @@ fn query_in(
         Some(b) if rays.len() > 1 && !bvh.nodes.first().is_none_or(|n| n.is_leaf()) => b,
         _ => {
             for (i, (&t, answer)) in t_max.iter().zip(answers.iter_mut()).enumerate() {
-                *answer = bvh.query(geometry, &soa.ray(i), t, mode, stats);
+                *answer = match root {
+                    None => bvh.query(geometry, &soa.ray(i), t, mode, stats),
+                    Some(root) => bvh.walk_from(root, geometry, &soa.ray(i), t, mode, stats),
+                };
             }
             return;
         }
@@ -539,10 +562,15 @@ fn query_in(
     let leaf = bvh.leaf_query(geometry, &first, &first_pack_ray);
     search.reset(t_max, mode);
     if !bvh.wide8.is_empty() {
+        let root = match root {
+            Some(Root::Eight(node)) => node,
+            _ => &bvh.wide8[0],
+        };
         super::simd8::traverse_packet(
             bvh.packet_avx512,
             mode == QueryMode::Any,
             &bvh.wide8,
+            root,
             &bounds,
             soa,
             &leaf,
@@ -554,9 +582,13 @@ fn query_in(
         );
     } else {
         let packet = Packet4::new(bounds);
+        let root = match root {
+            Some(Root::Four(node)) => node,
+            _ => &bvh.wide[0],
+        };
         walk::<_, _, true>(
             &bvh.wide,
-            &bvh.wide[0],
+            root,
             // Interval culling only: every child goes on with all the rays that reached it.
             |node: &WideNode, s: &PacketSearch, entering: u64| {
                 let (hit, t) = packet.hit(node, s.t_max());

@@ -71,7 +71,8 @@ pub(super) fn traverse<const ORDERED: bool>(
     }
 }
 
-/// Walks `nodes` for a packet of rays (`packet.rs`): each visit first tests the eight
+/// Walks `nodes` from `root` (`nodes[0]`, or an entry node of some of its subtrees) for a
+/// packet of rays (`packet.rs`): each visit first tests the eight
 /// boxes once for the whole packet against its interval `bounds`, then each box that
 /// passes against the packet's rays eight at a time, so every child goes on with the rays
 /// that enter it. Leaves of triangle packs are tested one triangle against eight rays when
@@ -85,6 +86,7 @@ pub(super) fn traverse_packet(
     avx512: bool,
     any: bool,
     nodes: &[Wide8Node],
+    root: &Wide8Node,
     bounds: &PacketBounds,
     soa: &RaySoa,
     leaves: &LeafQuery<'_>,
@@ -100,24 +102,26 @@ pub(super) fn traverse_packet(
         // `avx512` is set only where AVX-512 was detected.
         unsafe {
             match (avx512, any) {
-                (true, true) => {
-                    x86::traverse_packet16::<false>(nodes, bounds, soa, leaves, search, stats, leaf)
-                }
-                (true, false) => {
-                    x86::traverse_packet16::<true>(nodes, bounds, soa, leaves, search, stats, leaf)
-                }
-                (false, true) => {
-                    x86::traverse_packet::<false>(nodes, bounds, soa, leaves, search, stats, leaf)
-                }
-                (false, false) => {
-                    x86::traverse_packet::<true>(nodes, bounds, soa, leaves, search, stats, leaf)
-                }
+                (true, true) => x86::traverse_packet16::<false>(
+                    nodes, root, bounds, soa, leaves, search, stats, leaf,
+                ),
+                (true, false) => x86::traverse_packet16::<true>(
+                    nodes, root, bounds, soa, leaves, search, stats, leaf,
+                ),
+                (false, true) => x86::traverse_packet::<false>(
+                    nodes, root, bounds, soa, leaves, search, stats, leaf,
+                ),
+                (false, false) => x86::traverse_packet::<true>(
+                    nodes, root, bounds, soa, leaves, search, stats, leaf,
+                ),
             }
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        let _ = (avx512, any, nodes, bounds, soa, leaves, search, stats, leaf);
+        let _ = (
+            avx512, any, nodes, root, bounds, soa, leaves, search, stats, leaf,
+        );
         unreachable!("8-wide nodes are only built on x86-64 with AVX2")
     }
 }
@@ -610,8 +614,10 @@ mod x86 {
             /// The CPU must support the instruction set (`available`, and
             /// `avx512_available` for the AVX-512 variant).
             #[target_feature(enable = $features)]
+            #[allow(clippy::too_many_arguments)]
             pub(super) unsafe fn $traverse<const ORDERED: bool>(
                 nodes: &[Wide8Node],
+                root: &Wide8Node,
                 bounds: &PacketBounds,
                 soa: &RaySoa,
                 leaves: &LeafQuery<'_>,
@@ -623,7 +629,7 @@ mod x86 {
                 let box_test = Packet4::new(*bounds);
                 crate::accel::bvh::traverse::walk::<_, _, ORDERED>(
                     nodes,
-                    &nodes[0],
+                    root,
                     // Each child the packet may enter goes on with the rays that do enter it.
                     |node: &Wide8Node, s: &PacketSearch, rays: u64| {
                         let (mut some, entries, everyone) = packet.hit(node, s.t_max(), s.t_min());

@@ -11,7 +11,7 @@ use super::wide::{Lanes, Wide8Node, WideNode};
 use super::Bvh;
 use crate::accel::{Hit, QueryMode};
 use crate::geometry::Geometry;
-use crate::math::{Aabb, TraceRay};
+use crate::math::{Aabb, Ray, TraceRay};
 use crate::stats::Stats;
 
 /// One subtree: a wide node's lane (its box, and an interior child's node or a leaf's
@@ -160,6 +160,31 @@ impl Bvh {
         stats: &mut Stats,
     ) -> Option<Hit> {
         self.walk_from(entry.0, geometry, ray, t_max, mode, stats)
+    }
+
+    /// `query_entry` for a packet of rays (at most `accel::PACKET_MAX`), walked together
+    /// where they are coherent: `answers[i]` is what `query_entry` gives `rays[i]`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn query_entry_packet(
+        &self,
+        entry: Entry,
+        geometry: &Geometry,
+        rays: &[Ray],
+        t_max: &[f32],
+        mode: QueryMode,
+        answers: &mut [Option<Hit>],
+        stats: &mut Stats,
+    ) {
+        super::packet::query_from(
+            self,
+            Some(entry.0),
+            geometry,
+            rays,
+            t_max,
+            mode,
+            answers,
+            stats,
+        )
     }
 }
 
