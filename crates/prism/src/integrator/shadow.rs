@@ -53,10 +53,10 @@ pub enum ShadowMethod {
     LightBuffer,
     /// The cache first, then the light buffer.
     Both,
-    /// The method prism expects to make renders fastest; today `any-hit`: rays in
-    /// packets beat the cache and the light buffer, which go one ray at a time, in whole
-    /// renders of every SPD scene measured in docs/shadows.md (even where `both` wins on
-    /// single rays).
+    /// The method prism expects to make renders fastest; today `any-hit`: in packets, as
+    /// renders trace shadow rays, the cache and the light buffer are level with it or
+    /// behind in whole renders of the SPD scenes measured in docs/shadows.md (even where
+    /// `both` wins on single rays).
     Auto,
 }
 

@@ -82,8 +82,8 @@ impl<'a> Whitted<'a> {
     /// Radiance along a packet of camera rays (at most `accel::PACKET_MAX`) whose first
     /// hits `camera_hits` found: `colors[i]` is exactly what `trace_camera_ray` gives ray
     /// i. The ray tree is traced breadth first, a packet per depth: the shadow rays of a
-    /// packet's hits to each light go as one packet (where the shadow method lets the
-    /// accelerator answer them), and so do its reflected rays and its refracted rays.
+    /// packet's hits to each light go as one packet (where the shadow method answers
+    /// packets), and so do its reflected rays and its refracted rays.
     /// `rays_of[i]` gains the rays of ray i's tree after the camera ray itself.
     pub fn shade_camera_packet(
         &self,
@@ -135,7 +135,7 @@ impl<'a> Whitted<'a> {
         let surfaces = &surfaces[..n];
         let surface = |i: usize| surfaces[i].as_ref().expect("lit surfaces exist");
         // Local illumination as `local` sums it, light by light: each light's shadow rays
-        // go as one packet where the shadow method lets the accelerator answer them.
+        // go as one packet where the shadow method answers packets (`answers_packets`).
         let mut batch = Batch::new();
         // The surfaces a light reaches (`lit_by`), in lane order, and its sample there.
         let mut lit: ArrayVec<u8, PACKET_MAX> = ArrayVec::new();
