@@ -23,6 +23,11 @@ pub const SAMPLERS: &[SamplerKind] = &[
     SamplerKind::Centre,
 ];
 
+/// Suggested thresholds of adaptive depth control and adaptive shadow testing: 0 traces
+/// every ray, 1/255 (prism's default) what could change an 8-bit pixel; the control takes
+/// any number or fraction from 0 to 1.
+pub const MIN_WEIGHTS: &[&str] = &["0", "1/1024", "1/255", "1/64", "1/16"];
+
 /// Suggested resolutions; the control takes any `WIDTHxHEIGHT` within the limits.
 pub const RESOLUTIONS: &[&str] = &["320x180", "640x360", "960x540", "1280x720", "1920x1080"];
 
@@ -64,6 +69,9 @@ pub enum Setting {
     Sampler(SamplerKind),
     /// The ray-tree depth limit.
     Depth(u32),
+    /// The weight below which Whitted rays and shadow rays are not traced
+    /// (`RenderOptions::min_weight`).
+    MinWeight(f32),
     /// The shadow-ray method.
     Shadows(ShadowSpec),
     /// What the picture shows.
@@ -147,6 +155,12 @@ pub fn controls() -> Vec<Control> {
             ..control("depth", "max depth", ControlKind::Number, Vec::new())
         },
         control(
+            "min_weight",
+            "min weight",
+            ControlKind::Text,
+            strings(MIN_WEIGHTS),
+        ),
+        control(
             "shadows",
             "shadow rays",
             ControlKind::Choice,
@@ -200,6 +214,7 @@ pub fn parse(name: &str, value: &str) -> Result<Setting, String> {
                 "depth must be a whole number from 1 to {MAX_DEPTH}, got '{value}'"
             )),
         },
+        "min_weight" => min_weight(value).map(Setting::MinWeight),
         "shadows" => value.parse::<ShadowSpec>().map(Setting::Shadows),
         "view" => View::ALL
             .into_iter()
@@ -215,6 +230,38 @@ pub fn parse(name: &str, value: &str) -> Result<Setting, String> {
                 .collect::<Vec<_>>()
                 .join(", ")
         )),
+    }
+}
+
+/// A weight from 0 to 1, as a number or a fraction `A/B`.
+fn min_weight(value: &str) -> Result<f32, String> {
+    let bad =
+        || format!("min weight must be a number or a fraction A/B from 0 to 1, got '{value}'");
+    let w = match value.split_once('/') {
+        Some((a, b)) => {
+            let (a, b): (f32, f32) = (
+                a.trim().parse().map_err(|_| bad())?,
+                b.trim().parse().map_err(|_| bad())?,
+            );
+            a / b
+        }
+        None => value.parse().map_err(|_| bad())?,
+    };
+    if (0.0..=1.0).contains(&w) {
+        // A negative zero is a zero.
+        Ok(w.abs())
+    } else {
+        Err(bad())
+    }
+}
+
+/// How the state message shows a weight: `1/N` where that is the value exactly.
+pub fn weight_text(w: f32) -> String {
+    let n = (1.0 / w).round();
+    if w > 0.0 && w < 1.0 && n.is_finite() && n <= 1e6 && 1.0 / n == w {
+        format!("1/{n}")
+    } else {
+        w.to_string()
     }
 }
 
@@ -260,6 +307,13 @@ mod tests {
             ("resolution", "-1x5"),
             ("depth", "0"),
             ("depth", "99999999999999999999"),
+            ("min_weight", "-0.1"),
+            ("min_weight", "1.5"),
+            ("min_weight", "NaN"),
+            ("min_weight", "1/0"),
+            ("min_weight", "0/0"),
+            ("min_weight", "a/b"),
+            ("min_weight", ""),
             ("accel", "nonsense"),
             ("sampler", "adaptive"),
             ("integrator", "beam"),
@@ -272,5 +326,27 @@ mod tests {
             parse("resolution", "640x360"),
             Ok(Setting::Resolution(640, 360))
         );
+    }
+
+    #[test]
+    fn weights_parse_as_numbers_and_fractions_and_read_back() {
+        assert_eq!(parse("min_weight", "0"), Ok(Setting::MinWeight(0.0)));
+        assert_eq!(parse("min_weight", "-0"), Ok(Setting::MinWeight(0.0)));
+        assert_eq!(parse("min_weight", "1"), Ok(Setting::MinWeight(1.0)));
+        assert_eq!(parse("min_weight", "0.25"), Ok(Setting::MinWeight(0.25)));
+        assert_eq!(
+            parse("min_weight", " 1 / 255 "),
+            Ok(Setting::MinWeight(1.0 / 255.0))
+        );
+        assert_eq!(weight_text(1.0 / 255.0), "1/255");
+        assert_eq!(weight_text(1.0), "1");
+        assert_eq!(weight_text(0.0), "0");
+        assert_eq!(weight_text(0.3), "0.3");
+        for text in MIN_WEIGHTS {
+            let Ok(Setting::MinWeight(w)) = parse("min_weight", text) else {
+                panic!("{text}");
+            };
+            assert_eq!(&weight_text(w), text);
+        }
     }
 }

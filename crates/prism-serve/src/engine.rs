@@ -410,6 +410,7 @@ impl Engine {
             }
             Setting::Sampler(kind) => self.options.sampler = kind,
             Setting::Depth(depth) => self.options.max_depth = depth,
+            Setting::MinWeight(w) => self.options.min_weight = w,
             Setting::Shadows(spec) => self.options.shadows = spec,
             Setting::View(view) => self.view = view,
             Setting::Resolution(w, h) => (self.options.width, self.options.height) = (w, h),
@@ -444,6 +445,7 @@ impl Engine {
             ("accel", o.accel.to_string()),
             ("sampler", o.sampler.to_string()),
             ("depth", o.max_depth.to_string()),
+            ("min_weight", crate::controls::weight_text(o.min_weight)),
             ("shadows", o.shadows.to_string()),
             ("view", self.view.name().to_string()),
             ("resolution", format!("{}x{}", o.width, o.height)),

@@ -85,6 +85,7 @@ fn the_websocket_says_hello_and_sends_refining_frames() {
         "accel",
         "sampler",
         "depth",
+        "min_weight",
         "shadows",
         "view",
         "resolution",
@@ -139,6 +140,9 @@ fn hostile_messages_get_errors_and_the_connection_goes_on() {
         r#"{"type":"set","control":"resolution","value":"0x0"}"#,
         r#"{"type":"set","control":"depth","value":"4294967296"}"#,
         r#"{"type":"set","control":"depth","value":"-1"}"#,
+        r#"{"type":"set","control":"min_weight","value":"-1"}"#,
+        r#"{"type":"set","control":"min_weight","value":"1/0"}"#,
+        r#"{"type":"set","control":"min_weight","value":"NaN"}"#,
         r#"{"type":"set","control":"accel","value":"bvh:leaf=999999999999"}"#,
         r#"{"type":"set","control":"accel","value":"../../etc/passwd"}"#,
         r#"{"type":"set","control":"shadows","value":"telepathy"}"#,
@@ -165,6 +169,9 @@ fn hostile_messages_get_errors_and_the_connection_goes_on() {
     c.send(r#"{"type":"set","control":"depth","value":"3"}"#);
     let state = c.text("state");
     assert_eq!(state["values"]["depth"], "3");
+    assert_eq!(state["values"]["min_weight"], "1/255");
+    c.send(r#"{"type":"set","control":"min_weight","value":"0"}"#);
+    assert_eq!(c.text("state")["values"]["min_weight"], "0");
     c.frame();
 }
 
