@@ -9,7 +9,7 @@ mod common;
 
 use common::oracle::{random_ray, TestScene};
 use common::{icosphere, Rng};
-use prism::accel::{AccelSpec, QueryMode, SceneIntersector};
+use prism::accel::{AccelSpec, Hit, QueryMode, SceneIntersector};
 use prism::geometry::{AaBox, Geometry, Plane, Shape, Sphere};
 use prism::integrator::{BufferParams, LightBuffer, ShadowSpec};
 use prism::math::robust::offset_ray_origin;
@@ -122,31 +122,31 @@ fn agrees(
 }
 
 /// The buffer's packet answers for `rays` (each with its distance and the accelerator's
-/// answer), in packets of 64 in the given order and of 7 (a packet's rays spread over many
-/// cells, and a last packet of fewer), against the accelerator's.
+/// answers: whether it is blocked, its nearest hit), in packets of 64 in the given order and
+/// of 7 (a packet's rays spread over many cells, and a last packet of fewer), against the
+/// accelerator's: any-hit and nearest-hit packets.
 fn check_packets(
     buffer: &LightBuffer,
     g: &Geometry,
     intersector: &SceneIntersector,
-    rays: &[(Ray, f32, bool)],
+    rays: &[(Ray, f32, bool, Option<Hit>)],
     what: &str,
 ) {
     for size in [64, 7] {
         for (k, chunk) in rays.chunks(size).enumerate() {
             let packet: Vec<Ray> = chunk.iter().map(|r| r.0).collect();
             let t_max: Vec<f32> = chunk.iter().map(|r| r.1).collect();
-            let mut answers = vec![None; chunk.len()];
+            let mut any = vec![None; chunk.len()];
+            let mut nearest = vec![None; chunk.len()];
             let mut stats = Stats::default();
-            buffer.any_hit_packet(g, intersector, &packet, &t_max, &mut answers, &mut stats);
-            for (i, (r, answer)) in chunk.iter().zip(&answers).enumerate() {
-                assert_eq!(
-                    answer.is_some(),
-                    r.2,
-                    "{what}: packet {k} of {size}, ray {i} ({:?}): the buffer's packet says {answer:?}",
-                    r.0
-                );
+            buffer.any_hit_packet(g, intersector, &packet, &t_max, &mut any, &mut stats);
+            buffer.nearest_packet(g, intersector, &packet, &t_max, &mut nearest, &mut stats);
+            for (i, r) in chunk.iter().enumerate() {
+                let at = format!("{what}: packet {k} of {size}, ray {i} ({:?})", r.0);
+                assert_eq!(any[i].is_some(), r.2, "{at}: any-hit packet {:?}", any[i]);
+                assert_eq!(nearest[i], r.3, "{at}: nearest-hit packet");
             }
-            assert_eq!(stats.light_buffer_queries, chunk.len() as u64);
+            assert_eq!(stats.light_buffer_queries, 2 * chunk.len() as u64);
         }
     }
 }
@@ -228,7 +228,7 @@ fn check_light(
             );
         }
         blocked += occluded as usize;
-        answered.push((ray, distance, occluded));
+        answered.push((ray, distance, occluded, expected));
     }
     let what = format!("light {light}, res {res}");
     check_packets(&buffers[0], g, intersector, &answered, &what);
@@ -347,7 +347,8 @@ fn check_directional(
             &what,
         );
         blocked += b as usize;
-        answered.push((ray, f32::INFINITY, b));
+        let nearest = intersector.intersect(g, &ray, f32::INFINITY, &mut Stats::default());
+        answered.push((ray, f32::INFINITY, b, nearest));
     }
     let what = format!("direction {to_light}, res {res}");
     check_packets(&buffer, g, intersector, &answered, &what);

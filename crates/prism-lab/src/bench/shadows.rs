@@ -95,12 +95,10 @@ pub fn measure_shadow_methods(
     // Beside the methods one ray at a time, the methods as a render traces shadow rays, in
     // packets: any-hit always, and every other method asked for that answers packets.
     let any_hit = Shadows::new(prepared, ShadowSpec::default());
-    let lights = prepared.scene.lights.len();
     let mut in_packets: Vec<(String, &Shadows)> =
         vec![(format!("any-hit, packets of {PACKET_MAX}"), &any_hit)];
     for ((shadows, _), spec) in built.iter().zip(specs) {
-        let plain = matches!(spec.method, ShadowMethod::AnyHit | ShadowMethod::Auto);
-        if !plain && (0..lights).all(|l| shadows.answers_packets(l)) {
+        if !matches!(spec.method, ShadowMethod::AnyHit | ShadowMethod::Auto) {
             in_packets.push((format!("{spec}, packets of {PACKET_MAX}"), shadows));
         }
     }

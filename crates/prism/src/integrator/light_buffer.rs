@@ -850,6 +850,67 @@ impl LightBuffer {
         self.walk_packet(geometry, bvh, entry, &open, rays, t_max, answers, stats);
     }
 
+    /// `nearest` for a packet of rays towards this buffer's light (at most `PACKET_MAX`):
+    /// `answers[i]` is exactly what `nearest` gives `rays[i]`. A packet whose rays all look
+    /// up one cell (and pass the light far off) walks as one packet from the cell's entry
+    /// node; any other walks from the BVH's root, as `accel`'s packets do.
+    pub fn nearest_packet(
+        &self,
+        geometry: &Geometry,
+        accel: &SceneIntersector,
+        rays: &[Ray],
+        t_max: &[f32],
+        answers: &mut [Option<Hit>],
+        stats: &mut Stats,
+    ) {
+        let bvh = accel.accel.as_bvh().expect("a buffer is built over a BVH");
+        let n = rays.len();
+        assert!(n <= PACKET_MAX && t_max.len() == n && answers.len() == n);
+        stats.light_buffer_queries += n as u64;
+        let mut common = None;
+        let mut shared = true;
+        for ray in rays {
+            match self.route_of_ray(ray) {
+                Route::Cell(entry) => shared &= *common.get_or_insert(entry) == entry,
+                Route::CellAndNear(_) => shared = false,
+                Route::Bvh => {
+                    stats.light_buffer_fallbacks += 1;
+                    shared = false;
+                }
+            }
+        }
+        let Some(entry) = common.filter(|_| shared) else {
+            accel.intersect_packet_within(geometry, rays, t_max, answers, stats);
+            return;
+        };
+        let entry = self.entries.get(entry);
+        bvh.query_entry_packet(
+            entry,
+            geometry,
+            rays,
+            t_max,
+            QueryMode::Nearest,
+            answers,
+            stats,
+        );
+        // The planes, as `nearest` offers them after the walk.
+        let planes = accel.unbounded();
+        if planes.is_empty() {
+            return;
+        }
+        for ((ray, answer), &t_max) in rays.iter().zip(answers.iter_mut()).zip(t_max) {
+            let tr = TraceRay::new(*ray);
+            let mut search = HitSearch::new(t_max, QueryMode::Nearest);
+            if let Some(hit) = *answer {
+                search.offer(hit);
+            }
+            for &prim in planes {
+                search.test_unbounded(geometry, &tr, prim, stats);
+            }
+            *answer = search.best();
+        }
+    }
+
     /// The rays `lanes` of a packet walked together from entry node `entry` (from the
     /// BVH's root without one); the hits they meet go to `answers`.
     #[allow(clippy::too_many_arguments)]

@@ -276,27 +276,19 @@ impl<'a> Shadows<'a> {
             .collect()
     }
 
-    /// Whether the shadow rays of the scene's `index`-th light may be answered as packets:
-    /// always, but for a light with a light buffer in a scene with transparent surfaces
-    /// (the walk through them asks the buffer for nearest hits, one ray at a time). In a
-    /// scene with transparent surfaces the packet finds each ray's first surface
-    /// (`transmittance_packet`; the cache, which remembers blockers, has no part there, as
-    /// in `visibility`), otherwise whether it is blocked (`blocked_packet`); an any-hit
-    /// packet there would have to be traced again through the transparent surfaces (on SPD
-    /// gears that made the render 20 % slower).
-    pub fn answers_packets(&self, index: usize) -> bool {
-        let buffered = self.buffers.get(index).is_some_and(Option::is_some);
-        !(buffered && self.scene.has_transmissive)
-    }
-
-    /// For a packet of shadow rays towards one light that `answers_packets`, in a scene with
+    /// For a packet of shadow rays towards the scene's `index`-th light, in a scene with
     /// transparent surfaces: the fraction of the light that reaches each ray's origin,
     /// `distances[i]` away, exactly as `visibility` finds it. The walk through transparent
     /// surfaces goes breadth first: the rays still walking after each surface go on as one
-    /// packet (they leave the same glass towards the same light, so they stay coherent).
+    /// packet (they leave the same glass towards the same light, so they stay coherent),
+    /// each step a nearest-hit packet (the light buffer's where the light has one; the
+    /// cache, which remembers blockers, has no part in it, as in `visibility`). An any-hit
+    /// packet would have to be traced again through the transparent surfaces (on SPD gears
+    /// that made the render 20 % slower).
     /// `segments[i]` gains ray i's continuation rays, which `stats` counts too.
     pub(super) fn transmittance_packet(
         &self,
+        index: usize,
         rays: &[Ray],
         distances: &[f32],
         visibility: &mut [Color],
@@ -304,7 +296,7 @@ impl<'a> Shadows<'a> {
         stats: &mut Stats,
     ) {
         let scene = self.scene;
-        let geometry = &scene.scene.geometry;
+        let (geometry, accel) = (&scene.scene.geometry, &scene.intersector);
         let n = rays.len();
         stats.shadow_rays += n as u64;
         let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
@@ -332,13 +324,11 @@ impl<'a> Shadows<'a> {
                     segments[i] += 1;
                 }
             }
-            scene.intersector.intersect_packet_within(
-                geometry,
-                these,
-                bounds,
-                &mut hits[..m],
-                stats,
-            );
+            let hits = &mut hits[..m];
+            match self.query(index).buffer {
+                Some((b, _)) => b.nearest_packet(geometry, accel, these, bounds, hits, stats),
+                None => accel.intersect_packet_within(geometry, these, bounds, hits, stats),
+            }
             // Each ray's step, as `transmittance` takes it; the rays that go on are
             // gathered in `next` (the segment's rays are still borrowed) and form the next
             // segment's packet.
@@ -387,14 +377,20 @@ impl<'a> Shadows<'a> {
         let n = rays.len();
         stats.shadow_rays += n as u64;
         let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
+        let scene = self.scene;
+        let (geometry, accel) = (&scene.scene.geometry, &scene.intersector);
         if self.spec.method.uses_cache() {
             self.cached_packet(index, depth, rays, distances, blocked, stats);
-        } else {
+        } else if self.query(index).buffer.is_some() {
             let mut answers = [None; PACKET_MAX];
             self.any_hit_packet(index, rays, distances, &mut answers[..n], stats);
             for (b, answer) in blocked.iter_mut().zip(&answers[..n]) {
                 *b = answer.is_some();
             }
+        } else {
+            // Which blocker does not matter here: planes are tested only where the
+            // accelerator found nothing.
+            accel.occluded_packet(geometry, rays, distances, blocked, stats);
         }
         stats.shadow_tests += stats.primitive_tests - tests;
         stats.shadow_node_visits += stats.node_visits - nodes;

@@ -82,8 +82,8 @@ impl<'a> Whitted<'a> {
     /// Radiance along a packet of camera rays (at most `accel::PACKET_MAX`) whose first
     /// hits `camera_hits` found: `colors[i]` is exactly what `trace_camera_ray` gives ray
     /// i. The ray tree is traced breadth first, a packet per depth: the shadow rays of a
-    /// packet's hits to each light go as one packet (where the shadow method answers
-    /// packets), and so do its reflected rays and its refracted rays.
+    /// packet's hits to each light go as one packet, and so do its reflected rays and its
+    /// refracted rays.
     /// `rays_of[i]` gains the rays of ray i's tree after the camera ray itself.
     pub fn shade_camera_packet(
         &self,
@@ -135,7 +135,7 @@ impl<'a> Whitted<'a> {
         let surfaces = &surfaces[..n];
         let surface = |i: usize| surfaces[i].as_ref().expect("lit surfaces exist");
         // Local illumination as `local` sums it, light by light: each light's shadow rays
-        // go as one packet where the shadow method answers packets (`answers_packets`).
+        // go as one packet, whichever shadow method answers them.
         let mut batch = Batch::new();
         // The surfaces a light reaches (`lit_by`), in lane order, and its sample there.
         let mut lit: ArrayVec<u8, PACKET_MAX> = ArrayVec::new();
@@ -159,20 +159,6 @@ impl<'a> Whitted<'a> {
                 let Lit { ls, reflected } = samples[i];
                 (ls, reflected)
             };
-            if !self.shadows.answers_packets(index) {
-                for &i in &lit {
-                    let (i, (ls, reflected)) = (usize::from(i), sample(usize::from(i)));
-                    let s = surface(i);
-                    let before = stats.total_rays();
-                    let seen = (self.shadows).visibility(index, depth, &s.sp, s.ng, &ls, stats);
-                    rays_of[owners[i]] += (stats.total_rays() - before) as u32;
-                    if !self.tests_every_light {
-                        faint[i].add_tested(&ls, reflected, seen);
-                    }
-                    colors[i] += self.light_term(s, &ls, reflected, seen);
-                }
-                continue;
-            }
             batch.clear();
             for &i in &lit {
                 let i = usize::from(i);
@@ -189,6 +175,7 @@ impl<'a> Whitted<'a> {
             if self.scene.has_transmissive {
                 let mut segments = [0u32; PACKET_MAX];
                 self.shadows.transmittance_packet(
+                    index,
                     &batch.rays,
                     &batch.t_max,
                     &mut seen[..m],
