@@ -57,7 +57,7 @@ fi
 scenes+=(builtin:whitted builtin:cornell builtin:sphereflake builtin:torusknot)
 
 {
-    echo "# whole renders: $(git rev-parse --short HEAD) against $rev, 1 render thread, CPU s, median of $rounds in turns${SHADOWS:+, --shadows $SHADOWS}"
+    echo "# whole renders: $(git rev-parse --short HEAD)$(git diff --quiet HEAD || echo " with uncommitted changes") against $rev, 1 render thread, CPU s, median of $rounds in turns${SHADOWS:+, --shadows $SHADOWS}"
     printf '%-14s %8s %8s %7s  %s\n' scene before after speedup image
     for s in "${scenes[@]}"; do
         if [[ $s == builtin:* ]]; then

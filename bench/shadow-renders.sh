@@ -41,7 +41,7 @@ fi
 scenes+=(builtin:cornell builtin:sphereflake)
 
 {
-    echo "# whole renders by shadow method: $(git rev-parse --short HEAD), 1 render thread, CPU s, median of $rounds in turns; (x) = speed relative to ${methods[0]}"
+    echo "# whole renders by shadow method: $(git rev-parse --short HEAD)$(git diff --quiet HEAD || echo " with uncommitted changes"), 1 render thread, CPU s, median of $rounds in turns; (x) = speed relative to ${methods[0]}"
     printf '%-12s' scene
     for m in "${methods[@]}"; do printf ' %18s' "$m"; done
     printf '  %s\n' images
