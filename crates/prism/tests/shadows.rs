@@ -454,6 +454,65 @@ fn a_tree_of_one_leaf_answers_as_the_accelerator() {
     }
 }
 
+/// The cache in packets: the blocker remembered for a light and depth answers the next
+/// packet's rays it blocks; afterwards the last ray's blocker is remembered, or nothing
+/// where the last ray is unblocked; depths keep their own; a tile starts empty.
+#[test]
+fn the_cache_answers_packets_with_the_last_rays_blocker() {
+    let mut scene = prism::scene::Scene::default();
+    let material = scene.add_material(prism::shading::Material::default());
+    // Two spheres above a row of points, under a light high above.
+    for x in [-2.0, 2.0] {
+        let sphere = Sphere::new(Vec3::new(x, 5.0, 0.0), 1.0);
+        scene.geometry.add(Shape::Sphere(sphere), material);
+    }
+    let light = Vec3::new(0.0, 1e3, 0.0);
+    scene.lights = vec![prism::light::Light::Point {
+        position: light,
+        color: prism::math::Color::ONE,
+    }];
+    let prepared = scene.prepare(&AccelSpec::default());
+    let shadows = prism::integrator::Shadows::new(&prepared, "cache".parse().unwrap());
+    // Eight rays from points under the sphere at `x` (or in the open, far off), the last
+    // one from `last_x`.
+    let packet = |x: f32, last_x: f32| -> (Vec<Ray>, Vec<f32>) {
+        (0..8)
+            .map(|k| {
+                let x = if k == 7 { last_x } else { x };
+                let p = Vec3::new(x + 0.01 * k as f32, 0.0, 0.0);
+                let d = light - p;
+                (Ray::new(p, d / d.length()), d.length())
+            })
+            .unzip()
+    };
+    let run = |x: f32, last_x: f32, depth: u32| -> (Vec<bool>, u64) {
+        let (rays, t_max) = packet(x, last_x);
+        let mut blocked = vec![false; rays.len()];
+        let mut stats = Stats::default();
+        shadows.blocked_packet(0, depth, &rays, &t_max, &mut blocked, &mut stats);
+        (blocked, stats.shadow_cache_hits)
+    };
+    prism::integrator::begin_piece();
+    // Nothing remembered yet: every ray walks.
+    assert_eq!(run(-2.0, -2.0, 1), (vec![true; 8], 0));
+    // The left sphere is remembered: it answers the next packet alone.
+    assert_eq!(run(-2.0, -2.0, 1), (vec![true; 8], 8));
+    // Under the right sphere, the left one answers nothing; the right one is remembered.
+    assert_eq!(run(2.0, 2.0, 1), (vec![true; 8], 0));
+    assert_eq!(run(2.0, 2.0, 1), (vec![true; 8], 8));
+    // Another depth remembers on its own.
+    assert_eq!(run(2.0, 2.0, 2), (vec![true; 8], 0));
+    // A packet whose last ray is in the open: the cache answers its seven blocked rays,
+    // and forgets the blocker.
+    let mut open = vec![true; 8];
+    open[7] = false;
+    assert_eq!(run(2.0, 40.0, 1), (open, 7));
+    assert_eq!(run(2.0, 2.0, 1), (vec![true; 8], 0));
+    // A new tile starts with nothing remembered.
+    prism::integrator::begin_piece();
+    assert_eq!(run(2.0, 2.0, 1), (vec![true; 8], 0));
+}
+
 /// Every shadow method renders every built-in scene bit for bit as the accelerator does.
 #[test]
 fn every_shadow_method_renders_the_same_image() {
