@@ -63,33 +63,21 @@ pub fn measure_shadow_methods(
     let mut results: Vec<ShadowMeasured> = built
         .iter()
         .zip(specs)
-        .map(|((shadows, build), spec)| {
-            let (blocked, stats) = answers(shadows, rays);
-            let n = rays.shadow.len().max(1) as f64;
-            ShadowMeasured {
-                method: spec.to_string(),
-                build_ms: build.as_secs_f64() * 1e3,
-                memory_bytes: shadows
-                    .buffer_info()
-                    .iter()
-                    .flatten()
-                    .map(|b| b.memory_bytes)
-                    .sum(),
-                rays: rays.shadow.len(),
-                blocked: blocked.iter().filter(|&&b| b).count(),
-                tests_per_ray: stats.primitive_tests as f64 / n,
-                node_visits_per_ray: stats.node_visits as f64 / n,
-                cache_hit_rate: stats.shadow_cache_hits as f64 / n,
-                fallback_rate: stats.light_buffer_fallbacks as f64 / n,
-                mrays_per_s: 0.0,
-                mismatch: blocked != reference,
-                notes: shadows
-                    .unbuilt
-                    .iter()
-                    .enumerate()
-                    .filter_map(|(i, n)| n.as_ref().map(|n| format!("light {i}: {n}")))
-                    .collect(),
-            }
+        .map(|((shadows, build), spec)| ShadowMeasured {
+            build_ms: build.as_secs_f64() * 1e3,
+            memory_bytes: shadows
+                .buffer_info()
+                .iter()
+                .flatten()
+                .map(|b| b.memory_bytes)
+                .sum(),
+            notes: shadows
+                .unbuilt
+                .iter()
+                .enumerate()
+                .filter_map(|(i, n)| n.as_ref().map(|n| format!("light {i}: {n}")))
+                .collect(),
+            ..measured(spec.to_string(), answers(shadows, rays), &reference)
         })
         .collect();
     // Beside the methods one ray at a time, the methods as a render traces shadow rays, in
@@ -103,22 +91,11 @@ pub fn measure_shadow_methods(
         }
     }
     for (method, shadows) in &in_packets {
-        let (blocked, stats) = packets.answers(shadows);
-        let n = rays.shadow.len().max(1) as f64;
-        results.push(ShadowMeasured {
-            method: method.clone(),
-            build_ms: 0.0,
-            memory_bytes: 0,
-            rays: rays.shadow.len(),
-            blocked: blocked.iter().filter(|&&b| b).count(),
-            tests_per_ray: stats.primitive_tests as f64 / n,
-            node_visits_per_ray: stats.node_visits as f64 / n,
-            cache_hit_rate: stats.shadow_cache_hits as f64 / n,
-            fallback_rate: stats.light_buffer_fallbacks as f64 / n,
-            mrays_per_s: 0.0,
-            mismatch: blocked != reference,
-            notes: Vec::new(),
-        });
+        results.push(measured(
+            method.clone(),
+            packets.answers(shadows),
+            &reference,
+        ));
     }
     let mut samples: Vec<Vec<f64>> = vec![Vec::new(); specs.len() + in_packets.len()];
     let started = Instant::now();
@@ -138,6 +115,30 @@ pub fn measure_shadow_methods(
         r.mrays_per_s = s[s.len() / 2];
     }
     results
+}
+
+/// A method's figures from its answers and their work (no build, no notes; not yet timed),
+/// held to the `reference` answers.
+fn measured(
+    method: String,
+    (blocked, stats): (Vec<bool>, Stats),
+    reference: &[bool],
+) -> ShadowMeasured {
+    let n = blocked.len().max(1) as f64;
+    ShadowMeasured {
+        method,
+        build_ms: 0.0,
+        memory_bytes: 0,
+        rays: blocked.len(),
+        blocked: blocked.iter().filter(|&&b| b).count(),
+        tests_per_ray: stats.primitive_tests as f64 / n,
+        node_visits_per_ray: stats.node_visits as f64 / n,
+        cache_hit_rate: stats.shadow_cache_hits as f64 / n,
+        fallback_rate: stats.light_buffer_fallbacks as f64 / n,
+        mrays_per_s: 0.0,
+        mismatch: blocked != reference,
+        notes: Vec::new(),
+    }
 }
 
 /// Every ray's answer, and the work they took.

@@ -811,27 +811,9 @@ impl LightBuffer {
                 }
             }
         }
-        // The rays' cell, while they agree and none asks the whole BVH.
-        let mut common = None;
-        let mut shared = true;
-        let mut near: ArrayVec<u8, PACKET_MAX> = ArrayVec::new();
-        for (i, ray) in rays.iter().enumerate() {
-            let entry = match self.route_of_ray(ray) {
-                Route::Bvh => {
-                    stats.light_buffer_fallbacks += 1;
-                    shared = false;
-                    continue;
-                }
-                Route::Cell(entry) => entry,
-                Route::CellAndNear(entry) => {
-                    if answers[i].is_none() {
-                        near.push(i as u8);
-                    }
-                    entry
-                }
-            };
-            shared &= *common.get_or_insert(entry) == entry;
-        }
+        let mut near = ArrayVec::new();
+        let cell = self.packet_cell(rays, &mut near, stats);
+        near.retain(|i| answers[usize::from(*i)].is_none());
         // The near node first, as `any_hit` asks it first.
         self.walk_packet(
             geometry,
@@ -846,8 +828,7 @@ impl LightBuffer {
         let open: ArrayVec<u8, PACKET_MAX> = (0..n as u8)
             .filter(|&i| answers[usize::from(i)].is_none())
             .collect();
-        let entry = if shared { common } else { None };
-        self.walk_packet(geometry, bvh, entry, &open, rays, t_max, answers, stats);
+        self.walk_packet(geometry, bvh, cell, &open, rays, t_max, answers, stats);
     }
 
     /// `nearest` for a packet of rays towards this buffer's light (at most `PACKET_MAX`):
@@ -867,19 +848,11 @@ impl LightBuffer {
         let n = rays.len();
         assert!(n <= PACKET_MAX && t_max.len() == n && answers.len() == n);
         stats.light_buffer_queries += n as u64;
-        let mut common = None;
-        let mut shared = true;
-        for ray in rays {
-            match self.route_of_ray(ray) {
-                Route::Cell(entry) => shared &= *common.get_or_insert(entry) == entry,
-                Route::CellAndNear(_) => shared = false,
-                Route::Bvh => {
-                    stats.light_buffer_fallbacks += 1;
-                    shared = false;
-                }
-            }
-        }
-        let Some(entry) = common.filter(|_| shared) else {
+        let mut near = ArrayVec::new();
+        let cell = self.packet_cell(rays, &mut near, stats);
+        // A ray that passes the light close by needs the near node's walk and its cell's,
+        // the nearer hit of the two: the packet walks from the root instead.
+        let Some(entry) = cell.filter(|_| near.is_empty()) else {
             accel.intersect_packet_within(geometry, rays, t_max, answers, stats);
             return;
         };
@@ -909,6 +882,35 @@ impl LightBuffer {
             }
             *answer = search.best();
         }
+    }
+
+    /// The entry node of the cell every ray of a packet looks up, where they all look up
+    /// one and none asks the whole BVH (those count as fallbacks); the rays that also pass
+    /// the light close by (`Route::CellAndNear`) go to `near`.
+    fn packet_cell(
+        &self,
+        rays: &[Ray],
+        near: &mut ArrayVec<u8, PACKET_MAX>,
+        stats: &mut Stats,
+    ) -> Option<u32> {
+        let mut common = None;
+        let mut shared = true;
+        for (i, ray) in rays.iter().enumerate() {
+            let entry = match self.route_of_ray(ray) {
+                Route::Bvh => {
+                    stats.light_buffer_fallbacks += 1;
+                    shared = false;
+                    continue;
+                }
+                Route::Cell(entry) => entry,
+                Route::CellAndNear(entry) => {
+                    near.push(i as u8);
+                    entry
+                }
+            };
+            shared &= *common.get_or_insert(entry) == entry;
+        }
+        common.filter(|_| shared)
     }
 
     /// The rays `lanes` of a packet walked together from entry node `entry` (from the
@@ -1130,5 +1132,55 @@ mod tests {
         assert_eq!(empty.finish(100, 7), 0);
         assert_eq!((w.index(0, p[0], 100), w.index(0, p[1], 100)), (0, 99));
         assert!(w.contains(0, 0.0) && !w.contains(0, 0.06));
+    }
+
+    /// The packets' lookup without traversal constants finds the cell of the single rays'
+    /// lookup, for every direction: random ones, axis-aligned ones, and ties between axes
+    /// (where the dominant axis is chosen by the same comparisons).
+    #[test]
+    fn a_rays_cell_is_the_same_with_and_without_its_traversal_constants() {
+        use crate::geometry::{Shape, Sphere};
+        use crate::math::hash::uniform;
+        let mut geometry = Geometry::default();
+        for k in 0..40 {
+            let c = Vec3::new(
+                uniform(k, 1, 0, 0, 3) * 8.0 - 4.0,
+                uniform(k, 2, 0, 0, 3) * 8.0 - 4.0,
+                uniform(k, 3, 0, 0, 3) * 8.0 - 4.0,
+            );
+            geometry.add(Shape::Sphere(Sphere::new(c, 0.3)), 0);
+        }
+        let accel = SceneIntersector::build(&geometry, &crate::accel::AccelSpec::default());
+        let params = BufferParams {
+            res: 16,
+            budget_bytes: 1 << 30,
+        };
+        let buffer = LightBuffer::build(&accel, Vec3::new(0.5, 0.2, -0.1), &params).unwrap();
+        let mut dirs: Vec<Vec3> = (0..20_000)
+            .map(|k| {
+                Vec3::new(
+                    uniform(k, 4, 0, 0, 3) * 2.0 - 1.0,
+                    uniform(k, 5, 0, 0, 3) * 2.0 - 1.0,
+                    uniform(k, 6, 0, 0, 3) * 2.0 - 1.0,
+                )
+                .normalize()
+            })
+            .collect();
+        for a in [-1.0f32, 1.0] {
+            for b in [-1.0f32, 0.0, 1.0] {
+                for c in [-1.0f32, 0.0, 1.0] {
+                    dirs.extend([Vec3::new(a, b, c), Vec3::new(b, a, c), Vec3::new(c, b, a)]);
+                }
+            }
+        }
+        for d in dirs.into_iter().filter(|d| *d != Vec3::ZERO) {
+            let d = d.normalize();
+            let tr = TraceRay::new(Ray::new(Vec3::ZERO, d));
+            assert_eq!(
+                buffer.entry_of_dir(d),
+                buffer.entry_of(&tr),
+                "direction {d}"
+            );
+        }
     }
 }

@@ -431,9 +431,7 @@ impl<'a> Shadows<'a> {
     ) {
         let n = rays.len();
         let geometry = &self.scene.scene.geometry;
-        let slot = index * CACHE_DEPTHS + (depth as usize).min(CACHE_DEPTHS) - 1;
-        let remembered = CACHE.with(|c| c.borrow().get(slot).copied().unwrap_or(u32::MAX));
-        let remembered = (remembered != u32::MAX).then_some(remembered);
+        let (slot, remembered) = remembered_blocker(index, depth);
         let mut answers = [None; PACKET_MAX];
         let mut open: ArrayVec<u8, PACKET_MAX> = ArrayVec::new();
         for (i, (ray, &t_max)) in rays.iter().zip(distances).enumerate() {
@@ -568,9 +566,7 @@ fn cached_any_hit(
     t_max: f32,
     stats: &mut Stats,
 ) -> bool {
-    let slot = light * CACHE_DEPTHS + (depth as usize).min(CACHE_DEPTHS) - 1;
-    let remembered = CACHE.with(|c| c.borrow().get(slot).copied().unwrap_or(u32::MAX));
-    let remembered = (remembered != u32::MAX).then_some(remembered);
+    let (slot, remembered) = remembered_blocker(light, depth);
     let geometry = &query.scene.scene.geometry;
     let answer = match query.buffer {
         // The buffer asks the remembered blocker first.
@@ -599,6 +595,13 @@ fn cached_any_hit(
         remember_blocker(slot, remember);
     }
     answer.is_some()
+}
+
+/// This thread's cache slot for `light` at `depth`, and the blocker it remembers.
+fn remembered_blocker(light: usize, depth: u32) -> (usize, Option<u32>) {
+    let slot = light * CACHE_DEPTHS + (depth as usize).min(CACHE_DEPTHS) - 1;
+    let prim = CACHE.with(|c| c.borrow().get(slot).copied().unwrap_or(u32::MAX));
+    (slot, (prim != u32::MAX).then_some(prim))
 }
 
 /// Sets this thread's cache `slot` to `prim` (u32::MAX for nothing).

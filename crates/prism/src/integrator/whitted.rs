@@ -470,12 +470,12 @@ impl<'a> Whitted<'a> {
     }
 
     /// What `light` sends towards `surface`, whose ray has `weight` in the pixel, and how
-    /// much of it gets there is to be found out: its sample (written to `out`), and what is known of the
-    /// fraction of it the surface sends to the eye (diffuse plus highlight), where the
-    /// light is in front of the surface (SPD rule 10) and that fraction is not exactly zero
-    /// (a glass's highlight far from the mirror direction underflows to 0, and adds
-    /// nothing however much light gets through). A light that could change the pixel by
-    /// less than `min_weight` even unblocked casts no shadow ray: how much of it gets
+    /// much of it gets there is to be found out: its sample (written to `out`), and what is
+    /// known of the fraction of it the surface sends to the eye (diffuse plus highlight),
+    /// where the light is in front of the surface (SPD rule 10) and that fraction is not
+    /// exactly zero (a glass's highlight far from the mirror direction underflows to 0, and
+    /// adds nothing however much light gets through). A light that could change the pixel
+    /// by less than `min_weight` even unblocked casts no shadow ray: how much of it gets
     /// through is estimated from the lights tested at the point (`FaintLights`, adaptive
     /// shadow testing after Ward 1991, as adaptive depth control prunes reflected and
     /// refracted rays). With `min_weight` 0 and under SPD's rules (which cast every shadow
