@@ -50,6 +50,11 @@ pub(crate) struct ServeArgs {
     #[arg(short, long, value_name = "N")]
     pub depth: Option<u32>,
 
+    /// Adaptive depth control and adaptive shadow testing at the start, as `render
+    /// --min-weight` takes it (0 to 1 here, as the page's control) [default: the scene's].
+    #[arg(long, value_name = "W", allow_negative_numbers = true)]
+    pub min_weight: Option<f32>,
+
     /// Where each frame's one sample per pixel goes: jittered, random or centre.
     #[arg(long, value_name = "NAME", default_value = "jittered")]
     pub sampler: SamplerKind,
@@ -68,6 +73,7 @@ pub(crate) fn run(args: &ServeArgs) -> Result<ExitCode> {
         accel: args.accel.clone(),
         shadows: args.shadows,
         depth: args.depth,
+        min_weight: args.min_weight,
         threads: Some(args.threads),
         ..RenderArgs::default()
     };
@@ -79,12 +85,13 @@ pub(crate) fn run(args: &ServeArgs) -> Result<ExitCode> {
     let options = render.options(&scene.options)?;
     // The page's controls take the same values; checking here names the option.
     let resolution = format!("{}x{}", options.width, options.height);
-    for (control, value) in [
-        ("sampler", args.sampler.to_string()),
-        ("resolution", resolution),
+    for (flag, control, value) in [
+        ("sampler", "sampler", args.sampler.to_string()),
+        ("width and --height", "resolution", resolution),
+        ("min-weight", "min_weight", options.min_weight.to_string()),
     ] {
         prism_serve::controls::parse(control, &value)
-            .map_err(|e| anyhow::anyhow!("--{control}: {e}"))?;
+            .map_err(|e| anyhow::anyhow!("--{flag}: {e}"))?;
     }
     let options = prism::RenderOptions {
         sampler: args.sampler,

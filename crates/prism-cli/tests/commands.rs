@@ -323,6 +323,11 @@ fn serve_refuses_bad_settings_before_listening() {
     assert!(err.contains("resolution"), "{err}");
     let (_, err) = run(&dir, &["serve", "--port", "0", "--sampler", "adaptive"], 1);
     assert!(err.contains("--sampler"), "{err}");
+    let (_, err) = run(&dir, &["serve", "--port", "0", "--min-weight", "2"], 1);
+    assert!(
+        err.contains("--min-weight") && err.contains("0 to 1"),
+        "{err}"
+    );
     let (_, err) = run(&dir, &["serve", "--bind", "localhost"], 2);
     assert!(err.contains("--bind"), "{err}");
     // A port that is taken names the way out.
