@@ -154,14 +154,48 @@ impl SceneIntersector {
         stats: &mut Stats,
     ) -> Option<Hit> {
         let tr = TraceRay::new(*ray);
+        let found = self.accel.intersect(geometry, &tr, t_max, stats);
+        self.nearest_with_planes(geometry, &tr, t_max, found, stats)
+    }
+
+    /// `found`, the nearest hit the accelerator (or a part of it) found before `t_max`,
+    /// against the planes: a plane's hit where it is strictly nearer.
+    #[inline(always)]
+    pub(crate) fn nearest_with_planes(
+        &self,
+        geometry: &Geometry,
+        tr: &TraceRay,
+        t_max: f32,
+        found: Option<Hit>,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
         let mut search = HitSearch::new(t_max, QueryMode::Nearest);
-        if let Some(hit) = self.accel.intersect(geometry, &tr, t_max, stats) {
+        if let Some(hit) = found {
             search.offer(hit);
         }
         for &prim in &self.unbounded {
-            search.test_unbounded(geometry, &tr, prim, stats);
+            search.test_unbounded(geometry, tr, prim, stats);
         }
         search.best()
+    }
+
+    /// The first plane, in order, that blocks `tr` before `t_max`: any-hit queries test the
+    /// planes before the accelerator (a few tests that may spare the walk).
+    #[inline(always)]
+    pub(crate) fn plane_blocker(
+        &self,
+        geometry: &Geometry,
+        tr: &TraceRay,
+        t_max: f32,
+        stats: &mut Stats,
+    ) -> Option<Hit> {
+        let mut planes = HitSearch::new(t_max, QueryMode::Any);
+        for &prim in &self.unbounded {
+            if planes.test_unbounded(geometry, tr, prim, stats) {
+                return planes.best();
+            }
+        }
+        None
     }
 
     /// The nearest hits of a packet of rays (at most `PACKET_MAX`), each with
@@ -203,15 +237,8 @@ impl SceneIntersector {
             return;
         }
         for ((ray, answer), &t_max) in rays.iter().zip(answers.iter_mut()).zip(t_max) {
-            let tr = &TraceRay::new(*ray);
-            let mut search = HitSearch::new(t_max, QueryMode::Nearest);
-            if let Some(hit) = *answer {
-                search.offer(hit);
-            }
-            for &prim in &self.unbounded {
-                search.test_unbounded(geometry, tr, prim, stats);
-            }
-            *answer = search.best();
+            let tr = TraceRay::new(*ray);
+            *answer = self.nearest_with_planes(geometry, &tr, t_max, *answer, stats);
         }
     }
 
@@ -225,14 +252,10 @@ impl SceneIntersector {
         stats: &mut Stats,
     ) -> Option<Hit> {
         let tr = TraceRay::new(*ray);
-        let mut planes = HitSearch::new(t_max, QueryMode::Any);
-        for &prim in &self.unbounded {
-            if planes.test_unbounded(geometry, &tr, prim, stats) {
-                return planes.best();
-            }
-        }
-        self.accel
-            .query(geometry, &tr, t_max, QueryMode::Any, stats)
+        self.plane_blocker(geometry, &tr, t_max, stats).or_else(|| {
+            self.accel
+                .query(geometry, &tr, t_max, QueryMode::Any, stats)
+        })
     }
 
     /// For a packet of rays (at most `PACKET_MAX`), what `any_hit` answers each: `answers[i]`
@@ -253,9 +276,8 @@ impl SceneIntersector {
         }
         for ((ray, answer), &t_max) in rays.iter().zip(answers.iter_mut()).zip(t_max) {
             let tr = TraceRay::new(*ray);
-            let mut planes = HitSearch::new(t_max, QueryMode::Any);
-            if (self.unbounded.iter()).any(|&p| planes.test_unbounded(geometry, &tr, p, stats)) {
-                *answer = planes.best();
+            if let Some(plane) = self.plane_blocker(geometry, &tr, t_max, stats) {
+                *answer = Some(plane);
             }
         }
     }
@@ -283,13 +305,9 @@ impl SceneIntersector {
         );
         for (i, ray) in rays.iter().enumerate() {
             blocked[i] = answers[i].is_some()
-                || (!self.unbounded.is_empty() && {
-                    let tr = TraceRay::new(*ray);
-                    self.unbounded.iter().any(|&prim| {
-                        HitSearch::new(t_max[i], QueryMode::Any)
-                            .test_unbounded(geometry, &tr, prim, stats)
-                    })
-                });
+                || (!self.unbounded.is_empty()
+                    && (self.plane_blocker(geometry, &TraceRay::new(*ray), t_max[i], stats))
+                        .is_some());
         }
     }
 

@@ -749,10 +749,8 @@ impl LightBuffer {
             stats.light_buffer_fallbacks += 1;
             return accel.any_hit(geometry, ray, t_max, stats);
         }
-        for &prim in accel.unbounded() {
-            if search.test_unbounded(geometry, &tr, prim, stats) {
-                return search.best();
-            }
+        if let Some(plane) = accel.plane_blocker(geometry, &tr, t_max, stats) {
+            return Some(plane);
         }
         let mut walk = |entry| {
             bvh.query_entry(
@@ -797,18 +795,12 @@ impl LightBuffer {
         }
         stats.light_buffer_queries += n as u64;
         // Planes first, as `any_hit` and `SceneIntersector::any_hit` test them.
-        let planes = accel.unbounded();
+        let planes = !accel.unbounded().is_empty();
         for (i, ray) in rays.iter().enumerate() {
             answers[i] = None;
-            if !planes.is_empty() {
+            if planes {
                 let tr = TraceRay::new(*ray);
-                let mut search = HitSearch::new(t_max[i], QueryMode::Any);
-                if planes
-                    .iter()
-                    .any(|&p| search.test_unbounded(geometry, &tr, p, stats))
-                {
-                    answers[i] = search.best();
-                }
+                answers[i] = accel.plane_blocker(geometry, &tr, t_max[i], stats);
             }
         }
         let mut near = ArrayVec::new();
@@ -867,20 +859,12 @@ impl LightBuffer {
             stats,
         );
         // The planes, as `nearest` offers them after the walk.
-        let planes = accel.unbounded();
-        if planes.is_empty() {
+        if accel.unbounded().is_empty() {
             return;
         }
         for ((ray, answer), &t_max) in rays.iter().zip(answers.iter_mut()).zip(t_max) {
             let tr = TraceRay::new(*ray);
-            let mut search = HitSearch::new(t_max, QueryMode::Nearest);
-            if let Some(hit) = *answer {
-                search.offer(hit);
-            }
-            for &prim in planes {
-                search.test_unbounded(geometry, &tr, prim, stats);
-            }
-            *answer = search.best();
+            *answer = accel.nearest_with_planes(geometry, &tr, t_max, *answer, stats);
         }
     }
 
@@ -989,10 +973,9 @@ impl LightBuffer {
                 search.offer(hit);
             }
         }
-        for &prim in accel.unbounded() {
-            search.test_unbounded(geometry, &tr, prim, stats);
-        }
-        search.best()
+        // The walks' hit against the planes (offered to a fresh search, it leaves the
+        // search as it is here).
+        accel.nearest_with_planes(geometry, &tr, t_max, search.best(), stats)
     }
 
     /// The buffer's figures, for `prism info` and the statistics.

@@ -381,10 +381,11 @@ impl<'a> Shadows<'a> {
         let (geometry, accel) = (&scene.scene.geometry, &scene.intersector);
         if self.spec.method.uses_cache() {
             self.cached_packet(index, depth, rays, distances, blocked, stats);
-        } else if self.query(index).buffer.is_some() {
+        } else if let Some((buffer, _)) = self.query(index).buffer {
             let mut answers = [None; PACKET_MAX];
-            self.any_hit_packet(index, rays, distances, &mut answers[..n], stats);
-            for (b, answer) in blocked.iter_mut().zip(&answers[..n]) {
+            let answers = &mut answers[..n];
+            buffer.any_hit_packet(geometry, accel, rays, distances, answers, stats);
+            for (b, answer) in blocked.iter_mut().zip(answers.iter()) {
                 *b = answer.is_some();
             }
         } else {

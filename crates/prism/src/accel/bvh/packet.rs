@@ -463,25 +463,12 @@ impl PacketSearch {
 }
 
 /// Answers `rays` (at most `PACKET_MAX`, each with its own bound) as a packet where they
-/// are coherent, one by one otherwise; `answers[i]` is what `bvh.query` gives `rays[i]`.
-#[inline(always)]
-pub(super) fn query(
-    bvh: &Bvh,
-    geometry: &Geometry,
-    rays: &[Ray],
-    t_max: &[f32],
-    mode: QueryMode,
-    answers: &mut [Option<Hit>],
-    stats: &mut Stats,
-) {
-    query_from(bvh, None, geometry, rays, t_max, mode, answers, stats)
-}
-
-/// `query` over the subtrees below `root` (an entry node, `subtree.rs`), or over the whole
-/// tree without one: `answers[i]` is what `Bvh::walk_from` gives `rays[i]` from that root.
+/// are coherent, one by one otherwise, over the subtrees below `root` (an entry node,
+/// `subtree.rs`) or the whole tree without one: `answers[i]` is what `Accel::query` (or
+/// `Bvh::walk_from` from `root`) gives `rays[i]`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub(super) fn query_from(
+pub(super) fn query(
     bvh: &Bvh,
     root: Option<Root<'_>>,
     geometry: &Geometry,

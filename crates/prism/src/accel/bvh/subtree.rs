@@ -175,7 +175,7 @@ impl Bvh {
         answers: &mut [Option<Hit>],
         stats: &mut Stats,
     ) {
-        super::packet::query_from(
+        super::packet::query(
             self,
             Some(entry.0),
             geometry,

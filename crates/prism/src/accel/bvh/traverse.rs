@@ -61,7 +61,7 @@ impl Accel for Bvh {
         answers: &mut [Option<Hit>],
         stats: &mut Stats,
     ) {
-        super::packet::query(self, geometry, rays, t_max, mode, answers, stats)
+        super::packet::query(self, None, geometry, rays, t_max, mode, answers, stats)
     }
 
     fn info(&self) -> AccelInfo {
