@@ -129,9 +129,16 @@ impl SceneIntersector {
             // In parallel and without computing boxes: on the 100k-triangle blob the serial
             // pass that asked each primitive for its box took a millisecond, while every
             // other step of the build uses both cores.
-            let (bounded, unbounded): (Vec<u32>, Vec<u32>) = (0..geometry.primitives.len() as u32)
-                .into_par_iter()
-                .partition(|&i| geometry.primitives[i as usize].shape.is_bounded());
+            let n = geometry.primitives.len() as u32;
+            let is_bounded = |i: u32| geometry.primitives[i as usize].shape.is_bounded();
+            // Most scenes have no plane: then every id is bounded, and a parallel range
+            // writes them without the partition's pieces gathered and joined.
+            let (bounded, unbounded): (Vec<u32>, Vec<u32>) =
+                if (0..n).into_par_iter().all(is_bounded) {
+                    ((0..n).into_par_iter().collect(), Vec::new())
+                } else {
+                    (0..n).into_par_iter().partition(|&i| is_bounded(i))
+                };
             SceneIntersector {
                 accel: spec.build(geometry, bounded),
                 unbounded,

@@ -13,32 +13,68 @@ use rayon::prelude::*;
 /// whose `count`, without this bit, is its number of packs.
 pub(super) const PACKED: u32 = 1 << 31;
 
-/// Every primitive's corners if it is a mesh triangle, by primitive id: read in
-/// primitive order (mesh order), so that packing, which meets triangles in leaf order,
-/// makes one scattered read per triangle rather than following primitive, index triple
-/// and three vertices (on a million scattered triangles, a fifth of the build).
-pub(super) fn triangle_corners(geometry: &Geometry) -> Vec<Option<[Vec3; 3]>> {
-    geometry
-        .primitives
-        .par_iter()
-        .map(|p| match p.shape {
-            Shape::Triangle { mesh, index } => Some(geometry.meshes[mesh as usize].vertices(index)),
-            _ => None,
-        })
-        .collect()
+/// Where packing reads a triangle's corners.
+pub(super) enum Corners<'a> {
+    /// Every primitive's corners if it is a mesh triangle, by primitive id: read in
+    /// primitive order (mesh order), so that packing, which meets triangles in leaf order,
+    /// makes one scattered read per triangle rather than following primitive, index
+    /// triple and three vertices (on a million scattered triangles, a fifth of the build).
+    Gathered(Vec<Option<[Vec3; 3]>>),
+    /// Straight from the geometry, whose primitives and meshes fit in the cache: there
+    /// the array above costs more (a pass over the meshes and fresh pages to write) than
+    /// the reads it saves.
+    Direct(&'a Geometry),
+}
+
+/// Geometry up to this size (primitives, index triples and positions) is read straight
+/// by packing (`Corners::Direct`).
+const DIRECT_BYTES: usize = 8 << 20;
+
+impl<'a> Corners<'a> {
+    /// The way to read `geometry`'s corners that costs its build the least.
+    pub(super) fn of(geometry: &'a Geometry) -> Corners<'a> {
+        let meshes: usize = (geometry.meshes.iter())
+            .map(|m| m.triangle_count() * 12 + m.vertex_count() * 12)
+            .sum();
+        let bytes = meshes + std::mem::size_of_val(&geometry.primitives[..]);
+        if bytes <= DIRECT_BYTES {
+            return Corners::Direct(geometry);
+        }
+        Corners::gathered(geometry)
+    }
+
+    fn gathered(geometry: &Geometry) -> Corners<'a> {
+        let direct = Corners::Direct(geometry);
+        let ids = 0..geometry.primitives.len() as u32;
+        Corners::Gathered(ids.into_par_iter().map(|p| direct.get(p)).collect())
+    }
+
+    /// Primitive `p`'s corners if it is a mesh triangle.
+    #[inline(always)]
+    fn get(&self, p: u32) -> Option<[Vec3; 3]> {
+        match self {
+            Corners::Gathered(corners) => corners[p as usize],
+            Corners::Direct(geometry) => match geometry.primitives[p as usize].shape {
+                Shape::Triangle { mesh, index } => {
+                    Some(geometry.meshes[mesh as usize].vertices(index))
+                }
+                _ => None,
+            },
+        }
+    }
 }
 
 /// Rewrites the leaf children of `wide` that hold only triangles into packs, in the order
 /// the nodes lie in memory (so neighbouring leaves' packs are neighbours too), and returns
 /// the packs. `prims` are the leaves' primitive ids, as `child`/`count` index them;
-/// `corners` is `triangle_corners`. Chunks of nodes find their packs in parallel, and the
+/// `corners` gives their corners. Chunks of nodes find their packs in parallel, and the
 /// packs are then made in parallel straight into one vector, each written once (per-chunk
 /// vectors, grown and then joined, wrote them two or three times into fresh pages); the
 /// result does not depend on the thread count.
 pub(super) fn pack_triangles<N: LeafSlots>(
     wide: &mut [N],
     prims: &[u32],
-    corners: &[Option<[Vec3; 3]>],
+    corners: &Corners,
 ) -> Vec<TrianglePack> {
     let chunks: Vec<Vec<PackJob>> = wide
         .par_chunks_mut(1024)
@@ -66,7 +102,7 @@ pub(super) fn pack_triangles<N: LeafSlots>(
             let ids = &prims[job.start as usize..][..job.len as usize];
             let mut lanes = [([Vec3::ZERO; 3], 0u32); 4];
             for (lane, &p) in lanes.iter_mut().zip(ids) {
-                *lane = (corners[p as usize].expect("planned on triangles"), p);
+                *lane = (corners.get(p).expect("planned on triangles"), p);
             }
             TrianglePack::new(&lanes[..ids.len()])
         })
@@ -83,11 +119,7 @@ struct PackJob {
 
 /// The packs of the triangle leaves of `nodes`, numbered from 0, with the leaves rewritten
 /// to point at them.
-fn plan_chunk<N: LeafSlots>(
-    nodes: &mut [N],
-    prims: &[u32],
-    corners: &[Option<[Vec3; 3]>],
-) -> Vec<PackJob> {
+fn plan_chunk<N: LeafSlots>(nodes: &mut [N], prims: &[u32], corners: &Corners) -> Vec<PackJob> {
     let mut jobs = Vec::new();
     for node in nodes {
         let (child, counts) = node.slots();
@@ -97,7 +129,7 @@ fn plan_chunk<N: LeafSlots>(
                 continue;
             }
             let ids = &prims[child[k] as usize..][..count as usize];
-            if !ids.iter().all(|&p| corners[p as usize].is_some()) {
+            if !ids.iter().all(|&p| corners.get(p).is_some()) {
                 continue;
             }
             let first = jobs.len();
@@ -110,4 +142,39 @@ fn plan_chunk<N: LeafSlots>(
         }
     }
     jobs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Sphere, TriangleMesh};
+
+    #[test]
+    fn both_ways_to_read_corners_agree() {
+        let mut g = Geometry::default();
+        g.add(Shape::from(Sphere::new(Vec3::ZERO, 1.0)), 0);
+        let positions: Vec<Vec3> = (0..40)
+            .map(|i| Vec3::new(i as f32, (i * 7 % 11) as f32, (i * 3 % 5) as f32))
+            .collect();
+        let indices: Vec<[u32; 3]> = (0..30u32).map(|i| [i, (i * 13 + 5) % 40, 39 - i]).collect();
+        let mesh = TriangleMesh::new(positions, indices, None, None).expect("a mesh");
+        g.add_mesh(mesh, 0);
+        g.add(Shape::from(Sphere::new(Vec3::ONE, 2.0)), 0);
+        let (direct, gathered) = (Corners::Direct(&g), Corners::gathered(&g));
+        assert!(
+            matches!(Corners::of(&g), Corners::Direct(_)),
+            "a small scene reads directly"
+        );
+        let mut triangles = 0;
+        for p in 0..g.primitives.len() as u32 {
+            assert_eq!(direct.get(p), gathered.get(p), "primitive {p}");
+            if let Shape::Triangle { mesh, index } = g.primitives[p as usize].shape {
+                assert_eq!(direct.get(p), Some(g.meshes[mesh as usize].vertices(index)));
+                triangles += 1;
+            } else {
+                assert_eq!(direct.get(p), None);
+            }
+        }
+        assert_eq!(triangles, 30);
+    }
 }

@@ -87,7 +87,7 @@ impl Bvh {
         if geometry.meshes.is_empty() {
             return;
         }
-        let corners = super::leaves::triangle_corners(geometry);
+        let corners = super::leaves::Corners::of(geometry);
         self.packs = if self.wide8.is_empty() {
             super::leaves::pack_triangles(&mut self.wide, &self.prims, &corners)
         } else {
