@@ -176,6 +176,10 @@ impl SceneIntersector {
         found: Option<Hit>,
         stats: &mut Stats,
     ) -> Option<Hit> {
+        // No plane: the accelerator's hit stands as found (the search below would keep it).
+        if self.unbounded.is_empty() {
+            return found;
+        }
         let mut search = HitSearch::new(t_max, QueryMode::Nearest);
         if let Some(hit) = found {
             search.offer(hit);
