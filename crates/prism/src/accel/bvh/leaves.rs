@@ -33,8 +33,11 @@ const DIRECT_BYTES: usize = 8 << 20;
 impl<'a> Corners<'a> {
     /// The way to read `geometry`'s corners that costs its build the least.
     pub(super) fn of(geometry: &'a Geometry) -> Corners<'a> {
+        use std::mem::size_of;
         let meshes: usize = (geometry.meshes.iter())
-            .map(|m| m.triangle_count() * 12 + m.vertex_count() * 12)
+            .map(|m| {
+                m.triangle_count() * size_of::<[u32; 3]>() + m.vertex_count() * size_of::<Vec3>()
+            })
             .sum();
         let bytes = meshes + std::mem::size_of_val(&geometry.primitives[..]);
         if bytes <= DIRECT_BYTES {
