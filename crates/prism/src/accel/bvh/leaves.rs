@@ -52,6 +52,18 @@ impl<'a> Corners<'a> {
         Corners::Gathered(ids.into_par_iter().map(|p| direct.get(p)).collect())
     }
 
+    /// Whether primitive `p` is a mesh triangle (without reading its corners).
+    #[inline(always)]
+    fn is_triangle(&self, p: u32) -> bool {
+        match self {
+            Corners::Gathered(corners) => corners[p as usize].is_some(),
+            Corners::Direct(geometry) => matches!(
+                geometry.primitives[p as usize].shape,
+                Shape::Triangle { .. }
+            ),
+        }
+    }
+
     /// Primitive `p`'s corners if it is a mesh triangle.
     #[inline(always)]
     fn get(&self, p: u32) -> Option<[Vec3; 3]> {
@@ -132,7 +144,7 @@ fn plan_chunk<N: LeafSlots>(nodes: &mut [N], prims: &[u32], corners: &Corners) -
                 continue;
             }
             let ids = &prims[child[k] as usize..][..count as usize];
-            if !ids.iter().all(|&p| corners.get(p).is_some()) {
+            if !ids.iter().all(|&p| corners.is_triangle(p)) {
                 continue;
             }
             let first = jobs.len();
@@ -171,6 +183,9 @@ mod tests {
         let mut triangles = 0;
         for p in 0..g.primitives.len() as u32 {
             assert_eq!(direct.get(p), gathered.get(p), "primitive {p}");
+            for corners in [&direct, &gathered] {
+                assert_eq!(corners.is_triangle(p), corners.get(p).is_some(), "{p}");
+            }
             if let Shape::Triangle { mesh, index } = g.primitives[p as usize].shape {
                 assert_eq!(direct.get(p), Some(g.meshes[mesh as usize].vertices(index)));
                 triangles += 1;
