@@ -1,12 +1,13 @@
 //! The shape of the trees each BVH builder makes (correct answers are tests/accel.rs's
 //! job): a parallel build is the serial one node for node, leaves and depth stay within
 //! their limits, reinsertion never raises the SAH cost and lowers it where the input tree
-//! is poor, and empty or one-primitive inputs work.
+//! is poor, empty or one-primitive inputs work, and a tree built for rays from inside the
+//! scene spares such rays the big leaves a closed room's walls make.
 
 mod common;
 
 use common::{trace_ray, Rng};
-use prism::accel::{Accel, Bvh, BvhBuilder, BvhOptions};
+use prism::accel::{Accel, AccelSpec, BruteForce, Bvh, BvhBuilder, BvhOptions, RayOrigins};
 use prism::geometry::{generate, Geometry, Shape, Sphere};
 use prism::math::Vec3;
 use prism::Stats;
@@ -59,9 +60,18 @@ fn options(builder: BvhBuilder, reinsert: bool) -> BvhOptions {
 }
 
 fn variants() -> Vec<BvhOptions> {
+    let inside = BvhOptions {
+        rays: RayOrigins::Inside,
+        ..options(BvhBuilder::Binned, false)
+    };
+    let inside_low_traversal = BvhOptions {
+        traversal_cost: 0.33,
+        ..inside.clone()
+    };
     BvhBuilder::ALL
         .into_iter()
         .flat_map(|b| [options(b, false), options(b, true)])
+        .chain([inside, inside_low_traversal])
         .collect()
 }
 
@@ -216,4 +226,54 @@ fn empty_and_single_primitive_inputs() {
         assert_eq!((h.prim, h.t), (0, 4.0));
         assert!(one.occluded(&g, &ray, 4.5, &mut stats));
     }
+}
+
+/// The path-traced Cornell box: its 32 triangles are large walls, which the SAH for rays
+/// from outside keeps in leaves of up to eight spanning the room. Built for rays from
+/// inside (with the traversal cost of an 8-wide node's binary level), rays from points in
+/// the room test a third as many triangles, and every answer stays the brute force's.
+#[test]
+fn a_tree_for_rays_from_inside_spares_them_the_rooms_big_leaves() {
+    let scene = prism::scene::builtin::find("cornell-light").expect("the built-in");
+    let g = &scene.geometry;
+    let bounds = (0..g.primitives.len() as u32)
+        .filter_map(|p| g.bounds(p))
+        .fold(prism::math::Aabb::EMPTY, |a, b| a.union(&b));
+    let inside: AccelSpec = "bvh:rays=inside,trav=0.33".parse().unwrap();
+    let outside = AccelSpec::default();
+    let (a, b) = (
+        inside.build(g, all_prims(g)),
+        outside.build(g, all_prims(g)),
+    );
+    let brute = BruteForce::new(all_prims(g));
+    let mut rng = Rng::new(17);
+    let (mut tests_inside, mut tests_outside, mut hits) = (0u64, 0u64, 0);
+    for _ in 0..4000 {
+        let span = bounds.max - bounds.min;
+        let origin = rng.point_in(bounds.min + 0.01 * span, bounds.max - 0.01 * span);
+        let ray = trace_ray(origin, rng.unit_vector());
+        let (mut si, mut so, mut sb) = (Stats::default(), Stats::default(), Stats::default());
+        let expected = brute.intersect(g, &ray, f32::INFINITY, &mut sb);
+        let key = |h: Option<prism::accel::Hit>| h.map(|h| (h.prim, h.t.to_bits()));
+        assert_eq!(
+            key(a.intersect(g, &ray, f32::INFINITY, &mut si)),
+            key(expected)
+        );
+        assert_eq!(
+            key(b.intersect(g, &ray, f32::INFINITY, &mut so)),
+            key(expected)
+        );
+        tests_inside += si.primitive_tests;
+        tests_outside += so.primitive_tests;
+        hits += usize::from(expected.is_some());
+    }
+    // The box is open towards the camera, so some rays leave it.
+    assert!(
+        hits > 3000,
+        "most rays from inside the room hit a wall: {hits}"
+    );
+    assert!(
+        3 * tests_inside < tests_outside,
+        "triangle tests: {tests_inside} built for rays from inside, {tests_outside} from outside"
+    );
 }

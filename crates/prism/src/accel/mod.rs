@@ -17,7 +17,7 @@ mod stack;
 pub mod volumes;
 
 pub use brute::{BruteForce, BruteForceOptions};
-pub use bvh::{Avx512, Bvh, BvhBuilder, BvhOptions, NodeWidth};
+pub use bvh::{Avx512, Bvh, BvhBuilder, BvhOptions, NodeWidth, RayOrigins};
 pub use grid::{Grid, GridOptions};
 pub use info::AccelInfo;
 pub use kdtree::{KdTree, KdTreeOptions};

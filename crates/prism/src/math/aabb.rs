@@ -89,6 +89,15 @@ impl Aabb {
         }
     }
 
+    /// Volume (0 for an empty or flat box).
+    pub fn volume(&self) -> f32 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        let e = self.extent();
+        e.x * e.y * e.z
+    }
+
     /// Surface area, the probability weight of the surface area heuristic (0 for an empty box).
     pub fn surface_area(&self) -> f32 {
         if self.is_empty() {

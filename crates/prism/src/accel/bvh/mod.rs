@@ -16,7 +16,7 @@ use crate::accel::AccelInfo;
 use crate::math::{Aabb, Vec3};
 use wide::{Wide8Node, WideNode};
 
-pub use options::{Avx512, BvhBuilder, BvhOptions, NodeWidth};
+pub use options::{Avx512, BvhBuilder, BvhOptions, NodeWidth, RayOrigins};
 pub use subtree::{Entry, EntryNodes, Subtree};
 
 /// A node is 32 bytes, two to a cache line. Interior nodes have `count == 0` and their
@@ -98,6 +98,8 @@ pub struct Bvh {
     /// Whether triangles were split into several references before the build (so `prims`
     /// may hold an id more than once).
     presplit: bool,
+    /// Whether the binned SAH expected rays from inside the scene (`RayOrigins::Inside`).
+    inside: bool,
 }
 
 /// Depth the build never exceeds, so traversal can use a fixed stack.
@@ -124,6 +126,7 @@ impl Bvh {
             builder: options.builder,
             reinserted: options.reinsert,
             presplit: options.presplit > 0.0,
+            inside: options.rays == RayOrigins::Inside && options.builder == BvhBuilder::Binned,
         }
     }
 
@@ -156,8 +159,13 @@ impl Bvh {
     pub fn info(&self) -> AccelInfo {
         let mut info = AccelInfo {
             method: format!(
-                "bvh ({}{}{})",
+                "bvh ({}{}{}{})",
                 self.builder.description(),
+                if self.inside {
+                    " for rays from inside"
+                } else {
+                    ""
+                },
                 if self.presplit { " + pre-split" } else { "" },
                 if self.reinserted {
                     " + reinsertion"

@@ -86,6 +86,27 @@ named_kinds! {
     }
 }
 
+/// Where the SAH expects rays to start (`build/binned.rs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum RayOrigins {
+    /// Outside the scene: a child is entered with its share of its parent's surface area
+    /// (the SAH as MacDonald and Booth have it).
+    #[default]
+    Outside,
+    /// On surfaces inside the scene, as a path tracer's rays in a closed room: a child is
+    /// entered with half its parent's area share plus half its volume share (rays from
+    /// uniform points inside the parent, in uniform directions), and subtrees small
+    /// enough for a leaf are built and then collapsed where the leaf costs less.
+    Inside,
+}
+
+named_kinds! {
+    RayOrigins, "ray origins" {
+        Outside => "outside",
+        Inside => "inside",
+    }
+}
+
 /// How a BVH is built; also the `bvh:` keys of `--accel` (see `Method`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BvhOptions {
@@ -115,6 +136,8 @@ pub struct BvhOptions {
     /// Whether the 8-wide packet kernels take sixteen rays per step with AVX-512 where the
     /// CPU has it. Answers are the same either way.
     pub avx512: Avx512,
+    /// Where the binned SAH expects rays to start (the other builders ignore it).
+    pub rays: RayOrigins,
 }
 
 impl Default for BvhOptions {
@@ -130,6 +153,7 @@ impl Default for BvhOptions {
             parallel_threshold: 4096,
             width: NodeWidth::Auto,
             avx512: Avx512::Auto,
+            rays: RayOrigins::Outside,
         }
     }
 }
@@ -196,6 +220,13 @@ impl Method for BvhOptions {
             accepts: Accepts::Choice(&Avx512::NAMES),
             get: |o| Value::Choice(o.avx512.index()),
             set: |o, v| o.avx512 = Avx512::ALL[v.choice()],
+        },
+        Key {
+            name: "rays",
+            help: "where the binned SAH expects rays to start: outside the scene (area shares) or inside it (half area and half volume shares, for paths in closed scenes)",
+            accepts: Accepts::Choice(&RayOrigins::NAMES),
+            get: |o| Value::Choice(o.rays.index()),
+            set: |o, v| o.rays = RayOrigins::ALL[v.choice()],
         },
         Key {
             name: "reinsert",

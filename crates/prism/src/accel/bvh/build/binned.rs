@@ -3,10 +3,11 @@
 //! One pass bins all three axes; the bins also give each side's bounds, so a child never
 //! passes over its primitives just to bound them.
 
+use super::inside_share;
 use super::prim_ref::{PrimRef, SimdBox};
 use super::topdown::{Split, SplitRule, PARALLEL_PASS};
 use super::BuildPrims;
-use crate::accel::bvh::BvhOptions;
+use crate::accel::bvh::{BvhOptions, RayOrigins};
 use crate::math::{Aabb, Vec3};
 use glam::Vec3A;
 use rayon::prelude::*;
@@ -15,6 +16,9 @@ pub(super) struct BinnedSah {
     bins: usize,
     max_leaf_size: usize,
     traversal_cost: f32,
+    /// Rays start inside the scene (`RayOrigins::Inside`): children weighted by
+    /// `inside_share`, and small nodes split tentatively and collapsed by `topdown.rs`.
+    inside: bool,
 }
 
 impl BinnedSah {
@@ -23,17 +27,19 @@ impl BinnedSah {
             bins: options.bins.max(2),
             max_leaf_size: options.max_leaf_size.max(1),
             traversal_cost: options.traversal_cost,
+            inside: options.rays == RayOrigins::Inside,
         }
     }
 }
 
 /// Scratch space of the SAH sweep: the bins of all three axes (axis-major), and the
-/// right-to-left sweep's running areas and counts for one axis.
+/// right-to-left sweep's running areas, volumes and counts for one axis.
 pub(super) struct Sweep {
     bins: Vec<Bin>,
     /// The second set of bins `Binning::fill` adds to.
     spare: Vec<Bin>,
     right_area: Vec<f32>,
+    right_volume: Vec<f32>,
     right_count: Vec<u32>,
 }
 
@@ -120,11 +126,17 @@ impl Binning {
 impl SplitRule for BinnedSah {
     type Scratch = Sweep;
 
+    fn collapse(&self) -> Option<(f32, usize)> {
+        self.inside
+            .then_some((self.traversal_cost, self.max_leaf_size))
+    }
+
     fn scratch(&self) -> Sweep {
         Sweep {
             bins: vec![Bin::EMPTY; 3 * self.bins],
             spare: vec![Bin::EMPTY; 3 * self.bins],
             right_area: vec![0.0; self.bins],
+            right_volume: vec![0.0; self.bins],
             right_count: vec![0; self.bins],
         }
     }
@@ -161,7 +173,9 @@ impl SplitRule for BinnedSah {
         self.fill_bins(&binning, refs, bins, spare);
         match self.best_split(sweep, nb, bounds, scale, prims) {
             Some((axis, k, cost)) => {
-                if n <= self.max_leaf_size && cost >= prims.leaf_cost(n) {
+                // From inside, a node small enough for a leaf is split all the same, and
+                // collapsed afterwards if its subtree costs more (`SplitRule::collapse`).
+                if !self.inside && n <= self.max_leaf_size && cost >= prims.leaf_cost(n) {
                     return None;
                 }
                 let (mid, centroids) = partition(refs, &binning, axis, k);
@@ -223,9 +237,11 @@ impl BinnedSah {
         let mut best: Option<(usize, usize, f32)> = None;
         let mut best_sides = f32::INFINITY;
         let parent_area = bounds.surface_area().max(f32::MIN_POSITIVE);
+        let parent_volume = bounds.volume();
         let Sweep {
             bins,
             right_area,
+            right_volume,
             right_count,
             ..
         } = sweep;
@@ -241,6 +257,7 @@ impl BinnedSah {
                 acc = acc.union(&bins[k].bounds);
                 count += bins[k].count;
                 right_area[k] = acc.surface_area();
+                right_volume[k] = acc.volume();
                 right_count[k] = count;
             }
             let (mut acc, mut count) = (SimdBox::EMPTY, 0);
@@ -250,8 +267,19 @@ impl BinnedSah {
                 if count == 0 || right_count[k + 1] == 0 {
                     continue;
                 }
-                let sides = acc.surface_area() * prims.leaf_cost(count as usize)
-                    + right_area[k + 1] * prims.leaf_cost(right_count[k + 1] as usize);
+                let (left_cost, right_cost) = (
+                    prims.leaf_cost(count as usize),
+                    prims.leaf_cost(right_count[k + 1] as usize),
+                );
+                let sides = if self.inside {
+                    // In units of the parent's area, as `sides` is below.
+                    let share = |a: f32, v: f32| inside_share(a, v, parent_area, parent_volume);
+                    parent_area
+                        * (share(acc.surface_area(), acc.volume()) * left_cost
+                            + share(right_area[k + 1], right_volume[k + 1]) * right_cost)
+                } else {
+                    acc.surface_area() * left_cost + right_area[k + 1] * right_cost
+                };
                 // The cost rounds monotonically in `sides`, so a split whose `sides`
                 // exceeds the best one's cannot cost strictly less: skip its division.
                 if sides > best_sides {

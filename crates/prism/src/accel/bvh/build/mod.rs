@@ -48,6 +48,21 @@ impl BuildPrims {
     }
 }
 
+/// The chance that a ray from a uniform point inside a parent box, in a uniform
+/// direction, enters a child box of `area` and `volume` (the parent's `parent_area` and
+/// `parent_volume`): a line through the child is met by the part of its chord through the
+/// parent that lies before the child's far end, in either direction, so integrating over
+/// lines (Crofton) gives half the area share (with the parent's mean chord) plus half the
+/// volume share. A flat parent (no volume) falls back to the area share.
+#[inline(always)]
+pub(super) fn inside_share(area: f32, volume: f32, parent_area: f32, parent_volume: f32) -> f32 {
+    if parent_volume > 0.0 {
+        0.5 * (area / parent_area) + 0.5 * (volume / parent_volume)
+    } else {
+        area / parent_area
+    }
+}
+
 impl Bvh {
     /// Builds over `prims`, which must all be bounded.
     pub fn build(geometry: &Geometry, prims: Vec<u32>, options: &BvhOptions) -> Bvh {

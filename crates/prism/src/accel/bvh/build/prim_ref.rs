@@ -90,6 +90,13 @@ impl SimdBox {
         2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
     }
 
+    /// The volume of a box that is not empty.
+    #[inline(always)]
+    pub(super) fn volume(&self) -> f32 {
+        let e = self.max - self.min;
+        e.x * e.y * e.z
+    }
+
     pub(super) fn to_aabb(self) -> Aabb {
         if self.min.cmpgt(self.max).any() {
             return Aabb::EMPTY;

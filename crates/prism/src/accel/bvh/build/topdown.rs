@@ -5,7 +5,7 @@
 
 use super::prim_ref::{PrimRef, SimdBox};
 use super::stitch::NodeBlock;
-use super::BuildPrims;
+use super::{inside_share, BuildPrims};
 use crate::accel::bvh::{Node, MAX_DEPTH};
 use crate::math::Aabb;
 use rayon::prelude::*;
@@ -33,6 +33,14 @@ pub(super) trait SplitRule: Sync {
         bounds: &Aabb,
         centroid_bounds: &Aabb,
     ) -> Option<Split>;
+
+    /// For rules that split small nodes tentatively (rays from inside the scene): the
+    /// traversal cost and the largest leaf. A subtree over at most that many primitives
+    /// is then collapsed back into a leaf where the leaf costs no more, with its
+    /// children's costs weighted by `inside_share`.
+    fn collapse(&self) -> Option<(f32, usize)> {
+        None
+    }
 }
 
 /// Where a rule splits a node's primitives.
@@ -105,7 +113,10 @@ impl<R: SplitRule> TopDown<'_, R> {
         depth: usize,
         extent: Option<Extent>,
     ) -> NodeBlock {
-        if refs.len() <= self.parallel_threshold {
+        // A subtree that may be collapsed into a leaf is built serially whatever the
+        // threshold, so that the tree does not depend on it.
+        let collapsible = self.rule.collapse().map_or(0, |(_, max_leaf)| max_leaf);
+        if refs.len() <= self.parallel_threshold.max(collapsible) {
             let mut serial = Serial {
                 top: self,
                 scratch: self.rule.scratch(),
@@ -172,6 +183,8 @@ impl<R: SplitRule> TopDown<'_, R> {
 }
 
 impl<R: SplitRule> Serial<'_, '_, R> {
+    /// Builds the subtree over `refs` at `index`; returns its box and, for rules that
+    /// collapse (`SplitRule::collapse`), its cost for a ray that entered it.
     fn subdivide(
         &mut self,
         index: usize,
@@ -179,11 +192,14 @@ impl<R: SplitRule> Serial<'_, '_, R> {
         offset: u32,
         depth: usize,
         extent: Option<Extent>,
-    ) {
+    ) -> (Aabb, f32) {
+        let n = refs.len();
         let (bounds, split) = self.top.decide(&mut self.scratch, refs, depth, extent);
+        let collapse = self.top.rule.collapse();
+        let leaf_cost = || self.top.prims.leaf_cost(n);
         let Some(Split { mid, sides }) = split else {
-            self.nodes[index] = Node::leaf(bounds, offset, refs.len());
-            return;
+            self.nodes[index] = Node::leaf(bounds, offset, n);
+            return (bounds, collapse.map_or(0.0, |_| leaf_cost()));
         };
         let left = self.nodes.len();
         self.nodes[index] = Node::interior(bounds, left as u32);
@@ -191,7 +207,24 @@ impl<R: SplitRule> Serial<'_, '_, R> {
         self.nodes.extend([placeholder, placeholder]);
         let [lo_extent, hi_extent] = sides.map_or([None, None], |s| s.map(Some));
         let (lo, hi) = refs.split_at_mut(mid);
-        self.subdivide(left, lo, offset, depth + 1, lo_extent);
-        self.subdivide(left + 1, hi, offset + mid as u32, depth + 1, hi_extent);
+        let (lo_box, lo_cost) = self.subdivide(left, lo, offset, depth + 1, lo_extent);
+        let hi_start = offset + mid as u32;
+        let (hi_box, hi_cost) = self.subdivide(left + 1, hi, hi_start, depth + 1, hi_extent);
+        let Some((traversal, max_leaf)) = collapse else {
+            return (bounds, 0.0);
+        };
+        let (area, volume) = (
+            bounds.surface_area().max(f32::MIN_POSITIVE),
+            bounds.volume(),
+        );
+        let share = |b: &Aabb| inside_share(b.surface_area(), b.volume(), area, volume);
+        let cost = traversal + share(&lo_box) * lo_cost + share(&hi_box) * hi_cost;
+        if n <= max_leaf && leaf_cost() <= cost {
+            // The subtree was built last, so its nodes are the vector's tail.
+            self.nodes.truncate(left);
+            self.nodes[index] = Node::leaf(bounds, offset, n);
+            return (bounds, leaf_cost());
+        }
+        (bounds, cost)
     }
 }
