@@ -42,13 +42,8 @@ fi
 flock "$lock" cargo build --release --quiet -p prism-cli
 cp "${CARGO_TARGET_DIR:-target}/release/prism" "$work/prism-new"
 
-# CPU seconds (user + system) of one render.
-cpu() {
-    /usr/bin/time -f "%U %S" -o "$work/time" "$@" >/dev/null 2>&1
-    awk '{ print $1 + $2 }' "$work/time"
-}
-
-median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
+# cpu and median.
+source "$root/bench/renders-common.sh"
 
 scenes=()
 if [[ -d ../shared/scenes/spd ]]; then

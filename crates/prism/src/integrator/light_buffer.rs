@@ -787,13 +787,11 @@ impl LightBuffer {
         answers: &mut [Option<Hit>],
         stats: &mut Stats,
     ) {
-        let bvh = accel.accel.as_bvh().expect("a buffer is built over a BVH");
+        let bvh = Self::packet_bvh(accel, rays, t_max, answers, stats);
         let n = rays.len();
-        assert!(n <= PACKET_MAX && t_max.len() == n && answers.len() == n);
         if n == 0 {
             return;
         }
-        stats.light_buffer_queries += n as u64;
         // Planes first, as `any_hit` and `SceneIntersector::any_hit` test them.
         let planes = !accel.unbounded().is_empty();
         for (i, ray) in rays.iter().enumerate() {
@@ -823,6 +821,21 @@ impl LightBuffer {
         self.walk_packet(geometry, bvh, cell, &open, rays, t_max, answers, stats);
     }
 
+    /// The BVH a packet query walks (`accel`'s), after checking the packet's lengths and
+    /// counting its rays as the buffer's queries.
+    fn packet_bvh<'b>(
+        accel: &'b SceneIntersector,
+        rays: &[Ray],
+        t_max: &[f32],
+        answers: &[Option<Hit>],
+        stats: &mut Stats,
+    ) -> &'b Bvh {
+        let n = rays.len();
+        assert!(n <= PACKET_MAX && t_max.len() == n && answers.len() == n);
+        stats.light_buffer_queries += n as u64;
+        accel.accel.as_bvh().expect("a buffer is built over a BVH")
+    }
+
     /// `nearest` for a packet of rays towards this buffer's light (at most `PACKET_MAX`):
     /// `answers[i]` is exactly what `nearest` gives `rays[i]`. A packet whose rays all look
     /// up one cell (and pass the light far off) walks as one packet from the cell's entry
@@ -836,10 +849,7 @@ impl LightBuffer {
         answers: &mut [Option<Hit>],
         stats: &mut Stats,
     ) {
-        let bvh = accel.accel.as_bvh().expect("a buffer is built over a BVH");
-        let n = rays.len();
-        assert!(n <= PACKET_MAX && t_max.len() == n && answers.len() == n);
-        stats.light_buffer_queries += n as u64;
+        let bvh = Self::packet_bvh(accel, rays, t_max, answers, stats);
         let mut near = ArrayVec::new();
         let cell = self.packet_cell(rays, &mut near, stats);
         // A ray that passes the light close by needs the near node's walk and its cell's,

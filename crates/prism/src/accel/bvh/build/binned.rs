@@ -257,7 +257,9 @@ impl BinnedSah {
                 acc = acc.union(&bins[k].bounds);
                 count += bins[k].count;
                 right_area[k] = acc.surface_area();
-                right_volume[k] = acc.volume();
+                if self.inside {
+                    right_volume[k] = acc.volume();
+                }
                 right_count[k] = count;
             }
             let (mut acc, mut count) = (SimdBox::EMPTY, 0);

@@ -184,7 +184,8 @@ impl<R: SplitRule> TopDown<'_, R> {
 
 impl<R: SplitRule> Serial<'_, '_, R> {
     /// Builds the subtree over `refs` at `index`; returns its box and, for rules that
-    /// collapse (`SplitRule::collapse`), its cost for a ray that entered it.
+    /// collapse (`SplitRule::collapse`), its cost for a ray that entered it (others ignore
+    /// the cost).
     fn subdivide(
         &mut self,
         index: usize,
@@ -196,10 +197,10 @@ impl<R: SplitRule> Serial<'_, '_, R> {
         let n = refs.len();
         let (bounds, split) = self.top.decide(&mut self.scratch, refs, depth, extent);
         let collapse = self.top.rule.collapse();
-        let leaf_cost = || self.top.prims.leaf_cost(n);
+        let leaf_cost = self.top.prims.leaf_cost(n);
         let Some(Split { mid, sides }) = split else {
             self.nodes[index] = Node::leaf(bounds, offset, n);
-            return (bounds, collapse.map_or(0.0, |_| leaf_cost()));
+            return (bounds, leaf_cost);
         };
         let left = self.nodes.len();
         self.nodes[index] = Node::interior(bounds, left as u32);
@@ -219,11 +220,11 @@ impl<R: SplitRule> Serial<'_, '_, R> {
         );
         let share = |b: &Aabb| inside_share(b.surface_area(), b.volume(), area, volume);
         let cost = traversal + share(&lo_box) * lo_cost + share(&hi_box) * hi_cost;
-        if n <= max_leaf && leaf_cost() <= cost {
+        if n <= max_leaf && leaf_cost <= cost {
             // The subtree was built last, so its nodes are the vector's tail.
             self.nodes.truncate(left);
             self.nodes[index] = Node::leaf(bounds, offset, n);
-            return (bounds, leaf_cost());
+            return (bounds, leaf_cost);
         }
         (bounds, cost)
     }
