@@ -77,8 +77,12 @@ fn info(args: &args::InfoArgs) -> Result<ExitCode> {
         Some(builtin) => args::find_builtin(builtin)?,
         None => prism_io::scene::load(Path::new(&name))?,
     };
-    let accel = args.accel.as_ref().unwrap_or(&scene.options.accel);
-    info::print(&scene, &name, accel)?;
+    // The tree the scene's own integrator would render with (`rays=auto` settled by it).
+    let options = prism::RenderOptions {
+        accel: args.accel.clone().unwrap_or(scene.options.accel.clone()),
+        ..scene.options.clone()
+    };
+    info::print(&scene, &name, &options.accel_to_build())?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -143,7 +147,7 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     warnings.report()?;
     note_threads(&options);
     memory::check(&scene, &options, args)?;
-    let prepared = scene.prepare(&options.accel);
+    let prepared = scene.prepare_for(&options);
 
     let interrupt = signals::listen();
     let bar = progress::RenderProgress::new(&options, args.quiet);
@@ -163,8 +167,8 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     }
     if let Some(path) = &args.cost {
         let method = match args.cost_rays {
-            cost::CostRays::All => options.accel.to_string(),
-            cost::CostRays::Shadow => format!("{}, {}", options.shadows, options.accel),
+            cost::CostRays::All => options.accel_to_build().to_string(),
+            cost::CostRays::Shadow => format!("{}, {}", options.shadows, options.accel_to_build()),
         };
         cost::write(
             path,

@@ -249,7 +249,7 @@ pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     // Learn now, not after the renders, that the folder cannot take the files.
     crate::outputs::check_writable(&args.out.join("summary.txt"))?;
-    let prepared = scene.prepare(&base.accel);
+    let prepared = scene.prepare_for(&base);
     let say = |msg: String| {
         if !args.quiet {
             eprintln!("{msg}");

@@ -156,7 +156,7 @@ fn main() {
     // Frame encodings on one core: what the server would spend per frame, and the bytes.
     let film = {
         let scene = prism::scene::builtin::find(name).unwrap();
-        let prepared = scene.prepare(&options.accel);
+        let prepared = scene.prepare_for(&options);
         let o = prism::RenderOptions {
             samples: 4,
             ..options.clone()

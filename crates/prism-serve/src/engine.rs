@@ -211,11 +211,11 @@ impl Engine {
         engine
     }
 
-    /// Builds the accelerator the options name.
+    /// Builds the accelerator the options name, for their integrator.
     fn rebuild(&mut self) {
         let stage = &mut self.stage;
         stage.intersector = None;
-        let prepared = stage.scene.prepare(&self.options.accel);
+        let prepared = stage.scene.prepare_for(&self.options);
         stage.has_transmissive = prepared.has_transmissive;
         stage.intersector = Some(prepared.intersector);
     }
@@ -398,7 +398,12 @@ impl Engine {
             Setting::Integrator(name) => {
                 // `controls` accepts only the names in INTEGRATORS, which all parse.
                 if let Ok(kind) = name.parse() {
+                    let built = self.options.accel_to_build();
                     self.options.integrator = kind;
+                    // A BVH left at rays=auto is built for the integrator's rays.
+                    if self.options.accel_to_build() != built {
+                        self.rebuild();
+                    }
                 }
                 self.integrator = name;
             }

@@ -90,7 +90,7 @@ mod tests {
             threads: 2,
             ..scene.options.clone()
         };
-        let prepared = scene.prepare(&options.accel);
+        let prepared = scene.prepare_for(&options);
         let cancel = AtomicBool::new(false);
         let mut frames = Frames::new();
         assert!(frames.image().is_none());

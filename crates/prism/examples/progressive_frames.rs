@@ -34,7 +34,7 @@ fn main() {
         sampler: prism::sampling::SamplerKind::Jittered,
         ..scene.options.clone()
     };
-    let prepared = scene.prepare(&options.accel);
+    let prepared = scene.prepare_for(&options);
     let mut p = Progressive::new(width, height).unwrap();
     let cancel = AtomicBool::new(false);
     let (mut walls, mut cpus) = (Vec::new(), Vec::new());

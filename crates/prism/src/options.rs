@@ -1,7 +1,7 @@
 //! Render options: the one home of every setting. The scene file, the CLI and the library
 //! API all fill this struct; anything they leave out keeps the default documented here.
 
-use crate::accel::AccelSpec;
+use crate::accel::{AccelSpec, RayOrigins};
 use crate::integrator::Strategy;
 use crate::render::FilterKind;
 use crate::sampling::{adaptive, AdaptiveRule, SamplerKind};
@@ -188,6 +188,17 @@ impl RenderOptions {
         };
         let radius = self.filter_radius.unwrap_or(self.filter.default_radius());
         format!("{pattern}, {} filter (radius {radius})", self.filter)
+    }
+
+    /// The accelerator to build for these options: `accel`, with a BVH's `rays=auto`
+    /// settled by the integrator (inside for the path tracer, whose rays start on
+    /// surfaces within the scene; outside for camera rays and Whitted's trees).
+    pub fn accel_to_build(&self) -> AccelSpec {
+        let origins = match self.integrator {
+            IntegratorKind::Path => RayOrigins::Inside,
+            IntegratorKind::Whitted | IntegratorKind::Beam => RayOrigins::Outside,
+        };
+        self.accel.with_auto_rays(origins)
     }
 
     /// Checks ranges; the message names the option as the CLI and scene file spell it.

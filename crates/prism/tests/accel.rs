@@ -527,7 +527,7 @@ fn built_in_scenes_render_identically_with_every_accelerator() {
         specs.push("bvh:split=2".parse().unwrap());
         specs.push("bvh:width=4".parse().unwrap());
         specs.push("bvh:rays=inside".parse().unwrap());
-        specs.push("bvh:rays=inside,trav=0.33".parse().unwrap());
+        specs.push("bvh:rays=inside,trav=3".parse().unwrap());
         for volume in ["sphere", "obb", "dop14", "dop26", "hull"] {
             specs.push(format!("bvh:volume={volume}").parse().unwrap());
         }

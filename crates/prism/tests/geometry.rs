@@ -372,7 +372,7 @@ fn closed_meshes() -> Vec<(&'static str, TriangleMesh, Vec3, f32)> {
 }
 
 #[test]
-fn closed_meshes_do_not_leak_from_inside() {
+fn closed_meshes_do_not_leak_for_rays_from_inside() {
     let mut rng = Rng::new(5);
     for (name, mesh, center, size) in closed_meshes() {
         let targets = vertices_and_edge_midpoints(&mesh);

@@ -28,7 +28,7 @@ fn path_options(width: u32, height: u32, max_depth: u32) -> RenderOptions {
 }
 
 fn progressive(scene: &Scene, options: &RenderOptions, spp: u32) -> Film {
-    let prepared = scene.prepare(&options.accel);
+    let prepared = scene.prepare_for(options);
     let mut p = Progressive::new(options.width, options.height).unwrap();
     p.advance(&prepared, options, spp, &AtomicBool::new(false))
         .unwrap();
@@ -423,7 +423,7 @@ fn small_cornell(name: &str) -> (Scene, RenderOptions) {
 fn a_path_traced_image_is_the_same_for_any_thread_count_and_tile_size() {
     for name in ["cornell-light", "cornell-light-glass"] {
         let (scene, options) = small_cornell(name);
-        let prepared = scene.prepare(&options.accel);
+        let prepared = scene.prepare_for(&options);
         let film = |threads, tile_size| {
             let o = RenderOptions {
                 threads,
@@ -449,6 +449,41 @@ fn a_path_traced_image_is_the_same_for_any_thread_count_and_tile_size() {
     }
 }
 
+/// The path integrator's rays start on surfaces inside the scene, so a BVH left at
+/// `rays=auto` is built for rays from inside when it renders (and for rays from outside
+/// when Whitted does); the tree is the only thing that changes, never a pixel.
+#[test]
+fn the_path_tracer_builds_its_bvh_for_rays_from_inside_and_the_image_does_not_change() {
+    let (scene, options) = small_cornell("cornell-light");
+    assert_eq!(options.integrator, IntegratorKind::Path);
+    let describe = |o: &RenderOptions| scene.prepare_for(o).intersector.accel.describe();
+    assert!(describe(&options).contains("for rays from inside"));
+    let whitted = RenderOptions {
+        integrator: IntegratorKind::Whitted,
+        ..options.clone()
+    };
+    assert!(!describe(&whitted).contains("for rays from inside"));
+    // Told otherwise, the path tracer builds what it is told.
+    let outside = RenderOptions {
+        accel: "bvh:rays=outside".parse().unwrap(),
+        ..options.clone()
+    };
+    assert!(!describe(&outside).contains("for rays from inside"));
+
+    let film_and_tests = |o: &RenderOptions| {
+        let r = render(&scene.prepare_for(o), o, &|_| {}, &AtomicBool::new(false)).unwrap();
+        (r.film, r.stats.primitive_tests)
+    };
+    let (inside_film, inside_tests) = film_and_tests(&options);
+    let (outside_film, outside_tests) = film_and_tests(&outside);
+    assert_eq!(inside_film, outside_film);
+    // The room's walls no longer share leaves that every path vertex enters.
+    assert!(
+        inside_tests * 2 < outside_tests,
+        "triangle tests: {inside_tests} from inside, {outside_tests} from outside"
+    );
+}
+
 #[test]
 fn progressive_frames_continue_each_other_bit_for_bit() {
     for integrator in [IntegratorKind::Path, IntegratorKind::Whitted] {
@@ -457,7 +492,7 @@ fn progressive_frames_continue_each_other_bit_for_bit() {
             integrator,
             ..options
         };
-        let prepared = scene.prepare(&options.accel);
+        let prepared = scene.prepare_for(&options);
         let cancel = AtomicBool::new(false);
         let mut frames = Progressive::new(48, 48).unwrap();
         for _ in 0..3 {
@@ -544,7 +579,7 @@ fn progressive_whitted_refines_towards_the_supersampled_image() {
         threads: 2,
         ..scene.options.clone()
     };
-    let prepared = scene.prepare(&options.accel);
+    let prepared = scene.prepare_for(&options);
     let grid = RenderOptions {
         samples: 16,
         ..options.clone()

@@ -44,7 +44,7 @@ pub fn beam(
         integrator: IntegratorKind::Beam,
         ..scene.options.clone()
     };
-    let prepared = scene.prepare(&options.accel);
+    let prepared = scene.prepare_for(&options);
     let r = render_beam(
         &prepared,
         &options,

@@ -171,6 +171,17 @@ accel_methods! {
     Octree(OctreeOptions),
 }
 
+impl AccelSpec {
+    /// This spec with a BVH's `rays=auto` settled as `origins` (what the integrator
+    /// traces, `RenderOptions::accel_to_build`); every other spec as it is.
+    pub fn with_auto_rays(&self, origins: super::RayOrigins) -> AccelSpec {
+        match self {
+            AccelSpec::Bvh(o) => AccelSpec::Bvh(o.with_auto_rays(origins)),
+            other => other.clone(),
+        }
+    }
+}
+
 /// Splits `params` (the text after the method's colon, if any) into `KEY[=VALUE]` pairs
 /// and hands each to `set`, rejecting empty and repeated keys; `whole` is the full spec,
 /// for messages.

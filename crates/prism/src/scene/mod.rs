@@ -104,6 +104,12 @@ impl Scene {
         Ok(())
     }
 
+    /// Builds the acceleration structure `options` ask for, for their integrator
+    /// (`RenderOptions::accel_to_build`); the scene itself is not changed.
+    pub fn prepare_for(&self, options: &RenderOptions) -> PreparedScene<'_> {
+        self.prepare(&options.accel_to_build())
+    }
+
     /// Builds the acceleration structure; the scene itself is not changed.
     pub fn prepare(&self, accel: &AccelSpec) -> PreparedScene<'_> {
         let start = Instant::now();

@@ -126,7 +126,7 @@ impl Bvh {
             builder: options.builder,
             reinserted: options.reinsert,
             presplit: options.presplit > 0.0,
-            inside: options.rays == RayOrigins::Inside && options.builder == BvhBuilder::Binned,
+            inside: options.for_rays_from_inside(),
         }
     }
 

@@ -89,9 +89,13 @@ named_kinds! {
 /// Where the SAH expects rays to start (`build/binned.rs`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum RayOrigins {
+    /// Whatever the renderer traces: inside for the path integrator, whose rays start on
+    /// surfaces, outside for the others (`RenderOptions::accel_to_build`). A tree built
+    /// with no renderer to ask (`prism bench`, `prism info`) takes `Outside`.
+    #[default]
+    Auto,
     /// Outside the scene: a child is entered with its share of its parent's surface area
     /// (the SAH as MacDonald and Booth have it).
-    #[default]
     Outside,
     /// On surfaces inside the scene, as a path tracer's rays in a closed room: a child is
     /// entered with half its parent's area share plus half its volume share (rays from
@@ -102,6 +106,7 @@ pub enum RayOrigins {
 
 named_kinds! {
     RayOrigins, "ray origins" {
+        Auto => "auto",
         Outside => "outside",
         Inside => "inside",
     }
@@ -116,7 +121,9 @@ pub struct BvhOptions {
     pub bins: usize,
     /// Leaves never hold more primitives than this (unless they cannot be split).
     pub max_leaf_size: usize,
-    /// Cost of a node visit relative to one primitive test.
+    /// Cost of a binary node relative to one primitive test, for rays from outside; a
+    /// tree for rays from inside weighs its nodes at `INSIDE_NODE_SCALE` of it
+    /// (`node_cost`).
     pub traversal_cost: f32,
     /// Improve the built tree by reinserting badly placed subtrees (Bittner et al. 2013).
     pub reinsert: bool,
@@ -153,8 +160,44 @@ impl Default for BvhOptions {
             parallel_threshold: 4096,
             width: NodeWidth::Auto,
             avx512: Avx512::Auto,
-            rays: RayOrigins::Outside,
+            rays: RayOrigins::Auto,
         }
+    }
+}
+
+/// The share of `traversal_cost` a binary node costs in a tree for rays from inside
+/// (`RayOrigins::Inside`). Three binary levels collapse into one 8-wide node, so a binary
+/// level costs about a third of a visit. For rays from outside that changed nothing
+/// measurable (bench/results/bvh-trav-cost.txt: node costs 0.5 and 0.7 level with 1), but
+/// from inside the SAH then parts a room's walls, which at 1 stay in leaves that every
+/// path vertex enters (docs/acceleration.md: the path-traced Cornell box renders alike at
+/// node costs from 0.25 to 0.5, 1.28x faster than at 1).
+pub(super) const INSIDE_NODE_SCALE: f32 = 1.0 / 3.0;
+
+impl BvhOptions {
+    /// The cost of a binary node relative to one primitive test that the SAH weighs:
+    /// `traversal_cost`, scaled by `INSIDE_NODE_SCALE` for rays from inside.
+    pub(super) fn node_cost(&self) -> f32 {
+        if self.for_rays_from_inside() {
+            self.traversal_cost * INSIDE_NODE_SCALE
+        } else {
+            self.traversal_cost
+        }
+    }
+
+    /// Whether the tree is built for rays from inside: `rays=inside` with the binned
+    /// builder (the others ignore `rays`).
+    pub(super) fn for_rays_from_inside(&self) -> bool {
+        self.rays == RayOrigins::Inside && self.builder == BvhBuilder::Binned
+    }
+
+    /// These options with `rays=auto` settled as `origins` (the others unchanged).
+    pub fn with_auto_rays(&self, origins: RayOrigins) -> BvhOptions {
+        let mut options = self.clone();
+        if options.rays == RayOrigins::Auto {
+            options.rays = origins;
+        }
+        options
     }
 }
 
@@ -178,7 +221,7 @@ impl Method for BvhOptions {
         },
         Key {
             name: "trav",
-            help: "node cost relative to a primitive test",
+            help: "binary node cost relative to a primitive test (a third of it for rays from inside)",
             accepts: Accepts::Number {
                 lo: 0.0,
                 hi: 1000.0,
@@ -223,7 +266,7 @@ impl Method for BvhOptions {
         },
         Key {
             name: "rays",
-            help: "where the binned SAH expects rays to start: outside the scene (area shares) or inside it (half area and half volume shares, for paths in closed scenes)",
+            help: "where the binned SAH expects rays to start: outside the scene (area shares), inside it (half area and half volume shares, for paths in closed scenes), or auto (inside for the path integrator, else outside)",
             accepts: Accepts::Choice(&RayOrigins::NAMES),
             get: |o| Value::Choice(o.rays.index()),
             set: |o, v| o.rays = RayOrigins::ALL[v.choice()],

@@ -7,7 +7,7 @@ use super::inside_share;
 use super::prim_ref::{PrimRef, SimdBox};
 use super::topdown::{Split, SplitRule, PARALLEL_PASS};
 use super::BuildPrims;
-use crate::accel::bvh::{BvhOptions, RayOrigins};
+use crate::accel::bvh::BvhOptions;
 use crate::math::{Aabb, Vec3};
 use glam::Vec3A;
 use rayon::prelude::*;
@@ -26,8 +26,8 @@ impl BinnedSah {
         BinnedSah {
             bins: options.bins.max(2),
             max_leaf_size: options.max_leaf_size.max(1),
-            traversal_cost: options.traversal_cost,
-            inside: options.rays == RayOrigins::Inside,
+            traversal_cost: options.node_cost(),
+            inside: options.for_rays_from_inside(),
         }
     }
 }

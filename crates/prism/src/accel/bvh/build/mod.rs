@@ -157,7 +157,7 @@ impl Bvh {
                 BvhBuilder::Sweep => {
                     let rule = sweep::FullSweepSah {
                         max_leaf_size,
-                        traversal_cost: options.traversal_cost,
+                        traversal_cost: options.node_cost(),
                         parallel_threshold: threshold,
                     };
                     top_down(&|refs| topdown::build(&rule, &input, refs, threshold))
@@ -168,7 +168,7 @@ impl Bvh {
                         &input,
                         &mut order,
                         max_leaf_size,
-                        options.traversal_cost,
+                        options.node_cost(),
                         threshold,
                     );
                     (
