@@ -12,7 +12,9 @@ same size, paths per pixel and maximum depth, and reports
   differences' spread measures the noise),
 - `prism compare` of prism's image against Mitsuba's (RMSE, PSNR, SSIM, FLIP).
 
-Usage (Mitsuba in a venv; its llvm variants need Debian's libllvm19):
+Usage (Mitsuba in a venv; its llvm variants need Debian's libllvm19, which the script
+installs with apt-get when it is missing and points Dr.Jit at; an older libLLVM, which
+Dr.Jit would otherwise pick up, fails in its code generator):
     python3 -m venv /tmp/mi && /tmp/mi/bin/pip install mitsuba numpy
     /tmp/mi/bin/python bench/mitsuba-cornell.py [--spp 256] [--threads 2]
         [--variant llvm_ad_rgb] [--size 512] [--depth 6] [--out DIR]
@@ -146,6 +148,23 @@ def read_exr(mi, path):
                                             mi.Struct.Type.Float32, False))
 
 
+LIBLLVM19 = "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1"
+
+
+def use_libllvm19():
+    """Points Dr.Jit at Debian's libLLVM 19 (installing libllvm19 when it is missing),
+    unless DRJIT_LIBLLVM_PATH already names a library."""
+    if os.environ.get("DRJIT_LIBLLVM_PATH"):
+        return
+    if not os.path.exists(LIBLLVM19):
+        sudo = [] if os.geteuid() == 0 else ["sudo", "-n"]
+        install = sudo + ["apt-get", "install", "-y", "-qq", "libllvm19"]
+        if subprocess.run(install, stdout=subprocess.DEVNULL).returncode != 0:
+            subprocess.run(sudo + ["apt-get", "update", "-qq"], check=True)
+            subprocess.run(install, stdout=subprocess.DEVNULL, check=True)
+    os.environ["DRJIT_LIBLLVM_PATH"] = LIBLLVM19
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--spp", type=int, default=256, help="paths per pixel (a square for prism)")
@@ -163,6 +182,8 @@ def main():
     if n * n != args.spp:
         sys.exit("--spp must be a square: prism takes n×n samples per pixel")
 
+    if args.variant.startswith("llvm"):
+        use_libllvm19()
     import mitsuba as mi
     import drjit as dr
 
