@@ -198,8 +198,9 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "SPEC")]
     pub shadows: Option<prism::integrator::ShadowSpec>,
 
-    /// Trace every camera ray on its own instead of in packets of 8 × 8 neighbouring
-    /// pixels. The image is the same either way; this measures what packets buy.
+    /// Trace every camera ray (and every path) on its own instead of in packets of 8 × 8
+    /// neighbouring pixels. The image is the same either way; this measures what packets
+    /// buy.
     #[arg(long)]
     pub no_packets: bool,
 

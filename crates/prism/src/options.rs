@@ -124,8 +124,10 @@ pub struct RenderOptions {
     /// query; every ray gets the answer its own query gives, so the image is the same
     /// either way. The per-pixel samplers trace blocks of pixels, the `corners` pattern
     /// (and the adaptive sampler's first lattice) runs of 64 corners along a row; the
-    /// adaptive sampler's refinement traces single rays. The node visits and tests of a
-    /// packet are shared evenly among its rays' pixels in the cost view.
+    /// adaptive sampler's refinement traces single rays. The path tracer follows a
+    /// packet's paths breadth first: the rays of the paths still alive, and their shadow
+    /// rays, go as packets at every depth. The node visits and tests of a packet are
+    /// shared evenly among its rays' pixels in the cost view.
     pub packets: bool,
     /// Which integrator renders: `whitted` (the default), `path` (docs/path-tracing.md) or
     /// `beam` (docs/beam-tracing.md).
@@ -282,9 +284,13 @@ impl RenderOptions {
     }
 
     /// Whether the render traces camera rays in packets: `packets`, with the Whitted
-    /// integrator (the path tracer traces single rays).
+    /// integrator or the path tracer (the beam tracer traces no rays).
     pub fn uses_packets(&self) -> bool {
-        self.packets && self.integrator == IntegratorKind::Whitted
+        self.packets
+            && matches!(
+                self.integrator,
+                IntegratorKind::Whitted | IntegratorKind::Path
+            )
     }
 
     /// The edge of the tiles a render hands out: `tile_size`, rounded up to whole packets

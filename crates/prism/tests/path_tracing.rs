@@ -523,47 +523,100 @@ fn progressive_frames_continue_each_other_bit_for_bit() {
 }
 
 #[test]
-fn progressive_whitted_packets_give_every_sample_its_single_ray_value() {
+fn progressive_packets_give_every_sample_its_single_ray_value() {
     // Packets of 8 × 8 camera rays (a band of 8 rows, blocks clipped at the 45th column
     // and the 21st row) against one ray at a time: the same sums bit for bit, the same
-    // rays per pixel; the centre sampler puts every sample on the same point.
-    let scene = builtin::find("whitted").unwrap();
-    let prepared = scene.prepare(&scene.options.accel);
+    // rays per pixel; the centre sampler puts every sample on the same point. Whitted's
+    // ray trees, and the path tracer's paths breadth first (the Cornell boxes' area
+    // light, the Whitted scene's point lights, glass and mirrors).
+    let cases = [
+        ("whitted", IntegratorKind::Whitted),
+        ("whitted", IntegratorKind::Path),
+        ("cornell-light", IntegratorKind::Path),
+        ("cornell-light-glass", IntegratorKind::Path),
+    ];
     let cancel = AtomicBool::new(false);
-    for sampler in [SamplerKind::Jittered, SamplerKind::Centre] {
-        let run = |packets: bool, threads: usize| {
-            let options = RenderOptions {
+    for (name, integrator) in cases {
+        let scene = builtin::find(name).unwrap();
+        for sampler in [SamplerKind::Jittered, SamplerKind::Centre] {
+            let options = |packets: bool, threads: usize| RenderOptions {
                 width: 45,
                 height: 21,
                 threads,
                 packets,
                 sampler,
+                integrator,
                 ..scene.options.clone()
             };
-            let mut p = Progressive::new(45, 21).unwrap();
-            p.advance(&prepared, &options, 3, &cancel).unwrap();
-            p
-        };
-        let (packets, single) = (run(true, 2), run(false, 1));
-        assert_eq!(packets.film(), single.film(), "{sampler}");
-        let rays = |p: &Progressive| -> Vec<(u64, u64)> {
-            p.pixels().iter().map(|t| (t.camera_rays, t.rays)).collect()
-        };
-        assert_eq!(rays(&packets), rays(&single), "{sampler}");
-        assert!(packets.pixels().iter().all(|t| t.camera_rays == 3));
-        if sampler == SamplerKind::Centre {
-            // Three samples at the centre: three times one ray's radiance.
-            let options = RenderOptions {
-                width: 45,
-                height: 21,
-                sampler: SamplerKind::Grid,
-                samples: 1,
-                ..scene.options.clone()
+            let prepared = scene.prepare_for(&options(true, 2));
+            let run = |packets: bool, threads: usize| {
+                let mut p = Progressive::new(45, 21).unwrap();
+                p.advance(&prepared, &options(packets, threads), 3, &cancel)
+                    .unwrap();
+                p
             };
-            let once = render(&prepared, &options, &|_| {}, &cancel).unwrap().film;
-            for (a, b) in packets.film().pixels.iter().zip(&once.pixels) {
-                assert!((*a - *b).abs().max_element() <= 1e-6 * b.max_element().max(1.0));
+            let (packets, single) = (run(true, 2), run(false, 1));
+            let case = format!("{name}, {integrator}, {sampler}");
+            assert_eq!(packets.film(), single.film(), "{case}");
+            let rays = |p: &Progressive| -> Vec<(u64, u64)> {
+                p.pixels().iter().map(|t| (t.camera_rays, t.rays)).collect()
+            };
+            assert_eq!(rays(&packets), rays(&single), "{case}");
+            assert!(packets.pixels().iter().all(|t| t.camera_rays == 3));
+            if sampler == SamplerKind::Centre && integrator == IntegratorKind::Whitted {
+                // Three samples at the centre: three times one ray's radiance.
+                let options = RenderOptions {
+                    width: 45,
+                    height: 21,
+                    sampler: SamplerKind::Grid,
+                    samples: 1,
+                    ..scene.options.clone()
+                };
+                let once = render(&prepared, &options, &|_| {}, &cancel).unwrap().film;
+                for (a, b) in packets.film().pixels.iter().zip(&once.pixels) {
+                    assert!((*a - *b).abs().max_element() <= 1e-6 * b.max_element().max(1.0));
+                }
             }
+        }
+    }
+}
+
+/// `render` with the path tracer: paths traced breadth first in packets give every pixel
+/// exactly the value and the rays one path at a time gives, on several samplers (the
+/// corner pattern's packets run along rows, the others' are blocks of pixels).
+#[test]
+fn path_traced_packets_render_the_single_path_image() {
+    for name in ["cornell-light", "cornell-light-glass", "whitted"] {
+        let scene = builtin::find(name).unwrap();
+        for sampler in [
+            SamplerKind::Jittered,
+            SamplerKind::Corners,
+            SamplerKind::Random,
+        ] {
+            let options = |packets: bool| RenderOptions {
+                width: 37,
+                height: 29,
+                samples: 2,
+                threads: 2,
+                packets,
+                sampler,
+                integrator: IntegratorKind::Path,
+                ..scene.options.clone()
+            };
+            let prepared = scene.prepare_for(&options(true));
+            let cancel = AtomicBool::new(false);
+            let packets = render(&prepared, &options(true), &|_| {}, &cancel).unwrap();
+            let single = render(&prepared, &options(false), &|_| {}, &cancel).unwrap();
+            let case = format!("{name}, {sampler}");
+            assert!(
+                packets.film.pixels.iter().any(|c| c.max_element() > 0.05),
+                "{case}"
+            );
+            assert_eq!(packets.film, single.film, "{case}");
+            let s = (&packets.stats, &single.stats);
+            assert_eq!(s.0.total_rays(), s.1.total_rays(), "{case}");
+            assert_eq!(s.0.shadow_rays, s.1.shadow_rays, "{case}");
+            assert_eq!(s.0.primary_hits, s.1.primary_hits, "{case}");
         }
     }
 }

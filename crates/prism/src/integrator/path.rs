@@ -23,6 +23,8 @@
 //! a path that enters a closed object leaves it again and the factors cancel.
 
 use super::emitters::Emitters;
+use crate::accel::{Hit, PACKET_MAX};
+use crate::geometry::SurfacePoint;
 use crate::math::hash::Stream;
 use crate::math::robust::{gamma, offset_ray_origin};
 use crate::math::{Color, Ray, Vec3};
@@ -30,6 +32,7 @@ use crate::options::RenderOptions;
 use crate::scene::PreparedScene;
 use crate::shading::Bsdf;
 use crate::stats::Stats;
+use arrayvec::ArrayVec;
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
 
@@ -102,131 +105,197 @@ impl<'a> PathTracer<'a> {
         FIRST_VERTEX_DIM + (depth - 1) * DIMS_PER_VERTEX + k
     }
 
-    /// Whether a shadow ray from `origin` (already offset off its surface) along `dir` is
-    /// blocked before `distance`; counted as a shadow ray with its tests and visits.
-    fn blocked(&self, origin: Vec3, dir: Vec3, distance: f32, stats: &mut Stats) -> bool {
+    /// Radiance along a camera ray; `stream` holds the sample's random numbers.
+    pub fn trace_camera_ray(&self, ray: &Ray, stream: &Stream, stats: &mut Stats) -> Color {
+        stats.primary_rays += 1;
+        let mut path = Path::new(*ray);
+        LIGHT_QUERIES.with_borrow_mut(|lights| {
+            for depth in 1..=self.max_depth {
+                let s = self.scene;
+                let hit =
+                    s.intersector
+                        .intersect(&s.scene.geometry, &path.ray, f32::INFINITY, stats);
+                let Some(vertex) = self.arrive(&mut path, hit, depth, stats) else {
+                    break;
+                };
+                lights.clear();
+                self.light_queries(&vertex, depth, stream, lights);
+                for q in lights.iter_mut() {
+                    q.blocked = self.blocked(q, stats);
+                }
+                if !self.leave(&mut path, &vertex, lights, depth, stream, stats) {
+                    break;
+                }
+            }
+        });
+        path.finish()
+    }
+
+    /// Radiance along a packet of camera rays (at most `PACKET_MAX`), `streams[i]` ray i's
+    /// random numbers: `colors[i]` is exactly what `trace_camera_ray` gives ray i. The
+    /// paths go breadth first, a packet per depth: the rays of the paths still alive find
+    /// their hits together, and so do their shadow rays. In a small scene the packet walks
+    /// each node once for all its rays even where they part ways after the first bounce.
+    /// `rays_of[i]` gains the rays of path i after its camera ray.
+    pub fn trace_camera_packet(
+        &self,
+        rays: &[Ray],
+        streams: &[Stream],
+        colors: &mut [Color],
+        rays_of: &mut [u32; PACKET_MAX],
+        stats: &mut Stats,
+    ) {
+        let n = rays.len();
+        debug_assert!(n <= PACKET_MAX && streams.len() == n && colors.len() >= n);
+        stats.primary_rays += n as u64;
+        let s = self.scene;
+        let geometry = &s.scene.geometry;
+        let mut paths: ArrayVec<Path, PACKET_MAX> = rays.iter().map(|&r| Path::new(r)).collect();
+        // The lanes whose paths go on, in lane order.
+        let mut alive: ArrayVec<u8, PACKET_MAX> = (0..n as u8).collect();
+        let mut vertices: ArrayVec<(u8, Vertex), PACKET_MAX> = ArrayVec::new();
+        // Every vertex's light samples, one after the other; `spans[v]` are vertex v's.
+        let mut lights: Vec<LightQuery> = Vec::new();
+        let mut spans: ArrayVec<std::ops::Range<usize>, PACKET_MAX> = ArrayVec::new();
+        for depth in 1..=self.max_depth {
+            if alive.is_empty() {
+                break;
+            }
+            let ray_of: ArrayVec<Ray, PACKET_MAX> =
+                alive.iter().map(|&i| paths[usize::from(i)].ray).collect();
+            let mut hits = [None; PACKET_MAX];
+            let m = ray_of.len();
+            s.intersector
+                .intersect_packet(geometry, &ray_of, f32::INFINITY, &mut hits[..m], stats);
+            vertices.clear();
+            lights.clear();
+            spans.clear();
+            for (&i, &hit) in alive.iter().zip(&hits[..m]) {
+                let lane = usize::from(i);
+                if let Some(v) = self.arrive(&mut paths[lane], hit, depth, stats) {
+                    let first = lights.len();
+                    self.light_queries(&v, depth, &streams[lane], &mut lights);
+                    rays_of[lane] += (lights.len() - first) as u32;
+                    spans.push(first..lights.len());
+                    vertices.push((i, v));
+                }
+            }
+            // The shadow rays of every vertex, in lane order, in packets of PACKET_MAX.
+            for chunk in lights.chunks_mut(PACKET_MAX) {
+                let c = chunk.len();
+                let shadow: ArrayVec<Ray, PACKET_MAX> =
+                    chunk.iter().map(|q| Ray::new(q.origin, q.dir)).collect();
+                let t_max: ArrayVec<f32, PACKET_MAX> = chunk.iter().map(|q| q.t_max).collect();
+                let mut blocked = [false; PACKET_MAX];
+                stats.shadow_rays += c as u64;
+                let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
+                s.intersector
+                    .occluded_packet(geometry, &shadow, &t_max, &mut blocked[..c], stats);
+                stats.shadow_tests += stats.primitive_tests - tests;
+                stats.shadow_node_visits += stats.node_visits - nodes;
+                for (q, &b) in chunk.iter_mut().zip(&blocked[..c]) {
+                    q.blocked = b;
+                }
+            }
+            alive.clear();
+            for ((i, v), span) in vertices.iter().zip(&spans) {
+                let lane = usize::from(*i);
+                let path = &mut paths[lane];
+                let queries = &lights[span.clone()];
+                if self.leave(path, v, queries, depth, &streams[lane], stats) {
+                    alive.push(*i);
+                    rays_of[lane] += 1;
+                }
+            }
+        }
+        for (c, path) in colors.iter_mut().zip(&paths) {
+            *c = path.finish();
+        }
+    }
+
+    /// Whether the shadow ray of `q` is blocked; counted as a shadow ray with its tests
+    /// and visits.
+    #[inline(always)]
+    fn blocked(&self, q: &LightQuery, stats: &mut Stats) -> bool {
         stats.shadow_rays += 1;
         let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
         let s = self.scene;
-        let blocked =
-            s.intersector
-                .occluded(&s.scene.geometry, &Ray::new(origin, dir), distance, stats);
+        let ray = Ray::new(q.origin, q.dir);
+        let blocked = s
+            .intersector
+            .occluded(&s.scene.geometry, &ray, q.t_max, stats);
         stats.shadow_tests += stats.primitive_tests - tests;
         stats.shadow_node_visits += stats.node_visits - nodes;
         blocked
     }
 
-    /// Radiance along a camera ray; `stream` holds the sample's random numbers.
-    pub fn trace_camera_ray(&self, ray: &Ray, stream: &Stream, stats: &mut Stats) -> Color {
-        stats.primary_rays += 1;
-        let c = self.trace(*ray, stream, stats);
-        // One NaN would poison a pixel's mean for ever in a progressive render.
-        if c.is_finite() {
-            c
-        } else {
-            Color::ZERO
-        }
-    }
-
-    fn trace(&self, mut ray: Ray, stream: &Stream, stats: &mut Stats) -> Color {
+    /// A path's ray at `depth` arrives at `hit`: the background on a miss, the emission
+    /// it sees, and the vertex it scatters from (None when the path ends here).
+    #[inline(always)]
+    fn arrive(
+        &self,
+        path: &mut Path,
+        hit: Option<Hit>,
+        depth: u32,
+        stats: &mut Stats,
+    ) -> Option<Vertex> {
         let scene = self.scene.scene;
         let geometry = &scene.geometry;
-        let mut radiance = Color::ZERO;
-        let mut throughput = Color::ONE;
-        // The camera ray is a delta "sample": what it sees counts fully.
-        let mut prev_delta = true;
-        let mut prev_pdf = 0.0f32;
-        for depth in 1..=self.max_depth {
-            let Some(hit) =
-                (self.scene.intersector).intersect(geometry, &ray, f32::INFINITY, stats)
-            else {
-                radiance += throughput * scene.background;
-                break;
-            };
-            if depth == 1 {
-                stats.primary_hits += 1;
-            }
-            let prim = &geometry.primitives[hit.prim as usize];
-            let material = &scene.materials[prim.material as usize];
-            let sp = geometry.surface_with(hit.prim, &ray, &hit.shape_hit(), material.uv_need());
-            let entering = ray.dir.dot(sp.ng) < 0.0;
-            let (ng, ns) = if entering {
-                (sp.ng, sp.ns)
-            } else {
-                (-sp.ng, -sp.ns)
-            };
-            let wo = -ray.dir;
-
-            // Emission, seen from its front side.
-            if entering && material.is_emissive() {
-                let pdf_light = self.emitters.pdf_area(hit.prim);
-                let weight = if prev_delta || pdf_light <= 0.0 {
-                    1.0
-                } else {
-                    match self.strategy {
-                        Strategy::Mis => {
-                            let cos_l = wo.dot(ng);
-                            let pdf_light = pdf_light * hit.t * hit.t / cos_l;
-                            power_heuristic(prev_pdf, pdf_light)
-                        }
-                        Strategy::LightOnly => 0.0,
-                        Strategy::BsdfOnly => 1.0,
-                    }
-                };
-                radiance += throughput * material.emission * weight;
-            }
-            if depth == self.max_depth {
-                break;
-            }
-
-            let color = material.color_at(sp.uv, sp.p);
-            let bsdf = Bsdf::new(material, color, wo, ns, ng, entering);
-            if bsdf.has_smooth_lobe() {
-                radiance += throughput * self.direct(&bsdf, &sp, ng, depth, stream, stats);
-            }
-
-            let Some(s) = bsdf.sample(
-                stream.uniform(Self::dim(depth, 3)),
-                stream.uniform(Self::dim(depth, 4)),
-                stream.uniform(Self::dim(depth, 5)),
-            ) else {
-                break;
-            };
-            throughput *= s.weight;
-            if throughput.max_element() <= 0.0 {
-                break;
-            }
-            prev_delta = s.delta;
-            prev_pdf = s.pdf;
-            if depth >= RR_DEPTH {
-                let survive = throughput.max_element().min(0.95);
-                if stream.uniform(Self::dim(depth, 6)) >= survive {
-                    break;
-                }
-                throughput /= survive;
-            }
-            if s.transmitted {
-                stats.refracted_rays += 1;
-            } else {
-                stats.reflected_rays += 1;
-            }
-            ray = Ray::new(offset_ray_origin(sp.p, sp.p_error, ng, s.wi), s.wi);
+        let ray = &path.ray;
+        let Some(hit) = hit else {
+            path.radiance += path.throughput * scene.background;
+            return None;
+        };
+        if depth == 1 {
+            stats.primary_hits += 1;
         }
-        radiance
+        let prim = &geometry.primitives[hit.prim as usize];
+        let material = &scene.materials[prim.material as usize];
+        let sp = geometry.surface_with(hit.prim, ray, &hit.shape_hit(), material.uv_need());
+        let entering = ray.dir.dot(sp.ng) < 0.0;
+        let (ng, ns) = if entering {
+            (sp.ng, sp.ns)
+        } else {
+            (-sp.ng, -sp.ns)
+        };
+        let wo = -ray.dir;
+
+        // Emission, seen from its front side.
+        if entering && material.is_emissive() {
+            let pdf_light = self.emitters.pdf_area(hit.prim);
+            let weight = if path.prev_delta || pdf_light <= 0.0 {
+                1.0
+            } else {
+                match self.strategy {
+                    Strategy::Mis => {
+                        let cos_l = wo.dot(ng);
+                        let pdf_light = pdf_light * hit.t * hit.t / cos_l;
+                        power_heuristic(path.prev_pdf, pdf_light)
+                    }
+                    Strategy::LightOnly => 0.0,
+                    Strategy::BsdfOnly => 1.0,
+                }
+            };
+            path.radiance += path.throughput * material.emission * weight;
+        }
+        if depth == self.max_depth {
+            return None;
+        }
+        let color = material.color_at(sp.uv, sp.p);
+        let bsdf = Bsdf::new(material, color, wo, ns, ng, entering);
+        Some(Vertex { sp, ng, bsdf })
     }
 
-    /// Light samples at one vertex: every delta light, and one point on an area light.
-    fn direct(
-        &self,
-        bsdf: &Bsdf,
-        sp: &crate::geometry::SurfacePoint,
-        ng: Vec3,
-        depth: u32,
-        stream: &Stream,
-        stats: &mut Stats,
-    ) -> Color {
+    /// The light samples at a vertex, appended to `out`, each a shadow ray and what it
+    /// adds unblocked: every delta light, and one point on an area light (none at a
+    /// vertex of delta lobes only).
+    #[inline(always)]
+    fn light_queries(&self, v: &Vertex, depth: u32, stream: &Stream, out: &mut Vec<LightQuery>) {
+        if !v.bsdf.has_smooth_lobe() {
+            return;
+        }
+        let (bsdf, sp, ng) = (&v.bsdf, &v.sp, v.ng);
         let scene = self.scene.scene;
-        let mut sum = Color::ZERO;
         for light in &scene.lights {
             let Some(ls) = light.sample(sp.p) else {
                 continue;
@@ -239,14 +308,17 @@ impl<'a> PathTracer<'a> {
             if f.max_element() <= 0.0 {
                 continue;
             }
-            let origin = offset_ray_origin(sp.p, sp.p_error, ng, wi);
-            if !self.blocked(origin, wi, ls.distance, stats) {
-                sum += f * bsdf.cos(wi) * (PI * ls.color);
-            }
+            out.push(LightQuery {
+                origin: offset_ray_origin(sp.p, sp.p_error, ng, wi),
+                dir: wi,
+                t_max: ls.distance,
+                value: f * bsdf.cos(wi) * (PI * ls.color),
+                blocked: false,
+            });
         }
 
         if self.strategy == Strategy::BsdfOnly || self.emitters.is_empty() {
-            return sum;
+            return;
         }
         let Some(e) = self.emitters.sample(
             scene,
@@ -254,19 +326,19 @@ impl<'a> PathTracer<'a> {
             stream.uniform(Self::dim(depth, 1)),
             stream.uniform(Self::dim(depth, 2)),
         ) else {
-            return sum;
+            return;
         };
         let to_light = e.p - sp.p;
         let Some(wi) = to_light.try_normalize() else {
-            return sum;
+            return;
         };
         let cos_l = -wi.dot(e.n);
         if cos_l <= 0.0 || ng.dot(wi) <= 0.0 {
-            return sum;
+            return;
         }
         let f = bsdf.eval(wi);
         if f.max_element() <= 0.0 {
-            return sum;
+            return;
         }
         // Both ends leave their surfaces; the shadow ray stops short of the light by a
         // few ulps of its length, so it cannot find the light itself.
@@ -275,11 +347,7 @@ impl<'a> PathTracer<'a> {
         let span = target - origin;
         let distance = span.length();
         if distance.is_nan() || distance <= 0.0 || span.dot(wi) <= 0.0 {
-            return sum;
-        }
-        let dir = span / distance;
-        if self.blocked(origin, dir, distance * (1.0 - gamma(16)), stats) {
-            return sum;
+            return;
         }
         let d2 = to_light.length_squared();
         let pdf_light = e.pdf_area * d2 / cos_l;
@@ -287,6 +355,125 @@ impl<'a> PathTracer<'a> {
             Strategy::Mis => power_heuristic(pdf_light, bsdf.pdf(wi)),
             _ => 1.0,
         };
-        sum + f * bsdf.cos(wi) * e.radiance * (weight / pdf_light)
+        out.push(LightQuery {
+            origin,
+            dir: span / distance,
+            t_max: distance * (1.0 - gamma(16)),
+            value: f * bsdf.cos(wi) * e.radiance * (weight / pdf_light),
+            blocked: false,
+        });
     }
+
+    /// The path leaves vertex `v` at `depth`: the light its unblocked light samples
+    /// (`lights`, answered) add, then a direction drawn from its BSDF and Russian
+    /// roulette. False when the path ends here.
+    #[inline(always)]
+    fn leave(
+        &self,
+        path: &mut Path,
+        v: &Vertex,
+        lights: &[LightQuery],
+        depth: u32,
+        stream: &Stream,
+        stats: &mut Stats,
+    ) -> bool {
+        let (bsdf, sp, ng) = (&v.bsdf, &v.sp, v.ng);
+        if bsdf.has_smooth_lobe() {
+            // Summed in the order the samples were drawn: delta lights, then the area light.
+            let mut sum = Color::ZERO;
+            for q in lights.iter().filter(|q| !q.blocked) {
+                sum += q.value;
+            }
+            path.radiance += path.throughput * sum;
+        }
+
+        let Some(s) = bsdf.sample(
+            stream.uniform(Self::dim(depth, 3)),
+            stream.uniform(Self::dim(depth, 4)),
+            stream.uniform(Self::dim(depth, 5)),
+        ) else {
+            return false;
+        };
+        path.throughput *= s.weight;
+        if path.throughput.max_element() <= 0.0 {
+            return false;
+        }
+        path.prev_delta = s.delta;
+        path.prev_pdf = s.pdf;
+        if depth >= RR_DEPTH {
+            let survive = path.throughput.max_element().min(0.95);
+            if stream.uniform(Self::dim(depth, 6)) >= survive {
+                return false;
+            }
+            path.throughput /= survive;
+        }
+        if s.transmitted {
+            stats.refracted_rays += 1;
+        } else {
+            stats.reflected_rays += 1;
+        }
+        path.ray = Ray::new(offset_ray_origin(sp.p, sp.p_error, ng, s.wi), s.wi);
+        true
+    }
+}
+
+thread_local! {
+    /// The light samples of the vertex a single path is at, kept per thread so that a
+    /// path allocates nothing.
+    static LIGHT_QUERIES: std::cell::RefCell<Vec<LightQuery>> =
+        const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// One path's state between its vertices.
+struct Path {
+    /// The ray to follow next.
+    ray: Ray,
+    radiance: Color,
+    throughput: Color,
+    /// The last scattering was a delta lobe (the camera ray counts as one): what it sees
+    /// counts fully.
+    prev_delta: bool,
+    /// The density the last direction was drawn with.
+    prev_pdf: f32,
+}
+
+impl Path {
+    fn new(ray: Ray) -> Path {
+        Path {
+            ray,
+            radiance: Color::ZERO,
+            throughput: Color::ONE,
+            prev_delta: true,
+            prev_pdf: 0.0,
+        }
+    }
+
+    /// The path's radiance; a NaN would poison a pixel's mean for ever in a progressive
+    /// render, so a path that made one gives nothing.
+    fn finish(&self) -> Color {
+        if self.radiance.is_finite() {
+            self.radiance
+        } else {
+            Color::ZERO
+        }
+    }
+}
+
+/// Where a path scatters: the surface, its geometric normal on the incoming side, and the
+/// BSDF there.
+struct Vertex {
+    sp: SurfacePoint,
+    ng: Vec3,
+    bsdf: Bsdf,
+}
+
+/// A light sample's shadow ray, the light it adds if nothing blocks it, and whether
+/// something does (once asked).
+#[derive(Clone, Copy)]
+struct LightQuery {
+    origin: Vec3,
+    dir: Vec3,
+    t_max: f32,
+    value: Color,
+    blocked: bool,
 }

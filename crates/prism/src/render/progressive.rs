@@ -19,7 +19,7 @@
 //! samples into a second buffer (swapped in when every band is done, so a cancelled advance
 //! changes nothing), and `map_pixels` turns the sums into what a page shows in parallel.
 
-use super::packet::trace_whitted_packet;
+use super::packet::trace_camera_packet;
 use super::rays::{PixelRays, RayMark};
 use super::{Film, RenderError};
 use crate::accel::PACKET_MAX;
@@ -210,7 +210,7 @@ impl Progressive {
         }
         let pass = Pass {
             camera: scene.scene.camera.setup(self.width, self.height)?,
-            whitted: integrator.whitted().filter(|_| options.uses_packets()),
+            packets: options.uses_packets(),
             integrator: &integrator,
             centre: options.sampler == SamplerKind::Centre,
             seed: options.seed,
@@ -261,8 +261,8 @@ impl Progressive {
 struct Pass<'i, 's> {
     camera: CameraRays,
     integrator: &'i Integrator<'s>,
-    /// The Whitted integrator when camera rays go as packets.
-    whitted: Option<&'i crate::integrator::Whitted<'s>>,
+    /// Whether camera rays go as packets.
+    packets: bool,
     centre: bool,
     seed: u64,
     samples: std::ops::Range<u32>,
@@ -286,7 +286,7 @@ impl Pass<'_, '_> {
     fn band(&self, y0: u32, band: &mut [PixelTotals], stats: &mut Stats) {
         let width = self.width as usize;
         let rows = (band.len() / width) as u32;
-        let Some(whitted) = self.whitted else {
+        if !self.packets {
             for (k, totals) in band.iter_mut().enumerate() {
                 let (x, y) = ((k % width) as u32, y0 + (k / width) as u32);
                 for i in self.samples.clone() {
@@ -298,13 +298,14 @@ impl Pass<'_, '_> {
                 }
             }
             return;
-        };
+        }
         // Blocks of PACKET_EDGE × PACKET_EDGE pixels, one packet per sample index; each
         // pixel still adds its samples in index order.
         // Per pixel of the block: its index in the band and its position.
         let mut block: arrayvec::ArrayVec<(usize, u32, u32), PACKET_MAX> =
             arrayvec::ArrayVec::new();
         let mut rays: arrayvec::ArrayVec<Ray, PACKET_MAX> = arrayvec::ArrayVec::new();
+        let mut streams: arrayvec::ArrayVec<Stream, PACKET_MAX> = arrayvec::ArrayVec::new();
         let mut colors = [Color::ZERO; PACKET_MAX];
         let mut work = [PixelRays::default(); PACKET_MAX];
         for bx in (0..self.width).step_by(PACKET_EDGE as usize) {
@@ -317,12 +318,15 @@ impl Pass<'_, '_> {
             let n = block.len();
             for i in self.samples.clone() {
                 rays.clear();
+                streams.clear();
                 for &(_, x, y) in &block {
-                    let (at, _) = self.sample(x, y, i);
+                    let (at, stream) = self.sample(x, y, i);
                     rays.push(self.camera.ray(at.x, at.y));
+                    streams.push(stream);
                 }
                 work[..n].fill(PixelRays::default());
-                trace_whitted_packet(whitted, &rays, &mut colors[..n], &mut work[..n], stats);
+                let (colors, work) = (&mut colors[..n], &mut work[..n]);
+                trace_camera_packet(self.integrator, &rays, &streams, colors, work, stats);
                 for (j, &(k, _, _)) in block.iter().enumerate() {
                     band[k].add(colors[j], work[j]);
                 }
