@@ -52,15 +52,6 @@ impl<'a> Integrator<'a> {
         }
     }
 
-    /// The Whitted integrator, which can trace camera rays as packets; None for the path
-    /// tracer.
-    pub fn whitted(&self) -> Option<&Whitted<'a>> {
-        match self {
-            Integrator::Whitted(w) => Some(w),
-            Integrator::Path(_) => None,
-        }
-    }
-
     /// The shadow-ray machinery of the Whitted integrator (light buffers and why some
     /// lights have none), for reports; None for the path tracer.
     pub fn shadows(&self) -> Option<&Shadows<'a>> {

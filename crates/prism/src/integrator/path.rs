@@ -14,6 +14,12 @@
 //! segments (the camera ray is the first, so 1 sees emitters only and 2 adds direct light).
 //! Rays that leave the scene see the background as radiance from every direction.
 //!
+//! A vertex is three steps, `arrive` (the hit, the emission seen, the BSDF),
+//! `light_queries` (the light samples and their shadow rays) and `leave` (the unblocked
+//! light, then the BSDF's direction and Russian roulette), which a single path takes in
+//! turn and a packet of paths takes breadth first with its queries batched
+//! (`trace_camera_packet`): the same operations on every path either way.
+//!
 //! Random numbers come from `math::hash::Stream`: dimension 0 and 1 place the sample in
 //! its pixel, then each vertex draws `DIMS_PER_VERTEX` numbers of its own, so a sample is a
 //! pure function of (pixel, sample index, seed) whatever the thread, tile or order.
@@ -134,8 +140,9 @@ impl<'a> PathTracer<'a> {
     /// Radiance along a packet of camera rays (at most `PACKET_MAX`), `streams[i]` ray i's
     /// random numbers: `colors[i]` is exactly what `trace_camera_ray` gives ray i. The
     /// paths go breadth first, a packet per depth: the rays of the paths still alive find
-    /// their hits together, and so do their shadow rays. In a small scene the packet walks
-    /// each node once for all its rays even where they part ways after the first bounce.
+    /// their hits together, and so do their shadow rays. The camera rays and the first
+    /// vertices' shadow rays are coherent and walk as packets; after a bounce the rays
+    /// point every way, and the packet query answers them one by one.
     /// `rays_of[i]` gains the rays of path i after its camera ray.
     pub fn trace_camera_packet(
         &self,
