@@ -145,7 +145,7 @@ impl PyScene {
             .validate()
             .map_err(|e| scene_error(format!("{}: the scene is not valid: {e}", self.name)))?;
         let region = region_of(region, &options);
-        let built = py.allow_threads(|| self.take_built(&options.accel));
+        let built = py.allow_threads(|| self.take_built(&options.accel_to_build()));
         let prepared = PreparedScene {
             scene: &self.scene,
             intersector: built.intersector,
