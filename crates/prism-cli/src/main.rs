@@ -166,9 +166,10 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
         written.push(path.clone());
     }
     if let Some(path) = &args.cost {
+        let accel = options.accel_to_build();
         let method = match args.cost_rays {
-            cost::CostRays::All => options.accel_to_build().to_string(),
-            cost::CostRays::Shadow => format!("{}, {}", options.shadows, options.accel_to_build()),
+            cost::CostRays::All => accel.to_string(),
+            cost::CostRays::Shadow => format!("{}, {accel}", options.shadows),
         };
         cost::write(
             path,

@@ -551,12 +551,18 @@ fn progressive_packets_give_every_sample_its_single_ray_value() {
             let prepared = scene.prepare_for(&options(true, 2));
             let run = |packets: bool, threads: usize| {
                 let mut p = Progressive::new(45, 21).unwrap();
-                p.advance(&prepared, &options(packets, threads), 3, &cancel)
+                let stats = p
+                    .advance(&prepared, &options(packets, threads), 3, &cancel)
                     .unwrap();
-                p
+                (p, stats)
             };
-            let (packets, single) = (run(true, 2), run(false, 1));
+            let ((packets, packet_stats), (single, single_stats)) = (run(true, 2), run(false, 1));
             let case = format!("{name}, {integrator}, {sampler}");
+            // The packets did walk together (their node visits count once a packet).
+            assert!(
+                packet_stats.node_visits < single_stats.node_visits,
+                "{case}"
+            );
             assert_eq!(packets.film(), single.film(), "{case}");
             let rays = |p: &Progressive| -> Vec<(u64, u64)> {
                 p.pixels().iter().map(|t| (t.camera_rays, t.rays)).collect()
@@ -617,6 +623,14 @@ fn path_traced_packets_render_the_single_path_image() {
             assert_eq!(s.0.total_rays(), s.1.total_rays(), "{case}");
             assert_eq!(s.0.shadow_rays, s.1.shadow_rays, "{case}");
             assert_eq!(s.0.primary_hits, s.1.primary_hits, "{case}");
+            // The packets did walk together: a packet's node visits count once for all
+            // its rays.
+            assert!(
+                s.0.node_visits < s.1.node_visits,
+                "{case}: {} {}",
+                s.0.node_visits,
+                s.1.node_visits
+            );
         }
     }
 }

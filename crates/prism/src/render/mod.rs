@@ -242,9 +242,14 @@ impl Job<'_> {
     /// sampler gives each sample its own of, whoever traces it.
     #[inline]
     fn trace(&self, x: f32, y: f32, stats: &mut Stats) -> Color {
-        let stream = Stream::new(x.to_bits(), y.to_bits(), 0, self.seed);
         self.integrator
-            .trace_camera_ray(&self.camera.ray(x, y), &stream, stats)
+            .trace_camera_ray(&self.camera.ray(x, y), &self.stream(x, y), stats)
+    }
+
+    /// The random numbers of the sample at film position (x, y), keyed by the position.
+    #[inline]
+    fn stream(&self, x: f32, y: f32) -> Stream {
+        Stream::new(x.to_bits(), y.to_bits(), 0, self.seed)
     }
 
     fn cancelled(&self) -> bool {

@@ -10,7 +10,7 @@
 use super::rays::{PixelRays, RayMark};
 use super::Job;
 use crate::accel::PACKET_MAX;
-use crate::integrator::{Integrator, PathTracer, Whitted};
+use crate::integrator::Integrator;
 use crate::math::hash::Stream;
 use crate::math::{Color, Ray, Vec2};
 use crate::stats::Stats;
@@ -28,10 +28,7 @@ pub(super) fn trace_packet(
 ) {
     let camera_rays: ArrayVec<Ray, PACKET_MAX> =
         at.iter().map(|p| job.camera.ray(p.x, p.y)).collect();
-    // Keyed by the film position itself, as `Job::trace` keys a single ray's.
-    let streams: ArrayVec<Stream, PACKET_MAX> = (at.iter())
-        .map(|p| Stream::new(p.x.to_bits(), p.y.to_bits(), 0, job.seed))
-        .collect();
+    let streams: ArrayVec<Stream, PACKET_MAX> = at.iter().map(|p| job.stream(p.x, p.y)).collect();
     trace_camera_packet(&job.integrator, &camera_rays, &streams, colors, rays, stats);
 }
 
@@ -47,62 +44,26 @@ pub(super) fn trace_camera_packet(
     rays: &mut [PixelRays],
     stats: &mut Stats,
 ) {
-    match integrator {
-        Integrator::Whitted(w) => trace_whitted_packet(w, camera_rays, colors, rays, stats),
-        Integrator::Path(p) => trace_path_packet(p, camera_rays, streams, colors, rays, stats),
-    }
-}
-
-/// The path tracer's part of `trace_camera_packet`.
-fn trace_path_packet(
-    path: &PathTracer,
-    camera_rays: &[Ray],
-    streams: &[Stream],
-    colors: &mut [Color],
-    rays: &mut [PixelRays],
-    stats: &mut Stats,
-) {
     let n = camera_rays.len();
     let before = RayMark::of(stats);
+    // Per ray, the rays of its tree or path after the camera ray.
     let mut rays_of = [0u32; PACKET_MAX];
-    path.trace_camera_packet(camera_rays, streams, &mut colors[..n], &mut rays_of, stats);
-    share_work(before, &rays_of, rays, stats);
-}
-
-/// Gives each of a packet's rays its own rays (`rays_of`, after the camera ray) and an
-/// even share of the traversal work done since `before`.
-fn share_work(before: RayMark, rays_of: &[u32; PACKET_MAX], rays: &mut [PixelRays], stats: &Stats) {
-    let n = rays.len();
+    match integrator {
+        Integrator::Whitted(whitted) => {
+            let mut hits = [None; PACKET_MAX];
+            whitted.camera_hits(camera_rays, &mut hits[..n], stats);
+            let (hits, colors) = (&hits[..n], &mut colors[..n]);
+            whitted.shade_camera_packet(camera_rays, hits, colors, &mut rays_of, stats);
+        }
+        Integrator::Path(path) => {
+            path.trace_camera_packet(camera_rays, streams, &mut colors[..n], &mut rays_of, stats)
+        }
+    }
+    // Each ray counts in its own pixel; the traversal work is shared by the packet.
     let shared = PixelRays::since(before, stats);
-    for (i, r) in rays.iter_mut().enumerate() {
+    for (i, r) in rays[..n].iter_mut().enumerate() {
         let mut work = shared.share(i, n);
         work.total = 1 + rays_of[i];
         *r += work;
     }
-}
-
-/// The Whitted part of `trace_packet`, for callers that make their own camera rays (at
-/// most `PACKET_MAX`): `colors[i]` is ray i's radiance, and `rays[i]` gains its rays and
-/// its even share of the packets' traversal.
-pub(super) fn trace_whitted_packet(
-    whitted: &Whitted,
-    camera_rays: &[Ray],
-    colors: &mut [Color],
-    rays: &mut [PixelRays],
-    stats: &mut Stats,
-) {
-    let n = camera_rays.len();
-    let mut hits = [None; PACKET_MAX];
-    let before = RayMark::of(stats);
-    whitted.camera_hits(camera_rays, &mut hits[..n], stats);
-    let mut rays_of = [0u32; PACKET_MAX];
-    whitted.shade_camera_packet(
-        camera_rays,
-        &hits[..n],
-        &mut colors[..n],
-        &mut rays_of,
-        stats,
-    );
-    // Each ray counts in its own pixel; the traversal work is shared by the packet.
-    share_work(before, &rays_of, &mut rays[..n], stats);
 }
