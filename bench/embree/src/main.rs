@@ -41,14 +41,16 @@ struct Options {
     prism_only: bool,
 }
 
-// The allocator `prism` itself runs with (large blocks advised as huge pages), so the
-// build is timed as the command line runs it.
+// The allocator `prism` itself runs with (large blocks advised as huge pages when
+// PRISM_HUGE_PAGES=1 asks for it), so the build is timed as the command line runs it.
 #[path = "../../../crates/prism-cli/src/huge_pages.rs"]
 mod huge_pages;
 #[global_allocator]
 static ALLOCATOR: huge_pages::HugePages = huge_pages::HugePages;
 
 fn main() {
+    // As `prism` does: huge pages only with PRISM_HUGE_PAGES=1.
+    huge_pages::enable_if_asked();
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("run") => parse(&args[1..]).and_then(|o| run(&o)),

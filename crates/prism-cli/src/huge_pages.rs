@@ -1,16 +1,34 @@
-//! The process's allocator: the system's, with every block of 4 MiB or more advised to the
-//! kernel as transparent huge pages (`madvise(MADV_HUGEPAGE)`), as Embree's allocator
-//! does for its blocks. Where the kernel gives huge pages only on request (Debian's
-//! default, `madvise`), a large scene's BVH build otherwise faults in its arrays 4 KiB at
-//! a time: on the 101k-triangle blob a sixth of the build's CPU time went to page faults,
-//! and the hint makes builds 7-13 % faster (docs/performance.md, the tenth step). The
-//! advice changes how memory is backed, never what it holds, and a kernel that refuses it
-//! leaves the block as it was. `bench/embree` compiles this same file, so that it times
-//! the build as `prism` runs it.
+//! The process's allocator: the system's, and on request (`PRISM_HUGE_PAGES=1` in the
+//! environment) every block of 4 MiB or more advised to the kernel as transparent huge
+//! pages (`madvise(MADV_HUGEPAGE)`), as Embree's allocator does for its blocks. Where the
+//! kernel gives huge pages only on request (Debian's default, `madvise`), a large scene's
+//! BVH build otherwise faults in its arrays 4 KiB at a time: on a Zen 4 machine the hint
+//! made builds 7-13 % faster (docs/performance.md, the tenth step). It is off by default
+//! because on a virtual machine whose host backs a guest's huge pages on first touch, a
+//! huge page can take a millisecond or more to fault in: on the Xeon VM of the sixteenth
+//! step, whole SPD renders ran 8-12 % slower with it, a 1080p render up to 2.1x and a
+//! million-triangle build up to 2.8x slower, and builds gained nothing. The advice changes
+//! how memory is backed, never what it holds, and a kernel that refuses it leaves the
+//! block as it was. `bench/embree` compiles this same file, so that it times the build as
+//! `prism` runs it.
 
 use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 pub(crate) struct HugePages;
+
+/// Whether large blocks are advised; set once, early in `main`, by `enable_if_asked`.
+static ENABLED: AtomicBool = AtomicBool::new(false);
+
+/// The environment variable that turns the advice on (`1`).
+pub(crate) const VARIABLE: &str = "PRISM_HUGE_PAGES";
+
+/// Turns the advice on when the environment asks for it. Read here rather than in the
+/// allocator, which must not allocate (reading the environment does).
+pub(crate) fn enable_if_asked() {
+    let asked = std::env::var_os(VARIABLE).is_some_and(|v| v == "1");
+    ENABLED.store(asked, Ordering::Relaxed);
+}
 
 /// The huge page size on x86-64 and most ARM64 kernels.
 const HUGE_PAGE: usize = 1 << 21;
@@ -35,6 +53,9 @@ fn huge_pages_within(at: usize, size: usize) -> Option<(usize, usize)> {
 #[cfg(target_os = "linux")]
 #[allow(unsafe_code)]
 fn advise(ptr: *mut u8, size: usize) {
+    if !ENABLED.load(Ordering::Relaxed) {
+        return;
+    }
     if let Some((start, end)) = huge_pages_within(ptr as usize, size) {
         // SAFETY: the range lies inside a block this allocator just handed out; the advice
         // neither moves nor changes its contents. A failure (an old kernel, THP disabled)
@@ -97,6 +118,8 @@ mod tests {
     #[test]
     #[allow(unsafe_code)]
     fn blocks_keep_their_contents_through_growth() {
+        // The advice's path, as `PRISM_HUGE_PAGES=1` turns it on.
+        ENABLED.store(true, Ordering::Relaxed);
         let alloc = HugePages;
         let small = Layout::from_size_align(64, 8).unwrap();
         let size = 3 * HUGE_PAGE + 12_345;

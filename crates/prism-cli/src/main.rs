@@ -34,6 +34,7 @@ use std::time::Instant;
 static ALLOCATOR: huge_pages::HugePages = huge_pages::HugePages;
 
 fn main() -> ExitCode {
+    huge_pages::enable_if_asked();
     signals::restore_unix_defaults();
     let cli = Cli::parse();
     // No command means `render` with its defaults, exactly as if it had been typed.
