@@ -186,21 +186,41 @@ fn builds(o: &Options) -> Result<(), String> {
     let device = embree::Device::new();
     let spec = AccelSpec::default();
     let (mut ours, mut theirs) = (Vec::new(), Vec::new());
+    // Page faults of each build (fresh memory: the first builds of a process fault in
+    // every page they write, later ones reuse what the allocator kept).
+    let (mut our_faults, mut their_faults) = (Vec::new(), Vec::new());
     let mut sah = f64::NAN;
     for _ in 0..o.builds {
         let mut built = None;
+        let faults = minor_faults();
         ours.push(time(|| {
             built = Some(SceneIntersector::build(&geometry, &spec))
         }));
+        our_faults.push(minor_faults() - faults);
         sah = built
             .and_then(|b| b.accel.info().sah_cost)
             .unwrap_or(f64::NAN);
         if !o.prism_only {
             let scene =
                 embree::Scene::new(&device, &positions, &mesh.indices, embree::Quality::Medium);
+            let faults = minor_faults();
             theirs.push(time(|| scene.commit()));
+            their_faults.push(minor_faults() - faults);
         }
     }
+    let first_and_median = |v: &mut Vec<i64>| match v.first().copied() {
+        Some(first) => {
+            v.sort_unstable();
+            format!("{first} first, {} median", v[v.len() / 2])
+        }
+        None => "-".to_string(),
+    };
+    println!(
+        "{}: page faults a build: prism {}; embree-M {}",
+        mesh.name,
+        first_and_median(&mut our_faults),
+        first_and_median(&mut their_faults)
+    );
     if theirs.is_empty() {
         theirs.push(measure::Sample {
             cpu: Default::default(),
@@ -220,6 +240,17 @@ fn builds(o: &Options) -> Result<(), String> {
         ms(b.wall) / ms(a.wall)
     );
     Ok(())
+}
+
+/// The process's minor page faults so far.
+#[allow(unsafe_code)]
+fn minor_faults() -> i64 {
+    // SAFETY: getrusage writes one `rusage` into the zeroed struct it is given.
+    unsafe {
+        let mut usage: libc::rusage = std::mem::zeroed();
+        libc::getrusage(libc::RUSAGE_SELF, &mut usage);
+        usage.ru_minflt
+    }
 }
 
 /// Only prism's tracing, for a profiler: no Embree, no timing in turns.
