@@ -131,6 +131,8 @@ pub(super) mod avx512;
 
 #[cfg(target_arch = "x86_64")]
 mod pair;
+#[cfg(target_arch = "x86_64")]
+mod spheres;
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {

@@ -196,6 +196,11 @@ pub(in crate::accel::bvh) fn test_leaf(
     stats: &mut Stats,
 ) -> bool {
     if count & PACKED == 0 {
+        if let Some(answered) =
+            super::spheres::test_sphere_leaf(leaves, first, count, search, stats)
+        {
+            return answered;
+        }
         return leaves.test(first, count, search, stats);
     }
     let packs = &leaves.packs[first as usize..(first + (count & !PACKED)) as usize];
