@@ -142,6 +142,8 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     if args.preset == Some(args::Preset::Spd) {
         prism::preset::apply_spd(&mut scene, &mut options);
     }
+    // Per-pixel ray counts only for the views made of them.
+    options.per_pixel_rays = args.density.is_some() || args.cost.is_some();
     options
         .validate()
         .map_err(|e| anyhow::anyhow!("invalid option: {e}"))?;

@@ -179,3 +179,58 @@ fn regions_that_cannot_be_rendered_are_refused() {
     let all = Tile::full(20, 10);
     assert!(render_region(&prepared, &adaptive, all, &|_| {}, &cancel).is_ok());
 }
+
+/// Without per-pixel ray counts (`RenderOptions::per_pixel_rays` off, as `prism render`
+/// runs without `--density` or `--cost`) a render gives the same image and statistics and
+/// keeps no counts; with them, the counts add up to the statistics' rays. For the per-pixel
+/// samplers (a box and a wider filter), the lattice samplers and the path tracer.
+#[test]
+fn ray_counts_are_optional_and_change_nothing_else() {
+    let scene = builtin::find("whitted").unwrap();
+    let base = RenderOptions {
+        width: 67,
+        height: 43,
+        threads: 2,
+        ..scene.options.clone()
+    };
+    let variants = [
+        base.clone(),
+        RenderOptions {
+            filter: prism::render::FilterKind::Tent,
+            ..base.clone()
+        },
+        RenderOptions {
+            sampler: prism::sampling::SamplerKind::Corners,
+            ..base.clone()
+        },
+        RenderOptions {
+            sampler: prism::sampling::SamplerKind::Adaptive,
+            ..base.clone()
+        },
+        RenderOptions {
+            integrator: prism::options::IntegratorKind::Path,
+            samples: 2,
+            ..base.clone()
+        },
+    ];
+    for (k, options) in variants.into_iter().enumerate() {
+        let prepared = scene.prepare_for(&options);
+        let run = |per_pixel_rays: bool| {
+            let o = RenderOptions {
+                per_pixel_rays,
+                ..options.clone()
+            };
+            render(&prepared, &o, &|_| {}, &AtomicBool::new(false)).unwrap()
+        };
+        let (with, without) = (run(true), run(false));
+        assert_eq!(with.film.pixels, without.film.pixels, "variant {k}");
+        assert_eq!(with.stats, without.stats, "variant {k}");
+        assert!(
+            with.rays.is_recorded() && !without.rays.is_recorded(),
+            "variant {k}"
+        );
+        assert!(without.rays.total.is_empty(), "variant {k}");
+        let counted: u64 = with.rays.total.iter().map(|&t| u64::from(t)).sum();
+        assert_eq!(counted, with.stats.total_rays(), "variant {k}");
+    }
+}

@@ -82,7 +82,7 @@ struct RowTrace<T> {
 
 pub(super) fn render_corners(job: &Job) -> Result<Traced, RenderError> {
     let (w, h) = (job.width, job.height);
-    let mut out = Traced::try_new(w, h, Film::unallocated(w, h))?;
+    let mut out = Traced::try_new(job, w, h, Film::unallocated(w, h))?;
     let mut corners = Corners::try_new(w, h)?;
     let mut centres = try_filled(w as usize * h as usize, None, "sample lattice")?;
     if trace_corners(job, &mut corners, 1, |x, y| (x as f32, y as f32), &mut out) {
@@ -115,7 +115,7 @@ pub(super) fn render_corners(job: &Job) -> Result<Traced, RenderError> {
 pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Result<Traced, RenderError> {
     let (w, h) = (job.width, job.height);
     let steps = rule.steps();
-    let mut out = Traced::try_new(w, h, Film::unallocated(w, h))?;
+    let mut out = Traced::try_new(job, w, h, Film::unallocated(w, h))?;
     let mut corners = Corners::try_new(w, h)?;
     let refine = trace_corners(
         job,

@@ -64,10 +64,17 @@ pub fn estimate(options: &RenderOptions) -> MemoryEstimate {
     let pixels = options.width as u64 * options.height as u64;
     let corners = (options.width as u64 + 1) * (options.height as u64 + 1);
     let mut e = MemoryEstimate::default();
-    // The film is assembled once more from the tiles' or the sums' results.
-    e.add("film", pixels * FILM_BYTES * 2);
-    e.add("ray counts", pixels * RAY_COUNT_BYTES);
     let box_pixel = super::Filter::new(options.filter, options.filter_radius).is_pixel_box();
+    // The per-pixel samplers write their tiles straight into the film (or into the sums,
+    // which become the film); the lattice samplers assemble it once more from theirs.
+    let lattice = matches!(
+        options.sampler,
+        SamplerKind::Corners | SamplerKind::Adaptive
+    );
+    e.add("film", pixels * FILM_BYTES * if lattice { 2 } else { 1 });
+    if options.per_pixel_rays {
+        e.add("ray counts", pixels * RAY_COUNT_BYTES);
+    }
     match options.sampler {
         SamplerKind::Corners => {
             e.add(
@@ -142,13 +149,19 @@ mod tests {
             ..RenderOptions::default()
         };
         let e = estimate(&options);
-        // Film twice and the ray counts: 48 bytes a pixel at least.
-        assert!(e.total() >= 65536 * 65536 * 48, "{e:?}");
+        // The film and the ray counts: 52 bytes a pixel.
+        assert!(e.total() >= 65536 * 65536 * 52, "{e:?}");
         assert!(
-            e.breakdown().starts_with("film 103 GB"),
+            e.breakdown().starts_with("film 51.5 GB, ray counts 172 GB"),
             "{}",
             e.breakdown()
         );
+        // Without the counts, the film alone.
+        let film_only = RenderOptions {
+            per_pixel_rays: false,
+            ..options
+        };
+        assert_eq!(estimate(&film_only).breakdown(), "film 51.5 GB");
     }
 
     #[test]

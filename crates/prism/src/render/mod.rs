@@ -232,6 +232,8 @@ pub(crate) struct Job<'a> {
     filter: Filter,
     /// Trace camera rays in packets (`RenderOptions::packets`).
     packets: bool,
+    /// Keep per-pixel ray counts (`RenderOptions::per_pixel_rays`).
+    per_pixel_rays: bool,
     on_tile: &'a (dyn Fn(TileDone) + Sync),
     cancel: &'a AtomicBool,
 }
@@ -266,14 +268,14 @@ struct Traced {
 }
 
 impl Traced {
-    /// An empty result with its film and ray counts allocated; the film may be replaced by
-    /// the one a reconstruction pass builds.
-    fn try_new(width: u32, height: u32, film: Film) -> Result<Self, RenderError> {
+    /// An empty result with its film and (when `job` keeps them) ray counts allocated; the
+    /// film may be replaced by the one a reconstruction pass builds.
+    fn try_new(job: &Job, width: u32, height: u32, film: Film) -> Result<Self, RenderError> {
         Ok(Traced {
             film,
             stats: Stats::default(),
             complete: true,
-            rays: RayCounts::try_new(width, height)?,
+            rays: ray_counts(job.per_pixel_rays, width, height)?,
         })
     }
 
@@ -283,6 +285,15 @@ impl Traced {
         for (x, &r) in rays.iter().enumerate() {
             self.rays.add(x as u32, y, r);
         }
+    }
+}
+
+/// Zero ray counts for a `width` × `height` result, or none when they are not kept.
+fn ray_counts(kept: bool, width: u32, height: u32) -> Result<RayCounts, RenderError> {
+    if kept {
+        RayCounts::try_new(width, height)
+    } else {
+        Ok(RayCounts::unrecorded(width, height))
     }
 }
 
@@ -351,7 +362,7 @@ pub fn render_region(
             stats: beam.stats,
             complete: beam.complete,
             render_time: beam.render_time,
-            rays: RayCounts::try_new(options.width, options.height)?,
+            rays: ray_counts(options.per_pixel_rays, options.width, options.height)?,
             light_buffers: Vec::new(),
             light_buffer_notes: Vec::new(),
         });
@@ -365,6 +376,7 @@ pub fn render_region(
         seed: options.seed,
         filter: Filter::new(options.filter, options.filter_radius),
         packets: options.uses_packets(),
+        per_pixel_rays: options.per_pixel_rays,
         on_tile,
         cancel,
     };

@@ -46,11 +46,11 @@ pub(super) fn render(
     // Only a filter wider than the pixel needs the traced area's sums; the box filter's
     // pixels go straight into the film.
     let (mut out, sums) = if local {
-        (Traced::try_new(aw, ah, Film::try_new(aw, ah)?)?, None)
+        (Traced::try_new(job, aw, ah, Film::try_new(aw, ah)?)?, None)
     } else {
         let sums = Mutex::new(FilmSums::try_new(traced)?);
         (
-            Traced::try_new(aw, ah, Film::unallocated(aw, ah))?,
+            Traced::try_new(job, aw, ah, Film::unallocated(aw, ah))?,
             Some(sums),
         )
     };

@@ -42,8 +42,26 @@ impl RayCounts {
         })
     }
 
-    /// Adds rays to pixel (x, y).
+    /// No counts, for a render that keeps none (`RenderOptions::per_pixel_rays` off):
+    /// `add` leaves it empty.
+    pub fn unrecorded(width: u32, height: u32) -> Self {
+        RayCounts {
+            width,
+            height,
+            ..RayCounts::default()
+        }
+    }
+
+    /// Whether the counts were kept (else every vector is empty).
+    pub fn is_recorded(&self) -> bool {
+        self.camera.len() == self.width as usize * self.height as usize
+    }
+
+    /// Adds rays to pixel (x, y) (nothing where counts are not kept).
     pub fn add(&mut self, x: u32, y: u32, rays: PixelRays) {
+        if self.camera.is_empty() {
+            return;
+        }
         let i = y as usize * self.width as usize + x as usize;
         self.camera[i] = self.camera[i].saturating_add(rays.camera);
         self.total[i] = self.total[i].saturating_add(rays.total);
