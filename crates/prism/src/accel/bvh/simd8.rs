@@ -545,41 +545,19 @@ mod x86 {
             // SAFETY: `at + 8 <= 64`; unaligned load.
             unsafe { _mm256_loadu_ps(v.as_ptr().add(at)) }
         };
-        let (add, sub, mul) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps);
-        let dot = |x: &[__m256; 3], y: &[__m256; 3]| {
-            add(add(mul(x[0], y[0]), mul(x[1], y[1])), mul(x[2], y[2]))
-        };
         let centre = sphere.center.to_array().map(|v| _mm256_set1_ps(v));
         let r2 = _mm256_set1_ps(sphere.radius * sphere.radius);
-        let (zero, sign) = (_mm256_setzero_ps(), _mm256_set1_ps(-0.0));
         for group in 0..8 {
             let at = 8 * group;
             let wanted = (rays >> at) & 0xff;
             if wanted == 0 {
                 continue;
             }
-            let f = [0, 1, 2].map(|a| sub(load(&soa.origin[a], at), centre[a]));
-            let d = [0, 1, 2].map(|a| load(&soa.dir[a], at));
-            let b = dot(&f, &d);
-            let l = [0, 1, 2].map(|a| sub(f[a], mul(b, d[a])));
-            let disc = sub(r2, dot(&l, &l));
-            let c = sub(dot(&f, &f), r2);
-            // -b - copysign(sqrt(disc), b)
-            let root = _mm256_sqrt_ps(disc);
-            let signed_root = _mm256_or_ps(_mm256_andnot_ps(sign, root), _mm256_and_ps(sign, b));
-            let q = sub(_mm256_xor_ps(b, sign), signed_root);
-            let t0 = _mm256_div_ps(c, q);
-            let swap = _mm256_cmp_ps::<_CMP_GT_OQ>(t0, q);
-            let (near, far) = (_mm256_blendv_ps(t0, q, swap), _mm256_blendv_ps(q, t0, swap));
-            let near_ahead = _mm256_cmp_ps::<_CMP_GT_OQ>(near, zero);
-            let t = _mm256_blendv_ps(far, near, near_ahead);
+            let origin = [0, 1, 2].map(|a| load(&soa.origin[a], at));
+            let dir = [0, 1, 2].map(|a| load(&soa.dir[a], at));
             let nested = load(&search.nested, at);
-            let hit = _mm256_and_ps(
-                _mm256_cmp_ps::<_CMP_GT_OQ>(t, zero),
-                _mm256_cmp_ps::<_CMP_LT_OQ>(t, nested),
-            );
-            let missed = _mm256_cmp_ps::<_CMP_LT_OQ>(disc, zero);
-            let mut hit = wanted & (_mm256_movemask_ps(_mm256_andnot_ps(missed, hit)) as u64);
+            let (hit, t) = super::spheres::sphere_lanes(origin, dir, centre, r2, nested);
+            let mut hit = wanted & u64::from(hit);
             if hit != 0 {
                 let mut ts = [0.0f32; 8];
                 // SAFETY: `ts` holds eight f32s; unaligned store.
