@@ -180,7 +180,8 @@ pub struct RenderResult {
     pub complete: bool,
     /// Wall-clock time of the render, without the accelerator's build.
     pub render_time: Duration,
-    /// Rays per pixel, for the sample-density view.
+    /// Rays per pixel and their work, for the density and cost views; without counts
+    /// (`RayCounts::is_recorded` false) when `RenderOptions::per_pixel_rays` was off.
     pub rays: RayCounts,
     /// Per light, its light buffer's figures (None where the accelerator answered).
     pub light_buffers: Vec<Option<crate::integrator::LightBufferInfo>>,
