@@ -6,8 +6,9 @@
 //! made builds 7-13 % faster (docs/performance.md, the tenth step). It is off by default
 //! because on a virtual machine whose host backs a guest's huge pages on first touch, a
 //! huge page can take a millisecond or more to fault in: on the Xeon VM of the sixteenth
-//! step, whole SPD renders ran 8-12 % slower with it, a 1080p render up to 2.1x and a
-//! million-triangle build up to 2.8x slower, and builds gained nothing. The advice changes
+//! step, half of eight 1080p renders ran 1.5-1.7x slower with it and a million-triangle
+//! build once 2.8x slower, SPD renders were level in medians of three, and builds gained
+//! nothing. The advice changes
 //! how memory is backed, never what it holds, and a kernel that refuses it leaves the
 //! block as it was. `bench/embree` compiles this same file, so that it times the build as
 //! `prism` runs it.

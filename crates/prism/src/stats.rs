@@ -77,6 +77,18 @@ impl Stats {
         self.tests_by_kind[kind as usize] += n;
     }
 
+    /// Runs `query`, the walk of `rays` shadow rays, counting them as shadow rays and the
+    /// primitive tests and node visits it makes as theirs (as well as in the totals).
+    #[inline(always)]
+    pub fn shadow_query<R>(&mut self, rays: u64, query: impl FnOnce(&mut Stats) -> R) -> R {
+        self.shadow_rays += rays;
+        let (tests, nodes) = (self.primitive_tests, self.node_visits);
+        let answer = query(self);
+        self.shadow_tests += self.primitive_tests - tests;
+        self.shadow_node_visits += self.node_visits - nodes;
+        answer
+    }
+
     /// Every ray traced: camera, shadow (with continuations), reflected and refracted.
     pub fn total_rays(&self) -> u64 {
         self.primary_rays

@@ -194,12 +194,15 @@ impl<'a> PathTracer<'a> {
                     chunk.iter().map(|q| Ray::new(q.origin, q.dir)).collect();
                 let t_max: ArrayVec<f32, PACKET_MAX> = chunk.iter().map(|q| q.t_max).collect();
                 let mut blocked = [false; PACKET_MAX];
-                stats.shadow_rays += c as u64;
-                let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
-                s.intersector
-                    .occluded_packet(geometry, &shadow, &t_max, &mut blocked[..c], stats);
-                stats.shadow_tests += stats.primitive_tests - tests;
-                stats.shadow_node_visits += stats.node_visits - nodes;
+                stats.shadow_query(c as u64, |stats| {
+                    s.intersector.occluded_packet(
+                        geometry,
+                        &shadow,
+                        &t_max,
+                        &mut blocked[..c],
+                        stats,
+                    )
+                });
                 for (q, &b) in chunk.iter_mut().zip(&blocked[..c]) {
                     q.blocked = b;
                 }
@@ -224,16 +227,11 @@ impl<'a> PathTracer<'a> {
     /// and visits.
     #[inline(always)]
     fn blocked(&self, q: &LightQuery, stats: &mut Stats) -> bool {
-        stats.shadow_rays += 1;
-        let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
         let s = self.scene;
         let ray = Ray::new(q.origin, q.dir);
-        let blocked = s
-            .intersector
-            .occluded(&s.scene.geometry, &ray, q.t_max, stats);
-        stats.shadow_tests += stats.primitive_tests - tests;
-        stats.shadow_node_visits += stats.node_visits - nodes;
-        blocked
+        stats.shadow_query(1, |stats| {
+            (s.intersector).occluded(&s.scene.geometry, &ray, q.t_max, stats)
+        })
     }
 
     /// A path's ray at `depth` arrives at `hit`: the background on a miss, the emission

@@ -298,63 +298,61 @@ impl<'a> Shadows<'a> {
         let scene = self.scene;
         let (geometry, accel) = (&scene.scene.geometry, &scene.intersector);
         let n = rays.len();
-        stats.shadow_rays += n as u64;
-        let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
-        // The rays still walking after the first segment: which of the packet's, their
-        // next segment and what is left of their distance (the first segment is the
-        // packet's own rays, not copied).
-        let mut walking: ArrayVec<usize, PACKET_MAX> = ArrayVec::new();
-        let mut segment_rays: ArrayVec<Ray, PACKET_MAX> = ArrayVec::new();
-        let mut remaining: ArrayVec<f32, PACKET_MAX> = ArrayVec::new();
-        let mut atten = [Color::ONE; PACKET_MAX];
-        let mut hits = [None; PACKET_MAX];
-        for segment in 0..MAX_SHADOW_SEGMENTS {
-            let (these, bounds) = if segment == 0 {
-                (rays, distances)
-            } else {
-                (&segment_rays[..], &remaining[..])
-            };
-            let m = these.len();
-            if m == 0 {
-                break;
-            }
-            if segment > 0 {
-                stats.shadow_continuations += m as u64;
-                for &i in &walking {
-                    segments[i] += 1;
+        stats.shadow_query(n as u64, |stats| {
+            // The rays still walking after the first segment: which of the packet's, their
+            // next segment and what is left of their distance (the first segment is the
+            // packet's own rays, not copied).
+            let mut walking: ArrayVec<usize, PACKET_MAX> = ArrayVec::new();
+            let mut segment_rays: ArrayVec<Ray, PACKET_MAX> = ArrayVec::new();
+            let mut remaining: ArrayVec<f32, PACKET_MAX> = ArrayVec::new();
+            let mut atten = [Color::ONE; PACKET_MAX];
+            let mut hits = [None; PACKET_MAX];
+            for segment in 0..MAX_SHADOW_SEGMENTS {
+                let (these, bounds) = if segment == 0 {
+                    (rays, distances)
+                } else {
+                    (&segment_rays[..], &remaining[..])
+                };
+                let m = these.len();
+                if m == 0 {
+                    break;
+                }
+                if segment > 0 {
+                    stats.shadow_continuations += m as u64;
+                    for &i in &walking {
+                        segments[i] += 1;
+                    }
+                }
+                let hits = &mut hits[..m];
+                match self.query(index).buffer {
+                    Some((b, _)) => b.nearest_packet(geometry, accel, these, bounds, hits, stats),
+                    None => accel.intersect_packet_within(geometry, these, bounds, hits, stats),
+                }
+                // Each ray's step, as `transmittance` takes it; the rays that go on are
+                // gathered in `next` (the segment's rays are still borrowed) and form the next
+                // segment's packet.
+                let mut next = ArrayVec::<(usize, Ray, f32), PACKET_MAX>::new();
+                for k in 0..m {
+                    let i = if segment == 0 { k } else { walking[k] };
+                    match step(scene.scene, &these[k], bounds[k], hits[k], &mut atten[i]) {
+                        Step::Ends(seen) => visibility[i] = seen,
+                        Step::GoesOn(ray, left) => next.push((i, ray, left)),
+                    }
+                }
+                walking.clear();
+                segment_rays.clear();
+                remaining.clear();
+                for (i, ray, left) in next {
+                    walking.push(i);
+                    segment_rays.push(ray);
+                    remaining.push(left);
                 }
             }
-            let hits = &mut hits[..m];
-            match self.query(index).buffer {
-                Some((b, _)) => b.nearest_packet(geometry, accel, these, bounds, hits, stats),
-                None => accel.intersect_packet_within(geometry, these, bounds, hits, stats),
+            // Rays that crossed `MAX_SHADOW_SEGMENTS` surfaces see nothing, as in the walk.
+            for &i in &walking {
+                visibility[i] = Color::ZERO;
             }
-            // Each ray's step, as `transmittance` takes it; the rays that go on are
-            // gathered in `next` (the segment's rays are still borrowed) and form the next
-            // segment's packet.
-            let mut next = ArrayVec::<(usize, Ray, f32), PACKET_MAX>::new();
-            for k in 0..m {
-                let i = if segment == 0 { k } else { walking[k] };
-                match step(scene.scene, &these[k], bounds[k], hits[k], &mut atten[i]) {
-                    Step::Ends(seen) => visibility[i] = seen,
-                    Step::GoesOn(ray, left) => next.push((i, ray, left)),
-                }
-            }
-            walking.clear();
-            segment_rays.clear();
-            remaining.clear();
-            for (i, ray, left) in next {
-                walking.push(i);
-                segment_rays.push(ray);
-                remaining.push(left);
-            }
-        }
-        // Rays that crossed `MAX_SHADOW_SEGMENTS` surfaces see nothing, as in the walk.
-        for &i in &walking {
-            visibility[i] = Color::ZERO;
-        }
-        stats.shadow_tests += stats.primitive_tests - tests;
-        stats.shadow_node_visits += stats.node_visits - nodes;
+        })
     }
 
     /// Whether each of a packet of shadow rays (at most `PACKET_MAX`) towards the scene's
@@ -375,26 +373,24 @@ impl<'a> Shadows<'a> {
         stats: &mut Stats,
     ) {
         let n = rays.len();
-        stats.shadow_rays += n as u64;
-        let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
         let scene = self.scene;
         let (geometry, accel) = (&scene.scene.geometry, &scene.intersector);
-        if self.spec.method.uses_cache() {
-            self.cached_packet(index, depth, rays, distances, blocked, stats);
-        } else if let Some((buffer, _)) = self.query(index).buffer {
-            let mut answers = [None; PACKET_MAX];
-            let answers = &mut answers[..n];
-            buffer.any_hit_packet(geometry, accel, rays, distances, answers, stats);
-            for (b, answer) in blocked.iter_mut().zip(answers.iter()) {
-                *b = answer.is_some();
+        stats.shadow_query(n as u64, |stats| {
+            if self.spec.method.uses_cache() {
+                self.cached_packet(index, depth, rays, distances, blocked, stats);
+            } else if let Some((buffer, _)) = self.query(index).buffer {
+                let mut answers = [None; PACKET_MAX];
+                let answers = &mut answers[..n];
+                buffer.any_hit_packet(geometry, accel, rays, distances, answers, stats);
+                for (b, answer) in blocked.iter_mut().zip(answers.iter()) {
+                    *b = answer.is_some();
+                }
+            } else {
+                // Which blocker does not matter here: planes are tested only where the
+                // accelerator found nothing.
+                accel.occluded_packet(geometry, rays, distances, blocked, stats);
             }
-        } else {
-            // Which blocker does not matter here: planes are tested only where the
-            // accelerator found nothing.
-            accel.occluded_packet(geometry, rays, distances, blocked, stats);
-        }
-        stats.shadow_tests += stats.primitive_tests - tests;
-        stats.shadow_node_visits += stats.node_visits - nodes;
+        })
     }
 
     /// The any-hit answers of a packet towards the `index`-th light: its light buffer's
@@ -486,23 +482,20 @@ impl<'a> Shadows<'a> {
         stats: &mut Stats,
     ) -> Color {
         let scene = self.scene;
-        stats.shadow_rays += 1;
-        let (tests, nodes) = (stats.primitive_tests, stats.node_visits);
         let origin = offset_ray_origin(sp.p, sp.p_error, ng, light.to_light);
         let query = self.query(index);
-        let v = if scene.has_transmissive {
-            transmittance(&query, origin, light.to_light, light.distance, stats)
-        } else {
-            let ray = Ray::new(origin, light.to_light);
-            if self.blocked(index, depth, &ray, light.distance, stats) {
-                Color::ZERO
+        stats.shadow_query(1, |stats| {
+            if scene.has_transmissive {
+                transmittance(&query, origin, light.to_light, light.distance, stats)
             } else {
-                Color::ONE
+                let ray = Ray::new(origin, light.to_light);
+                if self.blocked(index, depth, &ray, light.distance, stats) {
+                    Color::ZERO
+                } else {
+                    Color::ONE
+                }
             }
-        };
-        stats.shadow_tests += stats.primitive_tests - tests;
-        stats.shadow_node_visits += stats.node_visits - nodes;
-        v
+        })
     }
 }
 

@@ -1,8 +1,9 @@
 //! The single-ray test of a leaf of spheres in the 8-wide walk: up to eight spheres through
 //! one AVX2 pass instead of one `Sphere::intersect` call each (the leaf's other primitives,
-//! such as the cylinders between SPD lattice's balls, tested one by one in their turn). Scenes of spheres (SPD's
-//! shells, lattice, balls) meet such leaves on every reflected and refracted ray, which
-//! the packet walks answer one ray at a time once the rays point every way.
+//! such as the cylinders between SPD lattice's balls, tested one by one in their turn).
+//! Scenes of spheres (SPD's shells, lattice, balls) meet such leaves on every reflected and
+//! refracted ray, which the packet walks answer one ray at a time once the rays point every
+//! way.
 //!
 //! Lane by lane the pass makes the operations of `Sphere::intersect` in the same order (no
 //! fused multiply-add), so each lane's distance is the scalar test's bit for bit
@@ -42,7 +43,8 @@ pub(in crate::accel::bvh) fn test_sphere_leaf(
     stats: &mut Stats,
 ) -> Option<bool> {
     let n = count as usize;
-    if !(2..=LANES).contains(&n) {
+    // Smaller leaves cannot hold enough spheres: not even their shapes are read.
+    if !(MIN_SPHERES as usize..=LANES).contains(&n) {
         return None;
     }
     let ids = &leaves.prims[first as usize..][..n];
@@ -213,9 +215,10 @@ mod tests {
     }
 
     /// The 8-wide sphere leaf test gives what `LeafQuery::test` gives sphere by sphere:
-    /// answer, best hit, bound and statistics, for leaves of two to eight spheres in a
-    /// shuffled order (a third with a box and a cone among them), both query modes, with no prior hit, a far one, and one tying a
-    /// sphere's hit with a lower or a higher id; at three scales.
+    /// answer, best hit, bound and statistics, for leaves of two to eight primitives in a
+    /// shuffled order (a third with a box and a cone among the spheres; leaves of fewer
+    /// than `MIN_SPHERES` spheres must be declined), both query modes, with no prior hit, a
+    /// far one, and one tying a sphere's hit with a lower or a higher id; at three scales.
     #[test]
     fn the_sphere_leaf_pass_is_the_scalar_loop() {
         if !super::super::available() {
