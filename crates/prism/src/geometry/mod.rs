@@ -61,6 +61,21 @@ pub struct SurfacePoint {
     pub uv: Vec2,
 }
 
+impl SurfacePoint {
+    /// Whether a ray along `dir` arrives from the side `ng` faces (enters the shape), and
+    /// the geometric and shading normals turned towards that ray, as every integrator
+    /// shades a hit.
+    #[inline(always)]
+    pub fn facing(&self, dir: Vec3) -> (bool, Vec3, Vec3) {
+        let entering = dir.dot(self.ng) < 0.0;
+        if entering {
+            (true, self.ng, self.ns)
+        } else {
+            (false, -self.ng, -self.ns)
+        }
+    }
+}
+
 /// The shape kinds prism renders. Triangles live in meshes and are referenced by index so a
 /// million-triangle mesh costs 12 bytes of vertex indices per triangle, not a copy. The
 /// large, rare shapes are boxed so that a `Primitive` stays at 32 bytes.

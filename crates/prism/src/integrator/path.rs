@@ -257,12 +257,7 @@ impl<'a> PathTracer<'a> {
         let prim = &geometry.primitives[hit.prim as usize];
         let material = &scene.materials[prim.material as usize];
         let sp = geometry.surface_with(hit.prim, ray, &hit.shape_hit(), material.uv_need());
-        let entering = ray.dir.dot(sp.ng) < 0.0;
-        let (ng, ns) = if entering {
-            (sp.ng, sp.ns)
-        } else {
-            (-sp.ng, -sp.ns)
-        };
+        let (entering, ng, ns) = sp.facing(ray.dir);
         let wo = -ray.dir;
 
         // Emission, seen from its front side.

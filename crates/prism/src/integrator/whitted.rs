@@ -400,12 +400,7 @@ impl<'a> Whitted<'a> {
         let material = &scene.materials[prim.material as usize];
         let sp = (scene.geometry).surface_with(hit.prim, ray, &hit.shape_hit(), material.uv_need());
         // Face the normals towards the incoming ray; `entering` says which side it came from.
-        let entering = ray.dir.dot(sp.ng) < 0.0;
-        let (ng, ns) = if entering {
-            (sp.ng, sp.ns)
-        } else {
-            (-sp.ng, -sp.ns)
-        };
+        let (entering, ng, ns) = sp.facing(ray.dir);
         Surface {
             color: material.color_at(sp.uv, sp.p),
             sp,

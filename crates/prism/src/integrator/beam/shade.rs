@@ -44,12 +44,7 @@ pub(crate) fn local(
     let ray = Ray::new(f(apex), f(dir));
     let hit = facet.shape_hit(point, apex, dir);
     let sp = scene.geometry.surface(facet.prim, &ray, &hit);
-    let entering = ray.dir.dot(sp.ng) < 0.0;
-    let (ng, ns) = if entering {
-        (sp.ng, sp.ns)
-    } else {
-        (-sp.ng, -sp.ns)
-    };
+    let (entering, ng, ns) = sp.facing(ray.dir);
     let to_eye = -ray.dir;
     let mut k1 = material.ambient * scene.ambient;
     let mut k2 = Color::ZERO;
