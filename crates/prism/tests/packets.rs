@@ -10,12 +10,12 @@ mod common;
 use common::oracle::TestScene;
 use common::{icosphere, Rng};
 use prism::accel::{Accel, Avx512, Bvh, BvhOptions, Hit, NodeWidth, QueryMode, PACKET_MAX};
-use prism::geometry::{AaBox, Shape, Sphere};
+use prism::geometry::{AaBox, Cone, Shape, Sphere};
 use prism::math::{Ray, TraceRay, Vec3};
 use prism::Stats;
 
-/// Icospheres (closed meshes, packed leaves), loose triangles, spheres and boxes (leaves of
-/// other shapes) in `[-2, 2]³ · scale + offset`.
+/// Icospheres (closed meshes, packed leaves), loose triangles, spheres, boxes, cylinders and
+/// cones (leaves of other shapes) in `[-2, 2]³ · scale + offset`.
 fn scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
     let mut rng = Rng::new(seed);
     let mut s = TestScene::new();
@@ -45,6 +45,27 @@ fn scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
         let a = p(&mut rng);
         let b = a + scale * rng.point_in(Vec3::splat(0.05), Vec3::splat(0.6));
         s.add_box(AaBox::new(a, b));
+    }
+    // Cylinders (most of them open, as NFF's) and cones, some in small groups as SPD's
+    // lattice and rings join theirs, so that leaves hold several.
+    for k in 0..24 {
+        let base = p(&mut rng);
+        let axis = rng.unit_vector();
+        let r = scale * rng.range(0.03, 0.2);
+        let apex_radius = if k % 3 == 0 {
+            r * rng.range(0.0, 0.9)
+        } else {
+            r
+        };
+        let length = scale * rng.range(0.3, 1.5);
+        for j in 0..1 + k % 3 {
+            let start = base + axis * length * j as f32;
+            let cone = Cone::new(start, r, start + axis * length, apex_radius, k % 4 == 1);
+            if let Some(cone) = cone {
+                s.geometry.add(Shape::from(cone), 0);
+                s.features.push(start + axis.any_orthonormal_vector() * r);
+            }
+        }
     }
     s
 }

@@ -28,9 +28,37 @@ pub struct Cone {
     height: f32,
 }
 
+// Which part a hit is on, carried in `ShapeHit::u`.
 const SIDE: f32 = 0.0;
 const BASE_CAP: f32 = 1.0;
 const APEX_CAP: f32 = 2.0;
+
+/// What `Cone::intersect` computes with, for the tests that repeat its operations in SIMD
+/// lanes (`accel/bvh/simd8/cones.rs`): the frame's axes and base in f32, where the ray is
+/// moved into the frame, and the rest in the f64 of the quadric.
+#[derive(Clone, Copy, Debug)]
+pub struct ConeTerms {
+    /// Centre of the base disc, the frame's origin.
+    pub base: Vec3,
+    /// The frame whose z axis runs from the base to the apex.
+    pub frame: Frame,
+    /// Distance from base to apex.
+    pub height: f64,
+    /// Radius at the base.
+    pub base_radius: f64,
+    /// Radius at the apex.
+    pub apex_radius: f64,
+    /// The radius's change per unit of height.
+    pub slope: f64,
+    /// Whether the end discs are part of the surface.
+    pub capped: bool,
+}
+
+impl ConeTerms {
+    /// The value `intersect` gives `ShapeHit::u` for a hit on the side, the base cap and
+    /// the apex cap.
+    pub const PARTS: [f32; 3] = [SIDE, BASE_CAP, APEX_CAP];
+}
 
 impl Cone {
     /// `None` when base and apex coincide or a radius is negative or not finite.
@@ -64,6 +92,19 @@ impl Cone {
     /// A cylinder from `base` to `top`; `None` for the same reasons as `new`.
     pub fn cylinder(base: Vec3, top: Vec3, radius: f32, capped: bool) -> Option<Self> {
         Cone::new(base, radius, top, radius, capped)
+    }
+
+    /// The terms of `intersect`'s arithmetic.
+    pub fn terms(&self) -> ConeTerms {
+        ConeTerms {
+            base: self.base,
+            frame: self.frame,
+            height: self.height as f64,
+            base_radius: self.base_radius as f64,
+            apex_radius: self.apex_radius as f64,
+            slope: self.slope(),
+            capped: self.capped,
+        }
     }
 
     fn slope(&self) -> f64 {

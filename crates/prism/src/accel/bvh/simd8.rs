@@ -130,7 +130,11 @@ pub(super) fn traverse_packet(
 pub(super) mod avx512;
 
 #[cfg(target_arch = "x86_64")]
+mod cones;
+#[cfg(target_arch = "x86_64")]
 mod pair;
+#[cfg(target_arch = "x86_64")]
+mod shape_leaf;
 #[cfg(target_arch = "x86_64")]
 mod spheres;
 
@@ -663,6 +667,9 @@ mod x86 {
                                         Shape::Sphere(sphere) => {
                                             $sphere(sphere, prim, rays, soa, search, stats)
                                         }
+                                        Shape::Cone(cone) => super::cones::test_cone(
+                                            cone, prim, rays, soa, search, stats,
+                                        ),
                                         _ => search.test_per_ray(geometry, prim, rays, soa, stats),
                                     }
                                 }

@@ -1,0 +1,388 @@
+//! `Cone::intersect` in four lanes: one cone against four rays of a packet (the packet
+//! walks' cone kernel), or one ray against up to four cones (the single-ray walk's leaves).
+//! SPD's lattice and rings are mostly cylinders; tested one ray at a time, their tests were
+//! a fifth to a third of a render, most of it the latency of one test's chain of f64 steps.
+//!
+//! Lane by lane the pass makes the operations of `Cone::intersect` in the same order (the
+//! ray moved into the cone's frame in f32, the quadric and the caps in f64, no fused
+//! multiply-add), so each lane's distance and part are the scalar test's bit for bit
+//! (unit-tested below). The f64 steps take four lanes of AVX2: with AVX-512 eight lanes
+//! would not go faster, as its dividers and square roots are no wider.
+
+use super::{PacketSearch, RaySoa};
+use crate::geometry::{Cone, ConeTerms, ShapeHit, ShapeKind};
+use crate::stats::Stats;
+use std::arch::x86_64::*;
+
+/// A cone's terms (`ConeTerms`) in four lanes, one cone broadcast or a cone a lane.
+pub(super) struct ConeLanes {
+    base: [__m128; 3],
+    /// The frame's axes x, y and z, each by its three components.
+    axes: [[__m128; 3]; 3],
+    height: __m256d,
+    base_radius: __m256d,
+    apex_radius: __m256d,
+    slope: __m256d,
+    /// All ones in the lanes of capped cones.
+    capped: __m256d,
+}
+
+impl ConeLanes {
+    /// One cone's terms in every lane.
+    #[target_feature(enable = "avx2,popcnt")]
+    #[inline]
+    pub(super) fn splat(c: &ConeTerms) -> ConeLanes {
+        let vector = |v: glam::Vec3| v.to_array().map(|x| _mm_set1_ps(x));
+        let capped = if c.capped {
+            f64::from_bits(u64::MAX)
+        } else {
+            0.0
+        };
+        ConeLanes {
+            base: vector(c.base),
+            axes: [vector(c.frame.x), vector(c.frame.y), vector(c.frame.z)],
+            height: _mm256_set1_pd(c.height),
+            base_radius: _mm256_set1_pd(c.base_radius),
+            apex_radius: _mm256_set1_pd(c.apex_radius),
+            slope: _mm256_set1_pd(c.slope),
+            capped: _mm256_set1_pd(capped),
+        }
+    }
+
+    /// The terms of up to four cones, a lane each; lanes past them repeat the first.
+    #[target_feature(enable = "avx2,popcnt")]
+    #[inline]
+    pub(super) fn new(cones: &[ConeTerms]) -> ConeLanes {
+        debug_assert!(!cones.is_empty() && cones.len() <= 4);
+        // Rows of the f32 terms (base, then the axes x, y, z; each x, y, z) and of the
+        // f64 ones, a lane each.
+        let (mut f32s, mut f64s) = ([[0.0f32; 4]; 12], [[0.0f64; 4]; 5]);
+        for lane in 0..4 {
+            let c = &cones[if lane < cones.len() { lane } else { 0 }];
+            let vectors = [c.base, c.frame.x, c.frame.y, c.frame.z];
+            for (v, vector) in vectors.iter().enumerate() {
+                for a in 0..3 {
+                    f32s[3 * v + a][lane] = vector[a];
+                }
+            }
+            let capped = if c.capped {
+                f64::from_bits(u64::MAX)
+            } else {
+                0.0
+            };
+            let values = [c.height, c.base_radius, c.apex_radius, c.slope, capped];
+            for (row, value) in f64s.iter_mut().zip(values) {
+                row[lane] = value;
+            }
+        }
+        // SAFETY: each row holds four values; unaligned loads.
+        let r32 = |i: usize| unsafe { _mm_loadu_ps(f32s[i].as_ptr()) };
+        // SAFETY: as above.
+        let r64 = |i: usize| unsafe { _mm256_loadu_pd(f64s[i].as_ptr()) };
+        let vector = |v: usize| [r32(3 * v), r32(3 * v + 1), r32(3 * v + 2)];
+        ConeLanes {
+            base: vector(0),
+            axes: [vector(1), vector(2), vector(3)],
+            height: r64(0),
+            base_radius: r64(1),
+            apex_radius: r64(2),
+            slope: r64(3),
+            capped: r64(4),
+        }
+    }
+}
+
+/// What a pass found: the lanes hit before the bound (a bit each), and in every lane the
+/// distance and the part (`ShapeHit::t` and `u` as `Cone::intersect` gives them).
+pub(super) struct ConeHits {
+    pub hit: u32,
+    pub t: [f32; 4],
+    pub part: [f32; 4],
+}
+
+/// `Cone::intersect` in four lanes, each a ray (`origin`, `dir`) and a cone of `cones`, at
+/// bound `t_max`: lane by lane its operations in its order.
+#[target_feature(enable = "avx2,popcnt")]
+#[inline]
+pub(super) fn cone_lanes(
+    cones: &ConeLanes,
+    origin: [__m128; 3],
+    dir: [__m128; 3],
+    t_max: __m128,
+) -> ConeHits {
+    // The ray in the cone's frame, in f32 as `Frame::to_local` (`Vec3::dot` sums x, y,
+    // then z), then widened.
+    let dot = |v: &[__m128; 3], axis: &[__m128; 3]| {
+        _mm_add_ps(
+            _mm_add_ps(_mm_mul_ps(v[0], axis[0]), _mm_mul_ps(v[1], axis[1])),
+            _mm_mul_ps(v[2], axis[2]),
+        )
+    };
+    let v = [0, 1, 2].map(|a| _mm_sub_ps(origin[a], cones.base[a]));
+    let local = |v: &[__m128; 3]| cones.axes.map(|axis| _mm256_cvtps_pd(dot(v, &axis)));
+    let [ox, oy, oz] = local(&v);
+    let [dx, dy, dz] = local(&dir);
+
+    let (add, sub, mul, div) = (_mm256_add_pd, _mm256_sub_pd, _mm256_mul_pd, _mm256_div_pd);
+    let splat = _mm256_set1_pd;
+    let (and, zero) = (_mm256_and_pd, _mm256_setzero_pd());
+    let (h, rb, k) = (cones.height, cones.base_radius, cones.slope);
+    let ro = add(rb, mul(k, oz));
+    let a = sub(add(mul(dx, dx), mul(dy, dy)), mul(mul(mul(k, k), dz), dz));
+    let b = mul(
+        splat(2.0),
+        sub(add(mul(ox, dx), mul(oy, dy)), mul(mul(k, ro), dz)),
+    );
+    let c = sub(add(mul(ox, ox), mul(oy, oy)), mul(ro, ro));
+    let on_side = |t: __m256d| {
+        let z = add(oz, mul(t, dz));
+        and(
+            _mm256_cmp_pd::<_CMP_LE_OQ>(zero, z),
+            _mm256_cmp_pd::<_CMP_LE_OQ>(z, h),
+        )
+    };
+    // `consider` of each candidate in the scalar order: kept if its f32 distance lies
+    // within (0, t_max) and it is strictly nearer than the one kept so far. The f32
+    // comparisons are made on the values widened back, which is exact.
+    let t_max = _mm256_cvtps_pd(t_max);
+    let [side, base_cap, apex_cap] = ConeTerms::PARTS.map(|p| splat(f64::from(p)));
+    let (mut best, mut part) = (splat(f64::INFINITY), zero);
+    let mut consider = |t: __m256d, candidate: __m256d, p: __m256d| {
+        let reported = _mm256_cvtps_pd(_mm256_cvtpd_ps(t));
+        let within = and(
+            _mm256_cmp_pd::<_CMP_GT_OQ>(reported, zero),
+            _mm256_cmp_pd::<_CMP_LT_OQ>(reported, t_max),
+        );
+        let keep = and(and(candidate, within), _mm256_cmp_pd::<_CMP_LT_OQ>(t, best));
+        best = _mm256_blendv_pd(best, t, keep);
+        part = _mm256_blendv_pd(part, p, keep);
+    };
+    // Each kind of candidate only where some lane has one: most tests miss the side
+    // (no real root) and SPD's cylinders have no caps, and the scalar test skips those
+    // divisions and square roots too.
+    let any = |mask: __m256d| _mm256_movemask_pd(mask) != 0;
+    // `a != 0.0` holds for NaN as well (unordered), as in the scalar test.
+    let quadratic = _mm256_cmp_pd::<_CMP_NEQ_UQ>(a, zero);
+    let disc = sub(mul(b, b), mul(mul(splat(4.0), a), c));
+    let roots = and(quadratic, _mm256_cmp_pd::<_CMP_GE_OQ>(disc, zero));
+    if any(roots) {
+        // -0.5 * (b + copysign(sqrt(disc), b))
+        let sign = splat(-0.0);
+        let root = _mm256_sqrt_pd(disc);
+        let signed_root = _mm256_or_pd(_mm256_andnot_pd(sign, root), and(sign, b));
+        let q = mul(splat(-0.5), add(b, signed_root));
+        let (t1, t2) = (div(q, a), div(c, q));
+        consider(t1, and(roots, on_side(t1)), side);
+        consider(t2, and(roots, on_side(t2)), side);
+    }
+    // A leading coefficient of exactly zero leaves a linear equation.
+    let linear = and(
+        _mm256_cmp_pd::<_CMP_EQ_OQ>(a, zero),
+        _mm256_cmp_pd::<_CMP_NEQ_UQ>(b, zero),
+    );
+    if any(linear) {
+        let t = div(_mm256_xor_pd(c, splat(-0.0)), b);
+        consider(t, and(linear, on_side(t)), side);
+    }
+    let caps = and(cones.capped, _mm256_cmp_pd::<_CMP_NEQ_UQ>(dz, zero));
+    if any(caps) {
+        for (z, r, p) in [(zero, rb, base_cap), (h, cones.apex_radius, apex_cap)] {
+            let t = div(sub(z, oz), dz);
+            let (x, y) = (add(ox, mul(t, dx)), add(oy, mul(t, dy)));
+            let inside = _mm256_cmp_pd::<_CMP_LE_OQ>(add(mul(x, x), mul(y, y)), mul(r, r));
+            consider(t, and(caps, inside), p);
+        }
+    }
+    // A kept distance is finite (its f32 lies below t_max), so +∞ marks the lanes that
+    // kept none.
+    let hit = _mm256_cmp_pd::<_CMP_LT_OQ>(best, splat(f64::INFINITY));
+    let mut out = ConeHits {
+        hit: _mm256_movemask_pd(hit) as u32,
+        t: [0.0; 4],
+        part: [0.0; 4],
+    };
+    // SAFETY: each array holds four f32s; unaligned stores.
+    unsafe {
+        _mm_storeu_ps(out.t.as_mut_ptr(), _mm256_cvtpd_ps(best));
+        _mm_storeu_ps(out.part.as_mut_ptr(), _mm256_cvtpd_ps(part));
+    }
+    out
+}
+
+/// `cone` (primitive `prim`) against the rays of `rays`, four per step, at each ray's
+/// `nested` bound; a hit so found is kept if it holds at the ray's own bound for `prim`
+/// (`PacketSearch::keep_shape_hit`), as the scalar test decides it. Shared by the AVX2 and
+/// AVX-512 packet walks.
+#[target_feature(enable = "avx2,popcnt")]
+#[inline]
+pub(super) fn test_cone(
+    cone: &Cone,
+    prim: u32,
+    rays: u64,
+    soa: &RaySoa,
+    search: &mut PacketSearch,
+    stats: &mut Stats,
+) {
+    stats.count_tests(ShapeKind::Cone, u64::from(rays.count_ones()));
+    let lanes = ConeLanes::splat(&cone.terms());
+    let load = |v: &[f32; 64], at: usize| {
+        debug_assert!(at + 4 <= 64);
+        // SAFETY: `at` is a multiple of four below 64; unaligned load.
+        unsafe { _mm_loadu_ps(v.as_ptr().add(at)) }
+    };
+    let mut left = rays;
+    while left != 0 {
+        // The group of four rays holding the lowest one left.
+        let at = (left.trailing_zeros() & !3) as usize;
+        let wanted = (left >> at) & 0xf;
+        left &= !(0xf << at);
+        let origin = [0, 1, 2].map(|a| load(&soa.origin[a], at));
+        let dir = [0, 1, 2].map(|a| load(&soa.dir[a], at));
+        let found = cone_lanes(&lanes, origin, dir, load(&search.nested, at));
+        let mut hit = wanted & u64::from(found.hit);
+        while hit != 0 {
+            let j = hit.trailing_zeros() as usize;
+            hit &= hit - 1;
+            let shape_hit = ShapeHit {
+                t: found.t[j],
+                u: found.part[j],
+                v: 0.0,
+            };
+            search.keep_shape_hit(at + j, prim, shape_hit);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::hash::uniform;
+    use crate::math::{Ray, Vec3};
+
+    fn point(seed: u64, scale: f32) -> Vec3 {
+        let c = |k| (uniform(seed as u32, (seed >> 32) as u32, 0, k, 31) * 2.0 - 1.0) * scale;
+        Vec3::new(c(0), c(1), c(2))
+    }
+
+    /// A cone for `case`: cylinders (equal radii), cones narrowing and widening, pointed
+    /// ones, capped and open, along an axis or any way.
+    fn cone(case: u64, scale: f32) -> Cone {
+        let u = |k: u32| uniform(case as u32, (case >> 32) as u32, 1, k, 32);
+        let base = point(case * 8, scale);
+        let axis = match case % 4 {
+            0 => Vec3::Z,
+            1 => Vec3::new(0.0, -1.0, 0.0),
+            _ => point(case * 8 + 1, 1.0).normalize_or(Vec3::X),
+        } * scale
+            * (0.2 + u(0));
+        let r = (0.05 + u(1)) * 0.5 * scale;
+        let (rb, ra) = match case / 4 % 5 {
+            0 | 1 => (r, r),
+            2 => (r, 0.5 * r),
+            3 => (0.0, r),
+            _ => (r, 0.0),
+        };
+        Cone::new(base, rb, base + axis, ra, (case / 20).is_multiple_of(2)).expect("a cone")
+    }
+
+    /// A ray for `case` toward `c`: at its middle, along its axis, across it, grazing its
+    /// side, from inside, or anywhere.
+    fn ray(case: u64, c: &Cone, scale: f32) -> Ray {
+        let t = c.terms();
+        let mid = (c.base + c.apex) * 0.5;
+        let origin = mid + point(case * 16 + 2, 3.0 * scale);
+        let (origin, dir) = match case % 7 {
+            0 => (origin, mid - origin),
+            // Along the axis from off either end, into the caps when it has them.
+            1 => (
+                mid - t.frame.z * 3.0 * scale + point(case * 16 + 5, 0.1 * scale),
+                t.frame.z,
+            ),
+            2 => (
+                mid + t.frame.z * 3.0 * scale + point(case * 16 + 6, 0.1 * scale),
+                -t.frame.z,
+            ),
+            // Perpendicular to the axis: the caps' division by zero.
+            3 => (mid + t.frame.x * 4.0 * scale, -t.frame.x),
+            // Tangent to the side at the middle.
+            4 => {
+                let radius = (t.base_radius + t.apex_radius) as f32 * 0.5;
+                (
+                    mid + t.frame.x * radius - t.frame.y * 3.0 * scale,
+                    t.frame.y,
+                )
+            }
+            5 => (mid, point(case * 16 + 3, 1.0)),
+            _ => (origin, point(case * 16 + 4, 1.0)),
+        };
+        Ray::new(origin, dir.normalize_or(Vec3::Y))
+    }
+
+    fn lanes(v: [f32; 4]) -> __m128 {
+        // SAFETY: four f32s; unaligned load (SSE is part of x86-64).
+        unsafe { _mm_loadu_ps(v.as_ptr()) }
+    }
+
+    /// Every lane is `Cone::intersect` bit for bit, in both uses: one cone against four
+    /// rays, and one ray against four cones; at three scales and several bounds.
+    #[test]
+    fn lanes_are_the_scalar_test() {
+        if !super::super::available() {
+            eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
+            return;
+        }
+        let (mut hits, mut caps, mut misses) = (0, 0, 0);
+        for scale in [1e-3f32, 1.0, 1e3] {
+            for case in 0..4000u64 {
+                let cones: Vec<Cone> = (0..4).map(|k| cone(case * 4 + k, scale)).collect();
+                let rays: Vec<Ray> = (0..4)
+                    .map(|k| ray(case * 4 + k, &cones[0], scale))
+                    .collect();
+                let bound = [f32::INFINITY, 3.0 * scale, 0.5 * scale][(case % 3) as usize];
+                let bounds = [bound, f32::INFINITY, bound, 1e-3 * scale];
+                let check = |lane: usize, c: &Cone, r: &Ray, got: &ConeHits| {
+                    let want = c.intersect(r, bounds[lane]);
+                    let got_hit = got.hit >> lane & 1 == 1;
+                    let at = format!("scale {scale} case {case} lane {lane}: {c:?} {r:?}");
+                    assert_eq!(got_hit, want.is_some(), "{at}");
+                    if let Some(w) = want {
+                        assert_eq!(got.t[lane].to_bits(), w.t.to_bits(), "{at}");
+                        assert_eq!(got.part[lane], w.u, "{at}");
+                    }
+                    want
+                };
+                let row =
+                    |f: fn(&Ray) -> Vec3, a: usize| lanes([0, 1, 2, 3].map(|k| f(&rays[k])[a]));
+                // SAFETY: AVX2 was detected above.
+                let (one_cone, one_ray) = unsafe {
+                    let one_cone = cone_lanes(
+                        &ConeLanes::splat(&cones[0].terms()),
+                        [0, 1, 2].map(|a| row(|r| r.origin, a)),
+                        [0, 1, 2].map(|a| row(|r| r.dir, a)),
+                        lanes(bounds),
+                    );
+                    let terms: Vec<ConeTerms> = cones.iter().map(Cone::terms).collect();
+                    let one_ray = cone_lanes(
+                        &ConeLanes::new(&terms),
+                        rays[0].origin.to_array().map(|v| _mm_set1_ps(v)),
+                        rays[0].dir.to_array().map(|v| _mm_set1_ps(v)),
+                        lanes(bounds),
+                    );
+                    (one_cone, one_ray)
+                };
+                for lane in 0..4 {
+                    match check(lane, &cones[0], &rays[lane], &one_cone) {
+                        Some(h) if h.u != 0.0 => caps += 1,
+                        Some(_) => hits += 1,
+                        None => misses += 1,
+                    }
+                    check(lane, &cones[lane], &rays[0], &one_ray);
+                }
+            }
+        }
+        assert!(
+            hits > 10_000 && caps > 2_000 && misses > 10_000,
+            "{hits} side hits, {caps} cap hits, {misses} misses"
+        );
+    }
+}
