@@ -15,7 +15,7 @@ use super::super::traverse::LeafQuery;
 use super::cones::{cone_lanes, ConeLanes};
 use super::spheres::{sphere_hits, LANES};
 use crate::accel::query::HitSearch;
-use crate::geometry::{ConeTerms, Shape, ShapeHit, ShapeKind};
+use crate::geometry::{Shape, ShapeHit, ShapeKind};
 use crate::stats::Stats;
 use std::arch::x86_64::*;
 
@@ -52,9 +52,8 @@ pub(in crate::accel::bvh) fn test_shape_leaf(
     }
     let ids = &leaves.prims[first as usize..][..n];
     // The spheres' centres and radii in the lanes of their places in the leaf (other
-    // lanes stay zero and are masked off); the cones' terms in leaf order.
+    // lanes stay zero and are masked off); the cones' places.
     let mut rows = [[0.0f32; LANES]; 4];
-    let mut cone_terms = [None::<ConeTerms>; LANES];
     let (mut spheres, mut cones) = (0u32, 0u32);
     for (k, &prim) in ids.iter().enumerate() {
         match &leaves.geometry.primitives[prim as usize].shape {
@@ -65,10 +64,7 @@ pub(in crate::accel::bvh) fn test_shape_leaf(
                 rows[3][k] = s.radius;
                 spheres |= 1 << k;
             }
-            Shape::Cone(c) => {
-                cone_terms[k] = Some(c.terms());
-                cones |= 1 << k;
-            }
+            Shape::Cone(_) => cones |= 1 << k,
             _ => {}
         }
     }
@@ -91,13 +87,7 @@ pub(in crate::accel::bvh) fn test_shape_leaf(
         t = sphere_t;
     }
     if cones != 0 {
-        cone_hits(
-            &cone_terms,
-            cones,
-            leaves,
-            bound,
-            (&mut hit, &mut t, &mut part),
-        );
+        cone_hits(ids, cones, leaves, bound, (&mut hit, &mut t, &mut part));
     }
     for (k, &prim) in ids.iter().enumerate() {
         let answered = if (spheres | cones) & (1 << k) != 0 {
@@ -123,13 +113,13 @@ pub(in crate::accel::bvh) fn test_shape_leaf(
     Some(false)
 }
 
-/// `Cone::intersect` of the cones of the leaf places in `cones` (their terms in
-/// `terms`) against the leaf's ray at bound `t_max`, four at a time: each one's hit bit,
-/// distance and part written into its place.
+/// `Cone::intersect` of the cones at the places `cones` of the leaf `ids` against the
+/// leaf's ray at bound `t_max`, four at a time: each one's hit bit, distance and part
+/// written into its place.
 #[target_feature(enable = "avx2,popcnt")]
 #[inline]
 fn cone_hits(
-    terms: &[Option<ConeTerms>; LANES],
+    ids: &[u32],
     cones: u32,
     leaves: &LeafQuery<'_>,
     t_max: f32,
@@ -139,14 +129,18 @@ fn cone_hits(
     let origin = ray.origin.to_array().map(|v| _mm_set1_ps(v));
     let dir = ray.dir.to_array().map(|v| _mm_set1_ps(v));
     let bound = _mm_set1_ps(t_max);
-    let (mut left, mut places) = (cones, [0usize; 4]);
+    let terms = |k: usize| match &leaves.geometry.primitives[ids[k] as usize].shape {
+        Shape::Cone(c) => c.terms(),
+        _ => unreachable!("a cone at each place of `cones`"),
+    };
+    let mut left = cones;
     while left != 0 {
-        let mut group = [terms[left.trailing_zeros() as usize].expect("a cone"); 4];
-        let mut n = 0;
+        let (mut group, mut places, mut n) =
+            ([terms(left.trailing_zeros() as usize); 4], [0; 4], 0);
         while left != 0 && n < 4 {
             let k = left.trailing_zeros() as usize;
             left &= left - 1;
-            group[n] = terms[k].expect("a cone's terms in each of its places");
+            group[n] = terms(k);
             places[n] = k;
             n += 1;
         }
