@@ -1,7 +1,8 @@
 //! `Cone::intersect` in four lanes: one cone against four rays of a packet (the packet
 //! walks' cone kernel), or one ray against up to four cones (the single-ray walk's leaves).
-//! SPD's lattice and rings are mostly cylinders; tested one ray at a time, their tests were
-//! a fifth to a third of a render, most of it the latency of one test's chain of f64 steps.
+//! SPD's lattice and rings are mostly cylinders; tested one ray and one cone at a time,
+//! their tests were a quarter to two fifths of a render (`perf`), most of it the latency of
+//! one test's chain of f64 steps.
 //!
 //! Lane by lane the pass makes the operations of `Cone::intersect` in the same order (the
 //! ray moved into the cone's frame in f32, the quadric and the caps in f64, no fused
@@ -33,11 +34,6 @@ impl ConeLanes {
     #[inline]
     pub(super) fn splat(c: &ConeTerms) -> ConeLanes {
         let vector = |v: glam::Vec3| v.to_array().map(|x| _mm_set1_ps(x));
-        let capped = if c.capped {
-            f64::from_bits(u64::MAX)
-        } else {
-            0.0
-        };
         ConeLanes {
             base: vector(c.base),
             axes: [vector(c.frame.x), vector(c.frame.y), vector(c.frame.z)],
@@ -45,7 +41,7 @@ impl ConeLanes {
             base_radius: _mm256_set1_pd(c.base_radius),
             apex_radius: _mm256_set1_pd(c.apex_radius),
             slope: _mm256_set1_pd(c.slope),
-            capped: _mm256_set1_pd(capped),
+            capped: _mm256_set1_pd(lane_mask(c.capped)),
         }
     }
 
@@ -65,11 +61,7 @@ impl ConeLanes {
                     f32s[3 * v + a][lane] = vector[a];
                 }
             }
-            let capped = if c.capped {
-                f64::from_bits(u64::MAX)
-            } else {
-                0.0
-            };
+            let capped = lane_mask(c.capped);
             let values = [c.height, c.base_radius, c.apex_radius, c.slope, capped];
             for (row, value) in f64s.iter_mut().zip(values) {
                 row[lane] = value;
@@ -89,6 +81,15 @@ impl ConeLanes {
             slope: r64(3),
             capped: r64(4),
         }
+    }
+}
+
+/// A lane of a mask: all ones where `set`.
+fn lane_mask(set: bool) -> f64 {
+    if set {
+        f64::from_bits(u64::MAX)
+    } else {
+        0.0
     }
 }
 

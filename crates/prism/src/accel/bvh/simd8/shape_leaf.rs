@@ -15,8 +15,9 @@ use super::super::traverse::LeafQuery;
 use super::cones::{cone_lanes, ConeLanes};
 use super::spheres::{sphere_hits, LANES};
 use crate::accel::query::HitSearch;
-use crate::geometry::{Shape, ShapeHit, ShapeKind};
+use crate::geometry::{ConeTerms, Shape, ShapeHit, ShapeKind};
 use crate::stats::Stats;
+use arrayvec::ArrayVec;
 use std::arch::x86_64::*;
 
 /// The fewest spheres a pass is made for: a scalar test that misses stops before its
@@ -135,17 +136,17 @@ fn cone_hits(
     };
     let mut left = cones;
     while left != 0 {
-        let (mut group, mut places, mut n) =
-            ([terms(left.trailing_zeros() as usize); 4], [0; 4], 0);
-        while left != 0 && n < 4 {
+        // The next four cones (or fewer), in leaf order.
+        let (mut group, mut places) =
+            (ArrayVec::<ConeTerms, 4>::new(), ArrayVec::<usize, 4>::new());
+        while left != 0 && !group.is_full() {
             let k = left.trailing_zeros() as usize;
             left &= left - 1;
-            group[n] = terms(k);
-            places[n] = k;
-            n += 1;
+            group.push(terms(k));
+            places.push(k);
         }
-        let found = cone_lanes(&ConeLanes::new(&group[..n]), origin, dir, bound);
-        for (lane, &k) in places[..n].iter().enumerate() {
+        let found = cone_lanes(&ConeLanes::new(&group), origin, dir, bound);
+        for (lane, &k) in places.iter().enumerate() {
             *hit |= (found.hit >> lane & 1) << k;
             t[k] = found.t[lane];
             part[k] = found.part[lane];
