@@ -324,6 +324,64 @@ mod tests {
         unsafe { _mm_loadu_ps(v.as_ptr()) }
     }
 
+    /// Rays parallel to a cone's side (a leading coefficient of exactly zero, the scalar
+    /// test's linear branch) and along a cylinder's axis (no side hit at all): the lanes
+    /// agree with the scalar test there too, and the linear branch does find hits.
+    #[test]
+    fn lanes_take_the_linear_branch_as_the_scalar_test() {
+        if !super::super::available() {
+            eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
+            return;
+        }
+        let mut linear_hits = 0;
+        for scale in [1e-3f32, 1.0, 1e3] {
+            // Slope -1: radius `scale` at the base, a point at the apex, axis +z, so a
+            // direction with |x| = |z| (and y = 0) runs parallel to a side line.
+            let cone = Cone::new(Vec3::ZERO, scale, Vec3::Z * scale, 0.0, true).expect("a cone");
+            let cylinder =
+                Cone::cylinder(Vec3::ZERO, Vec3::Z * scale, scale, false).expect("a cylinder");
+            for case in 0..400u64 {
+                let o = point(case * 16 + 7, 2.0 * scale);
+                let s = std::f32::consts::FRAC_1_SQRT_2;
+                let dirs = [
+                    Vec3::new(s, 0.0, s),
+                    Vec3::new(-s, 0.0, s),
+                    Vec3::new(s, 0.0, -s),
+                    Vec3::Z,
+                ];
+                for c in [&cone, &cylinder] {
+                    let rays = dirs.map(|d| Ray::new(o, d));
+                    let row =
+                        |f: fn(&Ray) -> Vec3, a: usize| lanes(rays.each_ref().map(|r| f(r)[a]));
+                    // SAFETY: AVX2 was detected above.
+                    let got = unsafe {
+                        cone_lanes(
+                            &ConeLanes::splat(&c.terms()),
+                            [0, 1, 2].map(|a| row(|r| r.origin, a)),
+                            [0, 1, 2].map(|a| row(|r| r.dir, a)),
+                            lanes([f32::INFINITY; 4]),
+                        )
+                    };
+                    for (lane, r) in rays.iter().enumerate() {
+                        let want = c.intersect(r, f32::INFINITY);
+                        let at = format!("scale {scale} case {case} lane {lane}: {c:?} {r:?}");
+                        assert_eq!(got.hit >> lane & 1 == 1, want.is_some(), "{at}");
+                        if let Some(w) = want {
+                            assert_eq!(got.t[lane].to_bits(), w.t.to_bits(), "{at}");
+                            assert_eq!(got.part[lane], w.u, "{at}");
+                            linear_hits +=
+                                u32::from(lane < 3 && w.u == 0.0 && std::ptr::eq(c, &cone));
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            linear_hits > 100,
+            "{linear_hits} hits on the side through the linear branch"
+        );
+    }
+
     /// Every lane is `Cone::intersect` bit for bit, in both uses: one cone against four
     /// rays, and one ray against four cones; at three scales and several bounds.
     #[test]
