@@ -134,8 +134,6 @@ mod cones;
 #[cfg(target_arch = "x86_64")]
 mod pair;
 #[cfg(target_arch = "x86_64")]
-mod shape_leaf;
-#[cfg(target_arch = "x86_64")]
 mod spheres;
 
 #[cfg(target_arch = "x86_64")]

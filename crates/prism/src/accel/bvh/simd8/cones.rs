@@ -1,5 +1,5 @@
-//! `Cone::intersect` in four lanes: one cone against four rays of a packet (the packet
-//! walks' cone kernel), or one ray against up to four cones (the single-ray walk's leaves).
+//! `Cone::intersect` in four lanes: one cone against four rays of a packet, the cone kernel
+//! of both packet walks (AVX2 and AVX-512).
 //! SPD's lattice and rings are mostly cylinders; tested one ray and one cone at a time,
 //! their tests were a quarter to two fifths of a render (`perf`), most of it the latency of
 //! one test's chain of f64 steps.
@@ -15,7 +15,7 @@ use crate::geometry::{Cone, ConeTerms, ShapeHit, ShapeKind};
 use crate::stats::Stats;
 use std::arch::x86_64::*;
 
-/// A cone's terms (`ConeTerms`) in four lanes, one cone broadcast or a cone a lane.
+/// A cone's terms (`ConeTerms`) broadcast across four lanes.
 pub(super) struct ConeLanes {
     base: [__m128; 3],
     /// The frame's axes x, y and z, each by its three components.
@@ -24,7 +24,7 @@ pub(super) struct ConeLanes {
     base_radius: __m256d,
     apex_radius: __m256d,
     slope: __m256d,
-    /// All ones in the lanes of capped cones.
+    /// All ones where the cone is capped.
     capped: __m256d,
 }
 
@@ -42,44 +42,6 @@ impl ConeLanes {
             apex_radius: _mm256_set1_pd(c.apex_radius),
             slope: _mm256_set1_pd(c.slope),
             capped: _mm256_set1_pd(lane_mask(c.capped)),
-        }
-    }
-
-    /// The terms of up to four cones, a lane each; lanes past them repeat the first.
-    #[target_feature(enable = "avx2,popcnt")]
-    #[inline]
-    pub(super) fn new(cones: &[ConeTerms]) -> ConeLanes {
-        debug_assert!(!cones.is_empty() && cones.len() <= 4);
-        // Rows of the f32 terms (base, then the axes x, y, z; each x, y, z) and of the
-        // f64 ones, a lane each.
-        let (mut f32s, mut f64s) = ([[0.0f32; 4]; 12], [[0.0f64; 4]; 5]);
-        for lane in 0..4 {
-            let c = &cones[if lane < cones.len() { lane } else { 0 }];
-            let vectors = [c.base, c.frame.x, c.frame.y, c.frame.z];
-            for (v, vector) in vectors.iter().enumerate() {
-                for a in 0..3 {
-                    f32s[3 * v + a][lane] = vector[a];
-                }
-            }
-            let capped = lane_mask(c.capped);
-            let values = [c.height, c.base_radius, c.apex_radius, c.slope, capped];
-            for (row, value) in f64s.iter_mut().zip(values) {
-                row[lane] = value;
-            }
-        }
-        // SAFETY: each row holds four values; unaligned loads.
-        let r32 = |i: usize| unsafe { _mm_loadu_ps(f32s[i].as_ptr()) };
-        // SAFETY: as above.
-        let r64 = |i: usize| unsafe { _mm256_loadu_pd(f64s[i].as_ptr()) };
-        let vector = |v: usize| [r32(3 * v), r32(3 * v + 1), r32(3 * v + 2)];
-        ConeLanes {
-            base: vector(0),
-            axes: [vector(1), vector(2), vector(3)],
-            height: r64(0),
-            base_radius: r64(1),
-            apex_radius: r64(2),
-            slope: r64(3),
-            capped: r64(4),
         }
     }
 }
@@ -101,12 +63,12 @@ pub(super) struct ConeHits {
     pub part: [f32; 4],
 }
 
-/// `Cone::intersect` in four lanes, each a ray (`origin`, `dir`) and a cone of `cones`, at
-/// bound `t_max`: lane by lane its operations in its order.
+/// `Cone::intersect` of `cone` in four lanes, each a ray (`origin`, `dir`) at its bound in
+/// `t_max`: lane by lane its operations in its order.
 #[target_feature(enable = "avx2,popcnt")]
 #[inline]
 pub(super) fn cone_lanes(
-    cones: &ConeLanes,
+    cone: &ConeLanes,
     origin: [__m128; 3],
     dir: [__m128; 3],
     t_max: __m128,
@@ -119,15 +81,15 @@ pub(super) fn cone_lanes(
             _mm_mul_ps(v[2], axis[2]),
         )
     };
-    let v = [0, 1, 2].map(|a| _mm_sub_ps(origin[a], cones.base[a]));
-    let local = |v: &[__m128; 3]| cones.axes.map(|axis| _mm256_cvtps_pd(dot(v, &axis)));
+    let v = [0, 1, 2].map(|a| _mm_sub_ps(origin[a], cone.base[a]));
+    let local = |v: &[__m128; 3]| cone.axes.map(|axis| _mm256_cvtps_pd(dot(v, &axis)));
     let [ox, oy, oz] = local(&v);
     let [dx, dy, dz] = local(&dir);
 
     let (add, sub, mul, div) = (_mm256_add_pd, _mm256_sub_pd, _mm256_mul_pd, _mm256_div_pd);
     let splat = _mm256_set1_pd;
     let (and, zero) = (_mm256_and_pd, _mm256_setzero_pd());
-    let (h, rb, k) = (cones.height, cones.base_radius, cones.slope);
+    let (h, rb, k) = (cone.height, cone.base_radius, cone.slope);
     let ro = add(rb, mul(k, oz));
     let a = sub(add(mul(dx, dx), mul(dy, dy)), mul(mul(mul(k, k), dz), dz));
     let b = mul(
@@ -185,9 +147,9 @@ pub(super) fn cone_lanes(
         let t = div(_mm256_xor_pd(c, splat(-0.0)), b);
         consider(t, and(linear, on_side(t)), side);
     }
-    let caps = and(cones.capped, _mm256_cmp_pd::<_CMP_NEQ_UQ>(dz, zero));
+    let caps = and(cone.capped, _mm256_cmp_pd::<_CMP_NEQ_UQ>(dz, zero));
     if any(caps) {
-        for (z, r, p) in [(zero, rb, base_cap), (h, cones.apex_radius, apex_cap)] {
+        for (z, r, p) in [(zero, rb, base_cap), (h, cone.apex_radius, apex_cap)] {
             let t = div(sub(z, oz), dz);
             let (x, y) = (add(ox, mul(t, dx)), add(oy, mul(t, dy)));
             let inside = _mm256_cmp_pd::<_CMP_LE_OQ>(add(mul(x, x), mul(y, y)), mul(r, r));
@@ -382,8 +344,8 @@ mod tests {
         );
     }
 
-    /// Every lane is `Cone::intersect` bit for bit, in both uses: one cone against four
-    /// rays, and one ray against four cones; at three scales and several bounds.
+    /// Every lane is `Cone::intersect` bit for bit: one cone against four rays, at three
+    /// scales and several bounds.
     #[test]
     fn lanes_are_the_scalar_test() {
         if !super::super::available() {
@@ -393,49 +355,33 @@ mod tests {
         let (mut hits, mut caps, mut misses) = (0, 0, 0);
         for scale in [1e-3f32, 1.0, 1e3] {
             for case in 0..4000u64 {
-                let cones: Vec<Cone> = (0..4).map(|k| cone(case * 4 + k, scale)).collect();
-                let rays: Vec<Ray> = (0..4)
-                    .map(|k| ray(case * 4 + k, &cones[0], scale))
-                    .collect();
+                let c = cone(case, scale);
+                let rays: Vec<Ray> = (0..4).map(|k| ray(case * 4 + k, &c, scale)).collect();
                 let bound = [f32::INFINITY, 3.0 * scale, 0.5 * scale][(case % 3) as usize];
                 let bounds = [bound, f32::INFINITY, bound, 1e-3 * scale];
-                let check = |lane: usize, c: &Cone, r: &Ray, got: &ConeHits| {
-                    let want = c.intersect(r, bounds[lane]);
-                    let got_hit = got.hit >> lane & 1 == 1;
-                    let at = format!("scale {scale} case {case} lane {lane}: {c:?} {r:?}");
-                    assert_eq!(got_hit, want.is_some(), "{at}");
-                    if let Some(w) = want {
-                        assert_eq!(got.t[lane].to_bits(), w.t.to_bits(), "{at}");
-                        assert_eq!(got.part[lane], w.u, "{at}");
-                    }
-                    want
-                };
                 let row =
                     |f: fn(&Ray) -> Vec3, a: usize| lanes([0, 1, 2, 3].map(|k| f(&rays[k])[a]));
                 // SAFETY: AVX2 was detected above.
-                let (one_cone, one_ray) = unsafe {
-                    let one_cone = cone_lanes(
-                        &ConeLanes::splat(&cones[0].terms()),
+                let got = unsafe {
+                    cone_lanes(
+                        &ConeLanes::splat(&c.terms()),
                         [0, 1, 2].map(|a| row(|r| r.origin, a)),
                         [0, 1, 2].map(|a| row(|r| r.dir, a)),
                         lanes(bounds),
-                    );
-                    let terms: Vec<ConeTerms> = cones.iter().map(Cone::terms).collect();
-                    let one_ray = cone_lanes(
-                        &ConeLanes::new(&terms),
-                        rays[0].origin.to_array().map(|v| _mm_set1_ps(v)),
-                        rays[0].dir.to_array().map(|v| _mm_set1_ps(v)),
-                        lanes(bounds),
-                    );
-                    (one_cone, one_ray)
+                    )
                 };
-                for lane in 0..4 {
-                    match check(lane, &cones[0], &rays[lane], &one_cone) {
-                        Some(h) if h.u != 0.0 => caps += 1,
-                        Some(_) => hits += 1,
+                for (lane, r) in rays.iter().enumerate() {
+                    let want = c.intersect(r, bounds[lane]);
+                    let at = format!("scale {scale} case {case} lane {lane}: {c:?} {r:?}");
+                    assert_eq!(got.hit >> lane & 1 == 1, want.is_some(), "{at}");
+                    match want {
+                        Some(w) => {
+                            assert_eq!(got.t[lane].to_bits(), w.t.to_bits(), "{at}");
+                            assert_eq!(got.part[lane], w.u, "{at}");
+                            *(if w.u != 0.0 { &mut caps } else { &mut hits }) += 1;
+                        }
                         None => misses += 1,
                     }
-                    check(lane, &cones[lane], &rays[0], &one_ray);
                 }
             }
         }

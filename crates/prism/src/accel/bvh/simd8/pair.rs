@@ -197,7 +197,7 @@ pub(in crate::accel::bvh) fn test_leaf(
 ) -> bool {
     if count & PACKED == 0 {
         if let Some(answered) =
-            super::shape_leaf::test_shape_leaf(leaves, first, count, search, stats)
+            super::spheres::test_sphere_leaf(leaves, first, count, search, stats)
         {
             return answered;
         }
