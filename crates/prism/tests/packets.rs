@@ -301,34 +301,6 @@ fn check_scene(name: &str, scale: f32, offset: Vec3, seed: u64) {
                 })
                 .collect();
             check_packet(&what("grazing"), &bvh, &s, &rays, &inf, QueryMode::Nearest);
-            // Toward a light amid the scene from points on both sides of it, above and in
-            // front: rays in two octants, as shadow rays to a light amid the scene come.
-            let light = centre + scale * rng.point_in(Vec3::splat(-0.5), Vec3::splat(0.5));
-            let (rays, dist): (Vec<TraceRay>, Vec<f32>) = (0..n)
-                .map(|k| {
-                    let side = if k % 2 == 0 { 1.0 } else { -1.0 };
-                    let off = rng.point_in(Vec3::new(0.1, 0.1, 0.1), Vec3::splat(2.0));
-                    let p = light + scale * Vec3::new(side * off.x, off.y, off.z);
-                    let to = light - p;
-                    (TraceRay::new(Ray::new(p, to / to.length())), to.length())
-                })
-                .unzip();
-            check_packet(
-                &what("two octants"),
-                &bvh,
-                &s,
-                &rays,
-                &inf,
-                QueryMode::Nearest,
-            );
-            check_packet(
-                &what("two octants any"),
-                &bvh,
-                &s,
-                &rays,
-                &dist,
-                QueryMode::Any,
-            );
         }
     }
 }

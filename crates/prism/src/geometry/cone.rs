@@ -37,7 +37,7 @@ const APEX_CAP: f32 = 2.0;
 /// lanes (`accel/bvh/simd8/cones.rs`): the frame's axes and base in f32, where the ray is
 /// moved into the frame, and the rest in the f64 of the quadric.
 #[derive(Clone, Copy, Debug)]
-pub struct ConeTerms {
+pub(crate) struct ConeTerms {
     /// Centre of the base disc, the frame's origin.
     pub base: Vec3,
     /// The frame whose z axis runs from the base to the apex.
@@ -57,7 +57,7 @@ pub struct ConeTerms {
 impl ConeTerms {
     /// The value `intersect` gives `ShapeHit::u` for a hit on the side, the base cap and
     /// the apex cap.
-    pub const PARTS: [f32; 3] = [SIDE, BASE_CAP, APEX_CAP];
+    pub(crate) const PARTS: [f32; 3] = [SIDE, BASE_CAP, APEX_CAP];
 }
 
 impl Cone {
@@ -95,7 +95,7 @@ impl Cone {
     }
 
     /// The terms of `intersect`'s arithmetic.
-    pub fn terms(&self) -> ConeTerms {
+    pub(crate) fn terms(&self) -> ConeTerms {
         ConeTerms {
             base: self.base,
             frame: self.frame,

@@ -14,7 +14,8 @@ mod triangle;
 mod triangle_pack;
 
 pub use aabox::AaBox;
-pub use cone::{Cone, ConeTerms};
+pub use cone::Cone;
+pub(crate) use cone::ConeTerms;
 pub use mesh::{MeshError, TriangleMesh};
 pub use plane::Plane;
 pub use sphere::Sphere;
