@@ -9,7 +9,7 @@ use super::topdown::{Split, SplitRule, PARALLEL_PASS};
 use super::BuildPrims;
 use crate::accel::bvh::BvhOptions;
 use crate::math::{Aabb, Vec3};
-use glam::{BVec3A, Mat3A, Vec3A};
+use glam::{BVec3A, Mat3A, Vec3A, Vec4};
 use rayon::prelude::*;
 
 pub(super) struct BinnedSah {
@@ -36,8 +36,8 @@ impl BinnedSah {
 /// right-to-left sweep's running areas, volumes and counts for one axis.
 pub(super) struct Sweep {
     bins: Vec<Bin>,
-    /// The second set of bins `Binning::fill` adds to.
-    spare: Vec<Bin>,
+    /// The two sets of bins `Binning::fill` counts in.
+    counting: Vec<CountingBin>,
     right_area: Vec<f32>,
     right_volume: Vec<f32>,
     right_count: Vec<u32>,
@@ -61,6 +61,51 @@ impl Bin {
         Bin {
             bounds: self.bounds.union(&other.bounds),
             count: self.count + other.count,
+        }
+    }
+}
+
+/// A bin while `Binning::fill` fills it: its box, and its count in the fourth lane of the
+/// maximum, so that one chain of operations a bin updates both. A separate count was a
+/// read-modify-write of memory per bin, waiting on the last one to the same bin.
+#[derive(Clone, Copy)]
+struct CountingBin {
+    min: Vec3A,
+    max: Vec4,
+}
+
+impl CountingBin {
+    const EMPTY: CountingBin = CountingBin {
+        min: Vec3A::INFINITY,
+        max: Vec4::new(f32::NEG_INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY, 0.0),
+    };
+
+    /// Adds a reference's box, its maximum with 0 in the fourth lane (`PrimRef::max4`).
+    #[inline(always)]
+    fn add(&mut self, min: Vec3A, max4: Vec4) {
+        self.min = self.min.min(min);
+        // `max` keeps the count (a reference's fourth lane is 0, counts are not
+        // negative); subtracting +0 leaves every coordinate as it was, -0 too, and
+        // subtracting -1 counts the reference.
+        self.max = self.max.max(max4) - Vec4::new(0.0, 0.0, 0.0, -1.0);
+    }
+
+    fn merge(&self, other: &CountingBin) -> CountingBin {
+        CountingBin {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max).with_w(self.max.w + other.max.w),
+        }
+    }
+
+    /// The bin as the sweep reads it. Counts in f32 are exact below 2²⁴, far above the
+    /// references one `fill` counts.
+    fn to_bin(self) -> Bin {
+        Bin {
+            bounds: SimdBox {
+                min: self.min,
+                max: Vec3A::from_vec4(self.max),
+            },
+            count: self.max.w as u32,
         }
     }
 }
@@ -91,36 +136,40 @@ impl Binning {
         (c - self.lo) * self.scale
     }
 
-    /// Adds `refs` to `bins` (three axes' worth, axis-major), reading each reference once;
-    /// `spare` (as long as `bins`, empty) is scratch. Even references go to `bins`, odd
-    /// ones to `spare`, merged at the end: a mesh's triangles come in order, so neighbours
-    /// often land in the same bins, and with one set each update waited for the store of
-    /// the one before it. Unions and counts are exact, so the bins are the same.
-    fn fill(&self, refs: &[PrimRef], bins: &mut [Bin], spare: &mut [Bin]) {
+    /// Sets `bins` (three axes' worth, axis-major) to the bins of `refs`, reading each
+    /// reference once; `counting` (twice as long as `bins`) is scratch. Even references
+    /// go to one set of counting bins, odd ones to the other, merged at the end: a mesh's
+    /// triangles come in order, so neighbours often land in the same bins, and with one
+    /// set each update waited for the store of the one before it. Unions and counts are
+    /// exact, so the bins are the same.
+    fn fill(&self, refs: &[PrimRef], bins: &mut [Bin], counting: &mut [CountingBin]) {
+        debug_assert!(refs.len() < 1 << 24, "counts in f32 stay exact");
+        let (even, odd) = counting[..2 * bins.len()].split_at_mut(bins.len());
+        even.fill(CountingBin::EMPTY);
+        odd.fill(CountingBin::EMPTY);
         let pairs = refs.chunks_exact(2);
-        let odd = pairs.remainder();
+        let last = pairs.remainder();
         for pair in pairs {
-            self.add(&pair[0], bins);
-            self.add(&pair[1], spare);
+            self.add(&pair[0], even);
+            self.add(&pair[1], odd);
         }
-        for r in odd {
-            self.add(r, bins);
+        for r in last {
+            self.add(r, even);
         }
-        for (bin, other) in bins.iter_mut().zip(spare.iter()) {
-            *bin = bin.merge(other);
+        for ((bin, a), b) in bins.iter_mut().zip(even.iter()).zip(odd.iter()) {
+            *bin = a.merge(b).to_bin();
         }
     }
 
     /// Adds one reference to the bins of its centroid on the three axes.
     #[inline(always)]
-    fn add(&self, r: &PrimRef, bins: &mut [Bin]) {
+    fn add(&self, r: &PrimRef, bins: &mut [CountingBin]) {
         let nb = self.bins;
         let (min, max) = (r.min(), r.max());
         let [bx, by, bz] = self.bins_of(0.5 * (min + max));
+        let max4 = r.max4();
         for bin in [bx, nb + by, 2 * nb + bz] {
-            let bin = &mut bins[bin];
-            bin.count += 1;
-            bin.bounds.grow(min, max);
+            bins[bin].add(min, max4);
         }
     }
 }
@@ -136,7 +185,7 @@ impl SplitRule for BinnedSah {
     fn scratch(&self) -> Sweep {
         Sweep {
             bins: vec![Bin::EMPTY; 3 * self.bins],
-            spare: vec![Bin::EMPTY; 3 * self.bins],
+            counting: vec![CountingBin::EMPTY; 6 * self.bins],
             right_area: vec![0.0; self.bins],
             right_volume: vec![0.0; self.bins],
             right_count: vec![0; self.bins],
@@ -172,8 +221,8 @@ impl SplitRule for BinnedSah {
             last: Vec3A::splat((nb - 1) as f32),
             bins: nb,
         };
-        let (bins, spare) = (&mut sweep.bins[..3 * nb], &mut sweep.spare[..3 * nb]);
-        self.fill_bins(&binning, refs, bins, spare);
+        let bins = &mut sweep.bins[..3 * nb];
+        self.fill_bins(&binning, refs, bins, &mut sweep.counting);
         let best = if self.inside {
             self.best_split(sweep, nb, bounds, scale, prims)
         } else {
@@ -210,11 +259,15 @@ impl SplitRule for BinnedSah {
 
 impl BinnedSah {
     /// Bins `refs` on all three axes, in parallel chunks for the nodes near the top.
-    fn fill_bins(&self, binning: &Binning, refs: &[PrimRef], bins: &mut [Bin], spare: &mut [Bin]) {
-        bins.fill(Bin::EMPTY);
+    fn fill_bins(
+        &self,
+        binning: &Binning,
+        refs: &[PrimRef],
+        bins: &mut [Bin],
+        counting: &mut [CountingBin],
+    ) {
         if refs.len() < PARALLEL_PASS {
-            spare.fill(Bin::EMPTY);
-            binning.fill(refs, bins, spare);
+            binning.fill(refs, bins, counting);
             return;
         }
         // Unions and counts are exact, so how rayon merges the chunks cannot change them.
@@ -222,8 +275,8 @@ impl BinnedSah {
             .par_chunks(PARALLEL_PASS / 2)
             .map(|chunk| {
                 let mut local = vec![Bin::EMPTY; bins.len()];
-                let mut spare = vec![Bin::EMPTY; bins.len()];
-                binning.fill(chunk, &mut local, &mut spare);
+                let mut counting = vec![CountingBin::EMPTY; 2 * bins.len()];
+                binning.fill(chunk, &mut local, &mut counting);
                 local
             })
             .reduce(
@@ -479,7 +532,7 @@ mod tests {
                 bins: nb,
             };
             let mut bins = vec![Bin::EMPTY; 3 * nb];
-            binning.fill(&refs, &mut bins, &mut vec![Bin::EMPTY; 3 * nb]);
+            binning.fill(&refs, &mut bins, &mut vec![CountingBin::EMPTY; 6 * nb]);
             for axis in 0..3 {
                 let axis_bins = &bins[axis * nb..][..nb];
                 assert_eq!(axis_bins.iter().map(|b| b.count).sum::<u32>(), 500);
@@ -525,10 +578,15 @@ mod tests {
                 bins: nb,
             };
             let mut bins = vec![Bin::EMPTY; 3 * nb];
-            binning.fill(&refs, &mut bins, &mut vec![Bin::EMPTY; 3 * nb]);
+            binning.fill(&refs, &mut bins, &mut vec![CountingBin::EMPTY; 6 * nb]);
+            // The bins one reference at a time, boxes grown and counts in integers.
             let mut one = vec![Bin::EMPTY; 3 * nb];
             for r in &refs {
-                binning.add(r, &mut one);
+                let [bx, by, bz] = binning.bins_of(r.centroid());
+                for bin in [bx, nb + by, 2 * nb + bz] {
+                    one[bin].count += 1;
+                    one[bin].bounds.grow(r.min(), r.max());
+                }
             }
             for (a, b) in bins.iter().zip(&one) {
                 assert_eq!(a.count, b.count, "{n} references");
@@ -592,8 +650,8 @@ mod tests {
                             bins: nb,
                         };
                         let mut sweep = rule.scratch();
-                        let (bins, spare) = (&mut sweep.bins[..3 * nb], &mut sweep.spare[..3 * nb]);
-                        rule.fill_bins(&binning, &refs, bins, spare);
+                        let bins = &mut sweep.bins[..3 * nb];
+                        rule.fill_bins(&binning, &refs, bins, &mut sweep.counting);
                         let scalar = rule.best_split(&mut sweep, nb, &bounds, scale, &prims);
                         let lanes = best_split_in_lanes(&mut sweep, nb, &bounds, 1.0, &prims);
                         let case = format!("{n} references, scale {size}, flat {flat}");

@@ -43,6 +43,12 @@ impl PrimRef {
         Vec3A::from_vec4(self.hi)
     }
 
+    /// The box's maximum with 0 in the fourth lane.
+    #[inline(always)]
+    pub(super) fn max4(&self) -> Vec4 {
+        self.hi
+    }
+
     /// The box's centre, bit for bit `Aabb::center` of its box.
     #[inline(always)]
     pub(super) fn centroid(&self) -> Vec3A {
