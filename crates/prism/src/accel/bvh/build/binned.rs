@@ -41,8 +41,9 @@ pub(super) struct Sweep {
     right_area: Vec<f32>,
     right_volume: Vec<f32>,
     right_count: Vec<u32>,
-    /// The lanes sweep's right sides: per bin, the three axes' areas and leaf costs.
-    right_lanes: Vec<[Vec3A; 2]>,
+    /// The lanes sweep's right sides: per bin, the three axes' areas, volumes (for rays
+    /// from inside) and leaf costs.
+    right_lanes: Vec<[Vec3A; 3]>,
 }
 
 #[derive(Clone, Copy)]
@@ -189,7 +190,7 @@ impl SplitRule for BinnedSah {
             right_area: vec![0.0; self.bins],
             right_volume: vec![0.0; self.bins],
             right_count: vec![0; self.bins],
-            right_lanes: vec![[Vec3A::ZERO; 2]; self.bins],
+            right_lanes: vec![[Vec3A::ZERO; 3]; self.bins],
         }
     }
 
@@ -223,12 +224,9 @@ impl SplitRule for BinnedSah {
         };
         let bins = &mut sweep.bins[..3 * nb];
         self.fill_bins(&binning, refs, bins, &mut sweep.counting);
-        let best = if self.inside {
-            self.best_split(sweep, nb, bounds, scale, prims)
-        } else {
-            best_split_in_lanes(sweep, nb, bounds, self.traversal_cost, prims)
-                .unwrap_or_else(|| self.best_split(sweep, nb, bounds, scale, prims))
-        };
+        let best = self
+            .best_split_in_lanes(sweep, nb, bounds, prims)
+            .unwrap_or_else(|| self.best_split(sweep, nb, bounds, scale, prims));
         match best {
             Some((axis, k, cost)) => {
                 // From inside, a node small enough for a leaf is split all the same, and
@@ -360,76 +358,97 @@ impl BinnedSah {
     }
 }
 
-/// `BinnedSah::best_split` for rays from outside, the three axes in SIMD lanes: per
-/// candidate the same operations in the same order, lane by lane, so the same costs bit
-/// for bit, and the same choice (the first strict minimum in axis-major order). `None`
-/// where a candidate's cost is NaN (boxes with NaN or opposite infinities), whose
-/// choice the scalar sweep's order decides: the caller asks it. The scalar sweep (its
-/// areas one box at a time, a branch on every candidate) was a seventh of a build.
-fn best_split_in_lanes(
-    sweep: &mut Sweep,
-    nb: usize,
-    bounds: &Aabb,
-    traversal_cost: f32,
-    prims: &BuildPrims,
-) -> Option<Option<(usize, usize, f32)>> {
-    let parent_area = bounds.surface_area().max(f32::MIN_POSITIVE);
-    let Sweep {
-        bins, right_lanes, ..
-    } = sweep;
-    let bin = |axis: usize, k: usize| &bins[axis * nb + k];
-    // The three axes' boxes as one box per axis, their areas in lanes (x, y, z = the axis
-    // binned), each lane `SimdBox::surface_area`'s operations.
-    let areas = |acc: &[SimdBox; 3]| {
-        let e = Mat3A::from_cols(
-            acc[0].max - acc[0].min,
-            acc[1].max - acc[1].min,
-            acc[2].max - acc[2].min,
-        )
-        .transpose();
-        let (x, y, z) = (e.x_axis, e.y_axis, e.z_axis);
-        2.0 * (x * y + y * z + z * x)
-    };
-    let costs = |count: [u32; 3]| Vec3A::from_array(count.map(|c| prims.leaf_cost(c as usize)));
-    let (mut acc, mut count) = ([SimdBox::EMPTY; 3], [0u32; 3]);
-    for k in (1..nb).rev() {
-        for axis in 0..3 {
-            acc[axis] = acc[axis].union(&bin(axis, k).bounds);
-            count[axis] += bin(axis, k).count;
+impl BinnedSah {
+    /// `best_split` with the three axes in SIMD lanes: per candidate the same operations
+    /// in the same order, lane by lane, so the same costs bit for bit, and the same choice
+    /// (the first strict minimum in axis-major order). `None` where a candidate's cost is
+    /// NaN (boxes with NaN or opposite infinities), whose choice the scalar sweep's order
+    /// decides: the caller asks it. The scalar sweep (its areas one box at a time, a
+    /// branch on every candidate) was a seventh of a build.
+    fn best_split_in_lanes(
+        &self,
+        sweep: &mut Sweep,
+        nb: usize,
+        bounds: &Aabb,
+        prims: &BuildPrims,
+    ) -> Option<Option<(usize, usize, f32)>> {
+        let parent_area = bounds.surface_area().max(f32::MIN_POSITIVE);
+        let parent_volume = bounds.volume();
+        let Sweep {
+            bins, right_lanes, ..
+        } = sweep;
+        let bin = |axis: usize, k: usize| &bins[axis * nb + k];
+        // The three axes' boxes as one box per axis: their areas and (from inside) volumes
+        // in lanes (x, y, z = the axis binned), each lane `SimdBox::surface_area`'s and
+        // `SimdBox::volume`'s operations.
+        let measures = |acc: &[SimdBox; 3]| {
+            let e = Mat3A::from_cols(
+                acc[0].max - acc[0].min,
+                acc[1].max - acc[1].min,
+                acc[2].max - acc[2].min,
+            )
+            .transpose();
+            let (x, y, z) = (e.x_axis, e.y_axis, e.z_axis);
+            let volume = if self.inside { x * y * z } else { Vec3A::ZERO };
+            (2.0 * (x * y + y * z + z * x), volume)
+        };
+        // `inside_share` lane by lane.
+        let share = |area: Vec3A, volume: Vec3A| {
+            if parent_volume > 0.0 {
+                0.5 * (area / parent_area) + 0.5 * (volume / parent_volume)
+            } else {
+                area / parent_area
+            }
+        };
+        let costs = |count: [u32; 3]| Vec3A::from_array(count.map(|c| prims.leaf_cost(c as usize)));
+        let (mut acc, mut count) = ([SimdBox::EMPTY; 3], [0u32; 3]);
+        for k in (1..nb).rev() {
+            for axis in 0..3 {
+                acc[axis] = acc[axis].union(&bin(axis, k).bounds);
+                count[axis] += bin(axis, k).count;
+            }
+            let (area, volume) = measures(&acc);
+            right_lanes[k] = [area, volume, costs(count)];
         }
-        right_lanes[k] = [areas(&acc), costs(count)];
-    }
-    // Per lane: whether a candidate was found, the best cost and its bin.
-    let (mut found, mut best, mut best_k) = (BVec3A::FALSE, Vec3A::INFINITY, Vec3A::ZERO);
-    let mut nan = BVec3A::FALSE;
-    let (mut acc, mut count) = ([SimdBox::EMPTY; 3], [0u32; 3]);
-    for k in 0..nb - 1 {
-        for axis in 0..3 {
-            acc[axis] = acc[axis].union(&bin(axis, k).bounds);
-            count[axis] += bin(axis, k).count;
+        // Per lane: whether a candidate was found, the best cost and its bin.
+        let (mut found, mut best, mut best_k) = (BVec3A::FALSE, Vec3A::INFINITY, Vec3A::ZERO);
+        let mut nan = BVec3A::FALSE;
+        let (mut acc, mut count) = ([SimdBox::EMPTY; 3], [0u32; 3]);
+        for k in 0..nb - 1 {
+            for axis in 0..3 {
+                acc[axis] = acc[axis].union(&bin(axis, k).bounds);
+                count[axis] += bin(axis, k).count;
+            }
+            let [right_area, right_volume, right_cost] = right_lanes[k + 1];
+            let left_cost = costs(count);
+            // A side without primitives costs 0 (and only then): no split there.
+            let valid = left_cost.cmpgt(Vec3A::ZERO) & right_cost.cmpgt(Vec3A::ZERO);
+            let (area, volume) = measures(&acc);
+            let sides = if self.inside {
+                parent_area
+                    * (share(area, volume) * left_cost
+                        + share(right_area, right_volume) * right_cost)
+            } else {
+                area * left_cost + right_area * right_cost
+            };
+            let cost = self.traversal_cost + sides / parent_area;
+            nan |= valid & cost.is_nan_mask();
+            let better = valid & (cost.cmplt(best) | !found);
+            best = Vec3A::select(better, cost, best);
+            best_k = Vec3A::select(better, Vec3A::splat(k as f32), best_k);
+            found |= valid;
         }
-        let [right_area, right_cost] = right_lanes[k + 1];
-        let left_cost = costs(count);
-        // A side without primitives costs 0 (and only then): no split there.
-        let valid = left_cost.cmpgt(Vec3A::ZERO) & right_cost.cmpgt(Vec3A::ZERO);
-        let sides = areas(&acc) * left_cost + right_area * right_cost;
-        let cost = traversal_cost + sides / parent_area;
-        nan |= valid & cost.is_nan_mask();
-        let better = valid & (cost.cmplt(best) | !found);
-        best = Vec3A::select(better, cost, best);
-        best_k = Vec3A::select(better, Vec3A::splat(k as f32), best_k);
-        found |= valid;
-    }
-    if nan.any() {
-        return None;
-    }
-    let mut choice: Option<(usize, usize, f32)> = None;
-    for axis in (0..3).filter(|&a| found.test(a)) {
-        if choice.is_none_or(|(_, _, c)| best[axis] < c) {
-            choice = Some((axis, best_k[axis] as usize, best[axis]));
+        if nan.any() {
+            return None;
         }
+        let mut choice: Option<(usize, usize, f32)> = None;
+        for axis in (0..3).filter(|&a| found.test(a)) {
+            if choice.is_none_or(|(_, _, c)| best[axis] < c) {
+                choice = Some((axis, best_k[axis] as usize, best[axis]));
+            }
+        }
+        Some(choice)
     }
-    Some(choice)
 }
 
 /// Truncates lanes known to lie in [0, 2²³) to integers without `as`, which would check
@@ -598,8 +617,9 @@ mod tests {
     }
 
     /// The sweep in lanes picks the scalar sweep's split (axis, bin and cost, bit for
-    /// bit) on references spread over every axis, flat on one or two axes, in clumps
-    /// (ties between candidates), at three scales, for single primitives and packs.
+    /// bit) on references spread over every axis, flat on one or two axes (flat parents
+    /// have no volume), in clumps (ties between candidates), at three scales, for single
+    /// primitives and packs, for rays from outside and from inside.
     #[test]
     fn the_sweep_in_lanes_is_the_scalar_sweep() {
         let mut cases = 0;
@@ -627,41 +647,50 @@ mod tests {
                             bounds: Vec::new(),
                             test_block,
                         };
-                        let rule = BinnedSah {
-                            bins: 32,
-                            max_leaf_size: 8,
-                            traversal_cost: 1.0,
-                            inside: false,
-                        };
-                        let (mut bounds, mut centroids) = (SimdBox::EMPTY, SimdBox::EMPTY);
-                        for r in &refs {
-                            bounds.grow(r.min(), r.max());
-                            centroids.grow_point(r.centroid());
+                        for inside in [false, true] {
+                            let rule = BinnedSah {
+                                bins: 32,
+                                max_leaf_size: 8,
+                                traversal_cost: if inside { 0.33 } else { 1.0 },
+                                inside,
+                            };
+                            let (mut bounds, mut centroids) = (SimdBox::EMPTY, SimdBox::EMPTY);
+                            for r in &refs {
+                                bounds.grow(r.min(), r.max());
+                                centroids.grow_point(r.centroid());
+                            }
+                            let (bounds, centroids) = (bounds.to_aabb(), centroids.to_aabb());
+                            let nb = rule.bins.min((refs.len() / 8).max(4));
+                            let extent = centroids.max - centroids.min;
+                            let scale = Vec3::select(
+                                extent.cmpgt(Vec3::ZERO),
+                                nb as f32 / extent,
+                                Vec3::ZERO,
+                            );
+                            let binning = Binning {
+                                lo: centroids.min.into(),
+                                scale: scale.into(),
+                                last: Vec3A::splat((nb - 1) as f32),
+                                bins: nb,
+                            };
+                            let mut sweep = rule.scratch();
+                            let bins = &mut sweep.bins[..3 * nb];
+                            rule.fill_bins(&binning, &refs, bins, &mut sweep.counting);
+                            let scalar = rule.best_split(&mut sweep, nb, &bounds, scale, &prims);
+                            let lanes = rule.best_split_in_lanes(&mut sweep, nb, &bounds, &prims);
+                            let case = format!("{n} references, scale {size}, flat {flat}");
+                            assert_eq!(
+                                lanes,
+                                Some(scalar),
+                                "{case}, block {test_block}, inside {inside}"
+                            );
+                            cases += usize::from(scalar.is_some());
                         }
-                        let (bounds, centroids) = (bounds.to_aabb(), centroids.to_aabb());
-                        let nb = rule.bins.min((refs.len() / 8).max(4));
-                        let extent = centroids.max - centroids.min;
-                        let scale =
-                            Vec3::select(extent.cmpgt(Vec3::ZERO), nb as f32 / extent, Vec3::ZERO);
-                        let binning = Binning {
-                            lo: centroids.min.into(),
-                            scale: scale.into(),
-                            last: Vec3A::splat((nb - 1) as f32),
-                            bins: nb,
-                        };
-                        let mut sweep = rule.scratch();
-                        let bins = &mut sweep.bins[..3 * nb];
-                        rule.fill_bins(&binning, &refs, bins, &mut sweep.counting);
-                        let scalar = rule.best_split(&mut sweep, nb, &bounds, scale, &prims);
-                        let lanes = best_split_in_lanes(&mut sweep, nb, &bounds, 1.0, &prims);
-                        let case = format!("{n} references, scale {size}, flat {flat}");
-                        assert_eq!(lanes, Some(scalar), "{case}, block {test_block}");
-                        cases += usize::from(scalar.is_some());
                     }
                 }
             }
         }
-        assert!(cases > 100, "only {cases} cases had a split");
+        assert!(cases > 200, "only {cases} cases had a split");
     }
 
     #[test]
