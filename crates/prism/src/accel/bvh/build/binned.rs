@@ -356,9 +356,7 @@ impl BinnedSah {
         }
         best
     }
-}
 
-impl BinnedSah {
     /// `best_split` with the three axes in SIMD lanes: per candidate the same operations
     /// in the same order, lane by lane, so the same costs bit for bit, and the same choice
     /// (the first strict minimum in axis-major order). `None` where a candidate's cost is
