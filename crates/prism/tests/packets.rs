@@ -258,6 +258,42 @@ fn check_scene(name: &str, scale: f32, offset: Vec3, seed: u64) {
             packet_visits * 2 < single_visits,
             "{name}/{setting}: packets visited {packet_visits} nodes, single rays {single_visits}"
         );
+        // A camera packet across two axis planes of the view (the block at the image's
+        // centre, looking down an axis): its rays run in four octants, sixteen in each,
+        // and each octant's rays walk as a packet of their own.
+        let eye = centre + scale * Vec3::new(0.0, 0.0, 6.0);
+        let rays = camera_block(eye, centre, 48, (20, 20, 8, 8));
+        let octants: std::collections::HashSet<[bool; 3]> = rays
+            .iter()
+            .map(|r| r.ray.dir.to_array().map(|d| d < 0.0))
+            .collect();
+        assert_eq!(
+            octants.len(),
+            4,
+            "{name}/{setting}: the block spans four octants"
+        );
+        let inf = vec![f32::INFINITY; rays.len()];
+        let (packet, single) = check_packet(
+            &what("across axis planes"),
+            &bvh,
+            &s,
+            &rays,
+            &inf,
+            QueryMode::Nearest,
+        );
+        assert!(
+            packet * 2 < single,
+            "{name}/{setting}: a packet across axis planes visited {packet} nodes, its rays \
+             one by one {single}: its octants did not walk as packets"
+        );
+        check_packet(
+            &what("across axis planes, any-hit"),
+            &bvh,
+            &s,
+            &rays,
+            &inf,
+            QueryMode::Any,
+        );
         // Incoherent packets (random origins and directions, axis-parallel rays with zero
         // components, a ray repeated) answer one ray at a time, still correctly.
         let bounds = g.world_bounds();

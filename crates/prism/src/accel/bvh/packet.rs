@@ -463,7 +463,8 @@ impl PacketSearch {
 }
 
 /// Answers `rays` (at most `PACKET_MAX`, each with its own bound) as a packet where they
-/// are coherent, one by one otherwise, over the subtrees below `root` (an entry node,
+/// are coherent, as a packet per octant where they are not but an octant holds enough
+/// of them (`Octants`), one by one otherwise, over the subtrees below `root` (an entry node,
 /// `subtree.rs`) or the whole tree without one: `answers[i]` is what `Accel::query` (or
 /// `Bvh::walk_from` from `root`) gives `rays[i]`.
 #[allow(clippy::too_many_arguments)]
@@ -489,6 +490,65 @@ pub(super) fn query(
         // A query inside a query (none today) gets room of its own.
         Err(_) => run(&mut Box::new(Scratch::new())),
     });
+}
+
+/// The octants of a packet's rays, and those that hold enough of them to walk as a
+/// packet of their own.
+struct Octants {
+    /// Per ray, its octant (a bit per axis whose direction is negative), or `NONE` for a
+    /// ray with a zero or non-finite direction component or origin.
+    of_ray: [u8; PACKET_MAX],
+    /// A bit per octant walked as a packet.
+    together: u8,
+}
+
+impl Octants {
+    const NONE: u8 = 8;
+    /// The fewest rays of one octant walked as a packet. A packet across an axis plane
+    /// of a camera's view, or of shadow rays toward a light amid their hits, splits into
+    /// coherent parts; the rays a packet of reflected rays holds in one octant come from
+    /// all over its hits, and walked together from 4 of them they were slower than one
+    /// by one on SPD balls, lattice and rings, from 16 level (docs/performance.md,
+    /// seventeenth and eighteenth steps).
+    const MIN_RAYS: usize = 16;
+
+    fn none() -> Octants {
+        Octants {
+            of_ray: [Octants::NONE; PACKET_MAX],
+            together: 0,
+        }
+    }
+
+    /// The octants of the first `n` rays of `soa`.
+    fn of(soa: &RaySoa, n: usize) -> Octants {
+        let mut octants = Octants::none();
+        let mut count = [0usize; 9];
+        for (i, octant) in octants.of_ray[..n].iter_mut().enumerate() {
+            let finite =
+                (0..3).all(|a| soa.inv_dir[a][i].is_finite() && soa.origin[a][i].is_finite());
+            *octant = if finite {
+                (0..3).fold(0, |bits, a| bits | u8::from(soa.inv_dir[a][i] < 0.0) << a)
+            } else {
+                Octants::NONE
+            };
+            count[usize::from(*octant)] += 1;
+        }
+        for (octant, &c) in count[..8].iter().enumerate() {
+            if c >= Octants::MIN_RAYS {
+                octants.together |= 1 << octant;
+            }
+        }
+        octants
+    }
+
+    fn walks_together(&self, ray: usize) -> bool {
+        let octant = self.of_ray[ray];
+        octant != Octants::NONE && self.together >> octant & 1 == 1
+    }
+
+    fn together(&self) -> impl Iterator<Item = u8> + '_ {
+        (0..8u8).filter(|&o| self.together >> o & 1 == 1)
+    }
 }
 
 /// What a packet query works in: its rays in SIMD lanes and its per-ray searches, about
@@ -528,21 +588,47 @@ fn query_in(
     stats: &mut Stats,
 ) {
     use crate::accel::Accel;
-    let Scratch { soa, search } = scratch;
-    soa.fill(rays);
-    let soa = &*soa;
-    let bounds = match PacketBounds::of(soa) {
-        Some(b) if rays.len() > 1 && !bvh.nodes.first().is_none_or(|n| n.is_leaf()) => b,
-        _ => {
-            for (i, (&t, answer)) in t_max.iter().zip(answers.iter_mut()).enumerate() {
+    scratch.soa.fill(rays);
+    let walkable = rays.len() > 1 && !bvh.nodes.first().is_none_or(|n| n.is_leaf());
+    let Some(bounds) = PacketBounds::of(&scratch.soa).filter(|_| walkable) else {
+        let soa = &scratch.soa;
+        // Rays in several octants: those of an octant that holds enough of them (a
+        // camera packet across an axis plane of the view) walk as a packet of their own,
+        // the others one by one.
+        let octants = if walkable {
+            Octants::of(soa, rays.len())
+        } else {
+            Octants::none()
+        };
+        for (i, (&t, answer)) in t_max.iter().zip(answers.iter_mut()).enumerate() {
+            if !octants.walks_together(i) {
                 *answer = match root {
                     None => bvh.query(geometry, &soa.ray(i), t, mode, stats),
                     Some(root) => bvh.walk_from(root, geometry, &soa.ray(i), t, mode, stats),
                 };
             }
-            return;
         }
+        for octant in octants.together() {
+            let lanes: ArrayVec<usize, PACKET_MAX> = (0..rays.len())
+                .filter(|&i| octants.of_ray[i] == octant)
+                .collect();
+            let group: ArrayVec<Ray, PACKET_MAX> = lanes.iter().map(|&i| rays[i]).collect();
+            let bounds: ArrayVec<f32, PACKET_MAX> = lanes.iter().map(|&i| t_max[i]).collect();
+            let mut found = [None; PACKET_MAX];
+            let found = &mut found[..lanes.len()];
+            // Their directions agree in sign and are finite, so `PacketBounds::of` takes
+            // them and this query walks them: it never comes back here.
+            query_in(
+                scratch, bvh, root, geometry, &group, &bounds, mode, found, stats,
+            );
+            for (&i, &hit) in lanes.iter().zip(found.iter()) {
+                answers[i] = hit;
+            }
+        }
+        return;
     };
+    let Scratch { soa, search } = scratch;
+    let soa = &*soa;
     // The leaf tests' shared parts; the walk hands each leaf its rays.
     let first = soa.ray(0);
     let first_pack_ray = PackRay::new(&first);
