@@ -294,6 +294,18 @@ fn check_scene(name: &str, scale: f32, offset: Vec3, seed: u64) {
             &inf,
             QueryMode::Any,
         );
+        // Camera packets across the diagonal plane where the dominant axis, and with it
+        // the watertight test's axis permutation, changes (|x| = |z|): a leaf's triangles
+        // are tested in lanes for each permutation's rays in turn.
+        let eye = centre + scale * Vec3::new(-5.0, 0.3, 5.0);
+        for x0 in [16, 20, 24] {
+            let rays = camera_block(eye, centre, 48, (x0, 20, 8, 8));
+            let kinds: std::collections::HashSet<usize> = rays.iter().map(|r| r.kz).collect();
+            assert!(kinds.len() > 1 || x0 != 20, "{name}: one dominant axis");
+            for mode in [QueryMode::Nearest, QueryMode::Any] {
+                check_packet(&what("across a diagonal"), &bvh, &s, &rays, &inf, mode);
+            }
+        }
         // Incoherent packets (random origins and directions, axis-parallel rays with zero
         // components, a ray repeated) answer one ray at a time, still correctly.
         let bounds = g.world_bounds();

@@ -164,10 +164,11 @@ pub(super) struct RaySoa {
     pub(super) shear: [[f32; PACKET_MAX]; 3],
     /// Per ray, its axis permutation as `kx | ky << 2 | kz << 4`.
     axes: [u32; PACKET_MAX],
-    /// The axis permutation (kx, ky, kz) when every ray has the same one, so that one
-    /// triangle can be tested against several rays exactly as each ray's own first pass
-    /// tests it.
-    pub(super) permutation: Option<[usize; 3]>,
+    /// The rays' axis permutations (kx, ky, kz), each with a bit per ray that has it, so
+    /// that one triangle can be tested against several rays exactly as each ray's own
+    /// first pass tests it: a packet across the diagonal planes where the dominant axis
+    /// changes has two or more.
+    pub(super) permutations: ArrayVec<([usize; 3], u64), 6>,
     /// The lanes filled: the rays, and the padding that repeats the first.
     lanes: usize,
 }
@@ -200,7 +201,7 @@ impl RaySoa {
             inv_dir: [[0.0; PACKET_MAX]; 3],
             shear: [[0.0; PACKET_MAX]; 3],
             axes: [0; PACKET_MAX],
-            permutation: None,
+            permutations: ArrayVec::new(),
             lanes: 0,
         }
     }
@@ -212,7 +213,7 @@ impl RaySoa {
         assert!(rays.len() <= PACKET_MAX);
         let soa = self;
         soa.lanes = rays.len().next_multiple_of(16);
-        soa.permutation = None;
+        soa.permutations.clear();
         let Some(first) = rays.first() else {
             return;
         };
@@ -243,13 +244,24 @@ impl RaySoa {
             soa.axes[i] = axes;
         }
         // Whether the rays share one permutation, folded with `&` rather than left early,
-        // so the loop has no dependent branch per ray.
+        // so the loop has no dependent branch per ray; only where they do not are they
+        // sorted into groups.
         let first = soa.axes[0];
+        let every_ray = u64::MAX >> (PACKET_MAX - n);
         if soa.axes[..lanes]
             .iter()
             .fold(true, |all, &c| all & (c == first))
         {
-            soa.permutation = Some(permutation(first));
+            soa.permutations.push((permutation(first), every_ray));
+        } else {
+            let mut codes: ArrayVec<(u32, u64), 6> = ArrayVec::new();
+            for (i, &code) in soa.axes[..n].iter().enumerate() {
+                match codes.iter_mut().find(|(c, _)| *c == code) {
+                    Some((_, rays)) => *rays |= 1 << i,
+                    None => codes.push((code, 1 << i)),
+                }
+            }
+            (soa.permutations).extend(codes.into_iter().map(|(c, r)| (permutation(c), r)));
         }
     }
 }
@@ -738,8 +750,16 @@ mod tests {
                     .map(|&r| TraceRay::new(r))
                     .map(|t| [t.kx, t.ky, t.kz])
                     .collect();
-                let shared = axes.iter().all(|&k| k == axes[0]).then_some(axes[0]);
-                assert_eq!(soa.permutation, shared);
+                // Each ray in the group of its own permutation, and only there.
+                for (i, k) in axes.iter().enumerate() {
+                    let groups: Vec<[usize; 3]> = (soa.permutations.iter())
+                        .filter(|(_, rays)| rays >> i & 1 == 1)
+                        .map(|&(p, _)| p)
+                        .collect();
+                    assert_eq!(groups, [*k], "ray {i}");
+                }
+                let distinct: std::collections::HashSet<_> = axes.iter().collect();
+                assert_eq!(soa.permutations.len(), distinct.len());
             }
         }
         // Lanes past the rays, to a multiple of 16, repeat the first.

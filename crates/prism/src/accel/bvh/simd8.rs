@@ -21,6 +21,10 @@ use crate::geometry::TrianglePack;
 use crate::math::TraceRay;
 use crate::stats::Stats;
 
+/// The fewest rays of one axis permutation that a packet's leaf of triangle packs tests
+/// in SIMD lanes (one triangle against several rays); fewer go ray by ray.
+const LANES_FOR_PACKS: u32 = 4;
+
 /// Whether this CPU can take the 8-wide AVX2 path (AVX2 and POPCNT).
 pub(super) fn available() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -75,11 +79,12 @@ pub(super) fn traverse<const ORDERED: bool>(
 /// packet of rays (`packet.rs`): each visit first tests the eight
 /// boxes once for the whole packet against its interval `bounds`, then each box that
 /// passes against the packet's rays eight at a time, so every child goes on with the rays
-/// that enter it. Leaves of triangle packs are tested one triangle against eight rays when
-/// the rays share an axis permutation, spheres against eight rays in any leaf, other
-/// primitives ray by ray; leaves of packs the rays cannot share go to `leaf` with their
-/// rays. With `avx512` (only where `avx512_available()`), the per-ray kernels take
-/// sixteen rays per step; `any` walks for any-hit queries (children unordered).
+/// that enter it. Leaves of triangle packs are tested one triangle against eight rays of
+/// one axis permutation at a time (`RaySoa::permutations`; a permutation's rays go to
+/// `leaf` when fewer than `LANES_FOR_PACKS`), spheres and cones against several rays in
+/// any leaf, other primitives ray by ray. With `avx512` (only where
+/// `avx512_available()`), the per-ray kernels take sixteen rays per step; `any` walks for
+/// any-hit queries (children unordered).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn traverse_packet(
@@ -640,36 +645,42 @@ mod x86 {
                     |child, count, enter, rays, search: &mut PacketSearch, stats: &mut Stats| {
                         let rays = rays & search.open();
                         let first = child as usize;
-                        match soa.permutation {
-                            Some(k) if count & PACKED != 0 => {
-                                let n = (count & !PACKED) as usize;
-                                for pack in &leaves.packs[first..first + n] {
+                        if count & PACKED != 0 {
+                            // The rays of each axis permutation against the packs in
+                            // turn (per ray the order of `LeafQuery::test`); a few rays
+                            // one by one, whose own test takes two packs a step.
+                            let packs = &leaves.packs[first..][..(count & !PACKED) as usize];
+                            for &(k, group) in &soa.permutations {
+                                let rays = rays & group;
+                                if rays.count_ones() < super::LANES_FOR_PACKS {
+                                    if rays != 0 {
+                                        leaf(child, count, enter, rays, search, stats);
+                                    }
+                                    continue;
+                                }
+                                for pack in packs {
                                     $test_pack(pack, k, rays, soa, &box_test, search, stats);
                                 }
                             }
-                            _ if count & PACKED != 0 => {
-                                leaf(child, count, enter, rays, search, stats)
-                            }
-                            _ => {
-                                // Primitive by primitive, each against the rays still
-                                // searching: per ray the order of `LeafQuery::test`.
-                                let reaching = search.reaching(rays, enter);
-                                let prims = &leaves.prims[first..first + count as usize];
-                                for &prim in prims {
-                                    let rays = reaching & search.open();
-                                    if rays == 0 {
-                                        break;
+                        } else {
+                            // Primitive by primitive, each against the rays still
+                            // searching: per ray the order of `LeafQuery::test`.
+                            let reaching = search.reaching(rays, enter);
+                            let prims = &leaves.prims[first..first + count as usize];
+                            for &prim in prims {
+                                let rays = reaching & search.open();
+                                if rays == 0 {
+                                    break;
+                                }
+                                let geometry = leaves.geometry;
+                                match &geometry.primitives[prim as usize].shape {
+                                    Shape::Sphere(sphere) => {
+                                        $sphere(sphere, prim, rays, soa, search, stats)
                                     }
-                                    let geometry = leaves.geometry;
-                                    match &geometry.primitives[prim as usize].shape {
-                                        Shape::Sphere(sphere) => {
-                                            $sphere(sphere, prim, rays, soa, search, stats)
-                                        }
-                                        Shape::Cone(cone) => super::cones::test_cone(
-                                            cone, prim, rays, soa, search, stats,
-                                        ),
-                                        _ => search.test_per_ray(geometry, prim, rays, soa, stats),
-                                    }
+                                    Shape::Cone(cone) => super::cones::test_cone(
+                                        cone, prim, rays, soa, search, stats,
+                                    ),
+                                    _ => search.test_per_ray(geometry, prim, rays, soa, stats),
                                 }
                             }
                         }
