@@ -37,6 +37,17 @@ pub(super) fn available() -> bool {
     }
 }
 
+/// For the 8-wide path's tests: whether this CPU lacks AVX2, so that the path is never
+/// taken here and the test has nothing to check (said on stderr).
+#[cfg(test)]
+fn skipped_without_avx2() -> bool {
+    let skip = !available();
+    if skip {
+        eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
+    }
+    skip
+}
+
 /// Whether this CPU can also take the 16-ray AVX-512 packet kernels (`simd8/avx512.rs`).
 pub(super) fn avx512_available() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -800,8 +811,7 @@ mod x86 {
         fn packet_test_bounds_every_rays_own_test() {
             use crate::accel::bvh::packet::{Packet4, PacketBounds};
             use crate::math::hash::uniform;
-            if !super::super::available() {
-                eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
+            if super::super::skipped_without_avx2() {
                 return;
             }
             let u = |k: u64| uniform(k as u32, 0, 0, 0, 7);
@@ -886,9 +896,7 @@ mod x86 {
         /// lanes are never hit.
         #[test]
         fn avx2_test_matches_the_box_test() {
-            if !super::super::available() {
-                // Nothing to test: such CPUs never build 8-wide nodes (see `available`).
-                eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
+            if super::super::skipped_without_avx2() {
                 return;
             }
             let boxes = [

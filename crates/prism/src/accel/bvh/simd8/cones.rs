@@ -291,8 +291,7 @@ mod tests {
     /// agree with the scalar test there too, and the linear branch does find hits.
     #[test]
     fn lanes_take_the_linear_branch_as_the_scalar_test() {
-        if !super::super::available() {
-            eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
+        if super::super::skipped_without_avx2() {
             return;
         }
         let mut linear_hits = 0;
@@ -348,8 +347,7 @@ mod tests {
     /// scales and several bounds.
     #[test]
     fn lanes_are_the_scalar_test() {
-        if !super::super::available() {
-            eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
+        if super::super::skipped_without_avx2() {
             return;
         }
         let (mut hits, mut caps, mut misses) = (0, 0, 0);

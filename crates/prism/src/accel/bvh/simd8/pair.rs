@@ -345,8 +345,7 @@ mod tests {
     /// axis-parallel rays, at three scales and several bounds (around the hits too).
     #[test]
     fn the_pair_pass_is_two_four_wide_passes() {
-        if !super::super::available() {
-            eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
+        if super::super::skipped_without_avx2() {
             return;
         }
         let (mut hit, mut undecided, mut compared) = (0, 0, 0);
@@ -404,8 +403,7 @@ mod tests {
     /// packs make ties inside the leaf too.
     #[test]
     fn the_pair_leaf_test_is_the_four_wide_leaf_test() {
-        if !super::super::available() {
-            eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
+        if super::super::skipped_without_avx2() {
             return;
         }
         let geometry = Geometry::default();

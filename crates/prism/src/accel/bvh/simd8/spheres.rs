@@ -221,8 +221,7 @@ mod tests {
     /// far one, and one tying a sphere's hit with a lower or a higher id; at three scales.
     #[test]
     fn the_sphere_leaf_pass_is_the_scalar_loop() {
-        if !super::super::available() {
-            eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
+        if super::super::skipped_without_avx2() {
             return;
         }
         let (mut hits, mut answered, mut ties, mut mixed) = (0, 0, 0, 0);
@@ -323,8 +322,7 @@ mod tests {
     /// and uncounted; one with enough is taken, a plane among them included.
     #[test]
     fn leaves_of_few_spheres_are_left_alone() {
-        if !super::super::available() {
-            eprintln!("skipped: this CPU lacks AVX2, so the 8-wide path is never taken");
+        if super::super::skipped_without_avx2() {
             return;
         }
         let mut geometry = Geometry::default();
