@@ -190,6 +190,7 @@ impl RaySoa {
     pub(super) fn new(rays: &[Ray]) -> RaySoa {
         let mut soa = RaySoa::empty();
         soa.fill(rays);
+        soa.group_by_permutation(rays.len());
         soa
     }
 
@@ -207,7 +208,8 @@ impl RaySoa {
     }
 
     /// Fills the lanes of `rays` and their padding; lanes past those keep what an earlier
-    /// packet left there, which nothing reads.
+    /// packet left there, which nothing reads. `permutations` is left empty until
+    /// `group_by_permutation`.
     #[inline(always)]
     pub(super) fn fill(&mut self, rays: &[Ray]) {
         assert!(rays.len() <= PACKET_MAX);
@@ -243,6 +245,20 @@ impl RaySoa {
             }
             soa.axes[i] = axes;
         }
+    }
+
+    /// Groups the first `n` rays (those `fill` was given) by axis permutation into
+    /// `permutations`. Only a packet that walks needs the groups: the rays of one that is
+    /// answered ray by ray (directions in several octants, as most of a path tracer's are
+    /// after the first bounce) skipped the search for their group, a tenth of the packet
+    /// query's own time there.
+    fn group_by_permutation(&mut self, n: usize) {
+        let soa = self;
+        soa.permutations.clear();
+        if n == 0 {
+            return;
+        }
+        let lanes = soa.lanes;
         // Whether the rays share one permutation, folded with `&` rather than left early,
         // so the loop has no dependent branch per ray; only where they do not are they
         // sorted into groups.
@@ -602,7 +618,11 @@ fn query_in(
     use crate::accel::Accel;
     scratch.soa.fill(rays);
     let walkable = rays.len() > 1 && !bvh.nodes.first().is_none_or(|n| n.is_leaf());
-    let Some(bounds) = PacketBounds::of(&scratch.soa).filter(|_| walkable) else {
+    let bounds = PacketBounds::of(&scratch.soa).filter(|_| walkable);
+    if bounds.is_some() {
+        scratch.soa.group_by_permutation(rays.len());
+    }
+    let Some(bounds) = bounds else {
         let soa = &scratch.soa;
         // Rays in several octants: those of an octant that holds enough of them (a
         // camera packet across an axis plane of the view) walk as a packet of their own,
