@@ -214,32 +214,40 @@ mod x86 {
         /// so the NaN drops that axis and maybe one beside it from the bound: the box may
         /// be entered where `Aabb::hit` says it is not, never the other way round. The
         /// answers do not change: a box test only decides which primitives are tested.
-        #[target_feature(enable = "avx2,popcnt")]
-        #[inline]
-        pub(super) fn hit(&self, node: &Wide8Node, t_max: f32) -> (u32, [f32; 8]) {
-            let load = |row: usize| {
-                // SAFETY: each row of `bounds` is eight f32s; unaligned load.
-                unsafe { _mm256_loadu_ps(node.bounds[row].as_ptr()) }
-            };
-            let near = [0, 1, 2].map(|axis| {
-                let d = _mm256_sub_ps(load(self.near[axis]), self.origin[axis]);
-                _mm256_mul_ps(d, self.inv_dir[axis])
-            });
-            let far = [0, 1, 2].map(|axis| {
-                let d = _mm256_sub_ps(load(self.far[axis]), self.origin[axis]);
-                _mm256_mul_ps(d, self.inv_exit[axis])
-            });
-            let bound = _mm256_set1_ps(t_max * crate::accel::CULL_SLACK);
-            let enter = _mm256_max_ps(
-                _mm256_max_ps(near[0], near[1]),
-                _mm256_max_ps(near[2], _mm256_setzero_ps()),
-            );
-            let exit = _mm256_min_ps(_mm256_min_ps(far[0], far[1]), _mm256_min_ps(far[2], bound));
-            let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit);
-            let mut t = [0.0f32; 8];
-            // SAFETY: `t` holds eight f32s; unaligned store.
-            unsafe { _mm256_storeu_ps(t.as_mut_ptr(), enter) };
-            (_mm256_movemask_ps(hit) as u32, t)
+        ///
+        /// Inlined into the walk without fail (a call per visit cost single rays about 4 %);
+        /// `#[inline(always)]` cannot go with `#[target_feature]`, so the function has no
+        /// target feature of its own and takes its caller's.
+        ///
+        /// # Safety
+        /// The CPU must support AVX2 (`available`): only the AVX2-compiled walk calls it.
+        #[inline(always)]
+        pub(super) unsafe fn hit(&self, node: &Wide8Node, t_max: f32) -> (u32, [f32; 8]) {
+            // SAFETY: AVX2 is there (the caller's contract); each row of `bounds` and `t`
+            // are eight f32s (unaligned loads and store).
+            unsafe {
+                let load = |row: usize| _mm256_loadu_ps(node.bounds[row].as_ptr());
+                let near = |axis: usize| {
+                    let d = _mm256_sub_ps(load(self.near[axis]), self.origin[axis]);
+                    _mm256_mul_ps(d, self.inv_dir[axis])
+                };
+                let far = |axis: usize| {
+                    let d = _mm256_sub_ps(load(self.far[axis]), self.origin[axis]);
+                    _mm256_mul_ps(d, self.inv_exit[axis])
+                };
+                let (near, far) = ([near(0), near(1), near(2)], [far(0), far(1), far(2)]);
+                let bound = _mm256_set1_ps(t_max * crate::accel::CULL_SLACK);
+                let enter = _mm256_max_ps(
+                    _mm256_max_ps(near[0], near[1]),
+                    _mm256_max_ps(near[2], _mm256_setzero_ps()),
+                );
+                let exit =
+                    _mm256_min_ps(_mm256_min_ps(far[0], far[1]), _mm256_min_ps(far[2], bound));
+                let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit);
+                let mut t = [0.0f32; 8];
+                _mm256_storeu_ps(t.as_mut_ptr(), enter);
+                (_mm256_movemask_ps(hit) as u32, t)
+            }
         }
 
         /// Children in use (unused lanes hold min = +∞).
@@ -783,7 +791,8 @@ mod x86 {
             nodes,
             root,
             |node: &Wide8Node, s: &HitSearch, ()| {
-                let (hit, entries) = ray8.hit(node, s.t_max());
+                // SAFETY: this walk is compiled for AVX2, which the caller checked.
+                let (hit, entries) = unsafe { ray8.hit(node, s.t_max()) };
                 Visit {
                     children: Ray8::children(node),
                     hit,
