@@ -244,24 +244,7 @@ pub(super) fn walk<N: LeafSlots, S: CullBound, const ORDERED: bool>(
                         (children[first], counts[first], t[first], r[first]);
                     continue;
                 }
-                let second = mask.trailing_zeros() as usize;
-                if mask & (mask - 1) == 0 {
-                    // Two, the commonest case: the farther deferred (on a tie, the later
-                    // lane), without the sort below. A branch, not a select: neighbouring
-                    // rays mostly order a node's children alike, so it is predicted and
-                    // the next node's load need not wait for the comparison.
-                    if t[second] < t[first] {
-                        stack.push((children[first], counts[first], t[first], r[first]));
-                        (child, count, enter, rays) =
-                            (children[second], counts[second], t[second], r[second]);
-                    } else {
-                        stack.push((children[second], counts[second], t[second], r[second]));
-                        (child, count, enter, rays) =
-                            (children[first], counts[first], t[first], r[first]);
-                    }
-                    continue;
-                }
-                // Three or more: order them nearest first (ties keep lane order).
+                // Two or more: order them nearest first (ties keep lane order).
                 let mut hits = [(0.0f32, 0usize); 8];
                 hits[0] = (t[first], first);
                 let mut n = 1;
