@@ -102,7 +102,7 @@ impl Bvh {
         if geometry.meshes.is_empty() {
             return;
         }
-        let corners = super::leaves::Corners::of(geometry);
+        let corners = super::leaves::Corners::of(geometry, &self.prims);
         self.packs = if self.wide8.is_empty() {
             super::leaves::pack_triangles(&mut self.wide, &self.prims, &corners)
         } else {
