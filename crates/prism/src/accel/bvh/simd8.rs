@@ -918,95 +918,19 @@ mod x86 {
         /// component) gives exactly its answer.
         #[test]
         fn avx2_test_is_the_box_test_or_more_conservative() {
-            use crate::math::hash::uniform;
             if super::super::skipped_without_avx2() {
                 return;
             }
-            let u = |k: u32, d: u32| uniform(k, d, 0, 0, 21);
-            let (mut entered, mut exact) = (0, 0);
-            for scale in [1e-3f32, 1.0, 1e3] {
-                for case in 0..4000u32 {
-                    let corner = |d: u32| Vec3::new(u(case, d), u(case, d + 1), u(case, d + 2));
-                    let lo = (corner(0) * 2.0 - 1.0) * scale;
-                    let b = Aabb::new(lo, lo + corner(3) * scale);
-                    let mut w = Wide8Node::EMPTY;
-                    w.set_box(case as usize % 8, &leaf(b.min, b.max));
-                    // The origin: anywhere, or on a face plane or corner of the box.
-                    let mut o = (corner(6) * 4.0 - 2.0) * scale;
-                    for axis in 0..3 {
-                        match (case >> (2 * axis)) % 4 {
-                            0 => o[axis] = b.min[axis],
-                            1 => o[axis] = b.max[axis],
-                            _ => {}
-                        }
-                    }
-                    // The direction: toward the box, now and then through one of its
-                    // corners exactly (where rounding decides whether the ray enters,
-                    // and the walk's slack must keep it in), with zero components now
-                    // and then.
-                    let mut target = b.min + (b.max - b.min) * corner(9);
-                    if case % 3 == 0 {
-                        let bit = |axis: u32| (case / 3) >> axis & 1 == 1;
-                        target =
-                            Vec3::select(glam::BVec3::new(bit(0), bit(1), bit(2)), b.max, b.min);
-                    }
-                    let mut d = target - o;
-                    for axis in 0..3 {
-                        if (case / 64 + axis as u32).is_multiple_of(5) {
-                            d[axis] = 0.0;
-                        }
-                    }
-                    if d == Vec3::ZERO {
-                        continue;
-                    }
-                    let ray = TraceRay::new(Ray::new(o, d));
-                    let reach = d.length().recip() * scale;
-                    for t_max in [f32::INFINITY, 0.5 * reach, 2.0 * reach, 4.0 * reach] {
-                        let expected = b.hit(o, ray.inv_dir, t_max);
-                        // SAFETY: AVX2 was detected above.
-                        let (mask, t) = unsafe { Ray8::new(&ray).hit(&w, t_max) };
-                        let lane = case as usize % 8;
-                        let got = (mask >> lane & 1 == 1).then_some(t[lane]);
-                        let at = format!("scale {scale} case {case} o {o} d {d} t_max {t_max}");
-                        assert_eq!(mask & !(1 << lane), 0, "an unused lane is hit, {at}");
-                        let no_nan = d.cmpne(Vec3::ZERO).all();
-                        match (expected, got) {
-                            (Some(want), Some(t)) => {
-                                assert!(t <= want, "entered at {t}, not by {want}, {at}");
-                                if no_nan {
-                                    assert_eq!(t, want, "{at}");
-                                    exact += 1;
-                                }
-                                entered += 1;
-                            }
-                            (Some(_), None) => panic!("missed, {at}"),
-                            // Entered where `Aabb::hit` says not: only within the walk's
-                            // slack beyond the bound, or where a NaN dropped an axis.
-                            (None, Some(_)) if no_nan => {
-                                // The slabs in f64: the ray misses by less than the slack.
-                                let (mut enter, mut exit) = (0.0f64, f64::from(t_max));
-                                for axis in 0..3 {
-                                    let inv = 1.0 / f64::from(d[axis]);
-                                    let to = |p: f32| (f64::from(p) - f64::from(o[axis])) * inv;
-                                    let (t0, t1) = (to(b.min[axis]), to(b.max[axis]));
-                                    enter = enter.max(t0.min(t1));
-                                    exit = exit.min(t0.max(t1));
-                                }
-                                let slack = 2.0 * f64::from(crate::accel::CULL_SLACK - 1.0);
-                                assert!(
-                                    enter <= exit * (1.0 + slack),
-                                    "entered beyond the slack, {at}"
-                                );
-                            }
-                            _ => {}
-                        }
-                    }
-                }
-            }
-            assert!(
-                entered > 10_000 && exact > 5_000,
-                "{entered} entered, {exact} exact"
-            );
+            use crate::accel::bvh::wide::tests::box_test_is_aabb_hit_or_more_conservative;
+            box_test_is_aabb_hit_or_more_conservative(8, |b, lane, ray, t_max| {
+                let mut w = Wide8Node::EMPTY;
+                w.set_box(lane, &leaf(b.min, b.max));
+                // SAFETY: AVX2 was detected above.
+                let (mask, t) = unsafe { Ray8::new(ray).hit(&w, t_max) };
+                (0..8)
+                    .map(|k| (mask >> k & 1 == 1).then_some(t[k]))
+                    .collect()
+            });
         }
 
         /// The AVX2 test agrees with `Aabb::hit` on each child, including rays lying in a
