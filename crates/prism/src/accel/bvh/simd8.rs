@@ -922,89 +922,31 @@ mod x86 {
                 return;
             }
             use crate::accel::bvh::wide::tests::box_test_is_aabb_hit_or_more_conservative;
-            box_test_is_aabb_hit_or_more_conservative(8, |b, lane, ray, t_max| {
-                let mut w = Wide8Node::EMPTY;
-                w.set_box(lane, &leaf(b.min, b.max));
-                // SAFETY: AVX2 was detected above.
-                let (mask, t) = unsafe { Ray8::new(ray).hit(&w, t_max) };
-                (0..8)
-                    .map(|k| (mask >> k & 1 == 1).then_some(t[k]))
-                    .collect()
-            });
+            box_test_is_aabb_hit_or_more_conservative(8, avx2_hit);
         }
 
-        /// The AVX2 test agrees with `Aabb::hit` on each child, including rays lying in a
-        /// face plane, rays starting inside and axis-parallel rays of both signs; the unused
-        /// lanes are never hit.
+        /// The AVX2 test's answers for a node holding `lanes` (AVX2 must be there).
+        fn avx2_hit(lanes: &[Aabb], ray: &TraceRay, t_max: f32) -> Vec<Option<f32>> {
+            let mut w = Wide8Node::EMPTY;
+            for (k, b) in lanes.iter().enumerate() {
+                w.set_box(k, &leaf(b.min, b.max));
+            }
+            // SAFETY: the callers skip without AVX2.
+            let (mask, t) = unsafe { Ray8::new(ray).hit(&w, t_max) };
+            (0..8)
+                .map(|k| (mask >> k & 1 == 1).then_some(t[k]))
+                .collect()
+        }
+
+        /// The AVX2 test against `Aabb::hit` on fixed boxes and rays (flat and point boxes,
+        /// rays in face planes, from inside, axis-parallel of both signs); the unused lanes
+        /// are never hit.
         #[test]
         fn avx2_test_matches_the_box_test() {
             if super::super::skipped_without_avx2() {
                 return;
             }
-            let boxes = [
-                leaf(Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 1.0)),
-                leaf(Vec3::new(2.0, -1.0, 0.5), Vec3::new(3.0, 0.5, 4.0)),
-                leaf(Vec3::new(-2.0, 1.0, 1.0), Vec3::new(-1.0, 1.0, 2.0)),
-                leaf(Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 1.0, 2.0)),
-                leaf(Vec3::new(-1.0, -1.0, -1.0), Vec3::new(5.0, 5.0, 5.0)),
-                leaf(Vec3::new(0.5, 0.5, 0.5), Vec3::new(0.5, 0.5, 0.5)),
-            ];
-            let mut w = Wide8Node::EMPTY;
-            for (k, n) in boxes.iter().enumerate() {
-                w.set_box(k, n);
-            }
-            let origins = [
-                Vec3::new(-1.0, 0.5, 0.5),
-                Vec3::new(0.5, 0.5, 0.5),
-                Vec3::new(-1.0, 0.0, 0.0),
-                Vec3::new(0.0, 1.0, 2.0),
-                Vec3::new(5.0, 0.5, 0.5),
-                Vec3::new(2.0, 0.5, 1.0),
-                Vec3::new(-1.5, 1.0, 0.0),
-                Vec3::new(-1.0, -1.0, -1.0),
-            ];
-            let dirs = [
-                Vec3::X,
-                -Vec3::X,
-                Vec3::Y,
-                -Vec3::Y,
-                Vec3::Z,
-                -Vec3::Z,
-                Vec3::new(1.0, 0.2, -0.1),
-                Vec3::new(-1.0, -0.0, 0.0),
-                Vec3::new(0.0, -0.0, 1.0),
-                Vec3::new(3.0, -2.0, 1.0),
-                Vec3::new(1.0, 1.0, 1.0),
-            ];
-            for o in origins {
-                for d in dirs {
-                    let ray = TraceRay::new(Ray::new(o, d));
-                    for t_max in [f32::INFINITY, 1.5] {
-                        // SAFETY: AVX2 was detected above.
-                        let (mask, t) = unsafe { Ray8::new(&ray).hit(&w, t_max) };
-                        for (k, n) in boxes.iter().enumerate() {
-                            let expected = Aabb::new(n.min, n.max).hit(o, ray.inv_dir, t_max);
-                            let got = (mask >> k & 1 == 1).then_some(t[k]);
-                            let at = format!("o {o} d {d} t_max {t_max} child {k}");
-                            if d.cmpne(Vec3::ZERO).all() {
-                                assert_eq!(got, expected, "{at}");
-                            } else {
-                                // A ray parallel to an axis may meet 0 × ∞ on a face plane:
-                                // then the box may be entered early, never missed.
-                                if let Some(want) = expected {
-                                    let t = got.unwrap_or_else(|| panic!("missed, {at}"));
-                                    assert!(t <= want, "entered at {t}, not by {want}, {at}");
-                                }
-                                if o.cmpne(n.min).all() && o.cmpne(n.max).all() {
-                                    // No face plane through the origin: no NaN, as exact.
-                                    assert_eq!(got, expected, "{at}");
-                                }
-                            }
-                        }
-                        assert_eq!(mask >> boxes.len(), 0, "an unused lane is hit");
-                    }
-                }
-            }
+            crate::accel::bvh::wide::tests::box_test_matches_aabb_hit(8, avx2_hit);
         }
     }
 }

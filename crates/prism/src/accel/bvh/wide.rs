@@ -429,8 +429,9 @@ pub(super) mod tests {
         assert_eq!(parallel4, serial::<WideNode>(&bvh.nodes));
     }
 
-    /// A box test's answers, `hit(b, lane, ray, t_max)` (the entry of each lane of a node
-    /// whose only box is `b`, in `lane`; None where not entered), held to `Aabb::hit` on
+    /// A box test's answers, `hit(lanes, ray, t_max)` (the entry of each lane of a node
+    /// holding `lanes[k]` in lane k and nothing in the rest; None where not entered), for
+    /// a node whose only box is `b`, held to `Aabb::hit` on
     /// random boxes at three scales and rays of every kind a walk meets (from afar, from
     /// inside, from a face or a corner, through a corner exactly, parallel to one or two
     /// axes, at bounds around the box): never a box missed or entered later, exactly its
@@ -439,7 +440,7 @@ pub(super) mod tests {
     /// 4-wide test here and the 8-wide AVX2 test (`simd8.rs`).
     pub(in crate::accel::bvh) fn box_test_is_aabb_hit_or_more_conservative(
         width: usize,
-        hit: impl Fn(&Aabb, usize, &TraceRay, f32) -> Vec<Option<f32>>,
+        hit: impl Fn(&[Aabb], &TraceRay, f32) -> Vec<Option<f32>>,
     ) {
         use crate::math::hash::uniform;
         let u = |k: u32, d: u32| uniform(k, d, 0, 0, 21);
@@ -450,6 +451,9 @@ pub(super) mod tests {
                 let lo = (corner(0) * 2.0 - 1.0) * scale;
                 let b = Aabb::new(lo, lo + corner(3) * scale);
                 let lane = case as usize % width;
+                // Lanes before it hold empty boxes, as a node's unused lanes do.
+                let mut lanes = vec![Aabb::EMPTY; lane];
+                lanes.push(b);
                 // The origin: anywhere, or on a face plane or corner of the box.
                 let mut o = (corner(6) * 4.0 - 2.0) * scale;
                 for axis in 0..3 {
@@ -480,7 +484,7 @@ pub(super) mod tests {
                 let reach = d.length().recip() * scale;
                 for t_max in [f32::INFINITY, 0.5 * reach, 2.0 * reach, 4.0 * reach] {
                     let expected = b.hit(o, ray.inv_dir, t_max);
-                    let answers = hit(&b, lane, &ray, t_max);
+                    let answers = hit(&lanes, &ray, t_max);
                     let got = answers[lane];
                     let at = format!("scale {scale} case {case} o {o} d {d} t_max {t_max}");
                     for (k, other) in answers.iter().enumerate() {
@@ -528,45 +532,28 @@ pub(super) mod tests {
 
     #[test]
     fn wide_test_is_the_box_test_or_more_conservative() {
-        box_test_is_aabb_hit_or_more_conservative(4, |b, lane, ray, t_max| {
-            let mut w = WideNode::EMPTY;
-            for axis in 0..3 {
-                w.min[axis][lane] = b.min[axis];
-                w.max[axis][lane] = b.max[axis];
-            }
-            let t = w.hit(&WideRay::new(ray), t_max).to_array();
-            t.iter()
-                .map(|&t| Some(t).filter(|t| t.is_finite()))
-                .collect()
-        });
+        box_test_is_aabb_hit_or_more_conservative(4, wide_hit);
     }
 
-    fn leaf(min: Vec3, max: Vec3) -> Node {
-        Node {
-            min,
-            first: 0,
-            max,
-            count: 1,
-        }
-    }
-
-    /// The wide test agrees with `Aabb::hit` on each child, including rays starting inside
-    /// and axis-parallel rays of both signs, and is no less conservative for rays lying in
-    /// a face plane; the unused lane is never hit.
-    #[test]
-    fn wide_test_matches_the_box_test() {
+    /// A box test's answers (`hit` as for `box_test_is_aabb_hit_or_more_conservative`)
+    /// against `Aabb::hit` on fixed boxes (flat and point boxes among them, packed into
+    /// nodes with at least one lane left unused) and rays lying in their face planes,
+    /// starting inside them, parallel to axes with both signs of zero: exactly its answer
+    /// where no slab distance can be NaN (no zero direction component, or no face plane
+    /// through the origin), else never missed nor entered later; unused lanes never hit.
+    /// For the 4-wide test here and the 8-wide AVX2 test (`simd8.rs`).
+    pub(in crate::accel::bvh) fn box_test_matches_aabb_hit(
+        width: usize,
+        hit: impl Fn(&[Aabb], &TraceRay, f32) -> Vec<Option<f32>>,
+    ) {
         let boxes = [
-            leaf(Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 1.0)),
-            leaf(Vec3::new(2.0, -1.0, 0.5), Vec3::new(3.0, 0.5, 4.0)),
-            leaf(Vec3::new(-2.0, 1.0, 1.0), Vec3::new(-1.0, 1.0, 2.0)),
+            Aabb::new(Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 1.0)),
+            Aabb::new(Vec3::new(2.0, -1.0, 0.5), Vec3::new(3.0, 0.5, 4.0)),
+            Aabb::new(Vec3::new(-2.0, 1.0, 1.0), Vec3::new(-1.0, 1.0, 2.0)),
+            Aabb::new(Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 1.0, 2.0)),
+            Aabb::new(Vec3::new(-1.0, -1.0, -1.0), Vec3::new(5.0, 5.0, 5.0)),
+            Aabb::new(Vec3::new(0.5, 0.5, 0.5), Vec3::new(0.5, 0.5, 0.5)),
         ];
-        let mut w = WideNode::EMPTY;
-        for (k, n) in boxes.iter().enumerate() {
-            for axis in 0..3 {
-                w.min[axis][k] = n.min[axis];
-                w.max[axis][k] = n.max[axis];
-            }
-        }
         let origins = [
             Vec3::new(-1.0, 0.5, 0.5),
             Vec3::new(0.5, 0.5, 0.5),
@@ -575,6 +562,7 @@ pub(super) mod tests {
             Vec3::new(5.0, 0.5, 0.5),
             Vec3::new(2.0, 0.5, 1.0),
             Vec3::new(-1.5, 1.0, 0.0),
+            Vec3::new(-1.0, -1.0, -1.0),
         ];
         let dirs = [
             Vec3::X,
@@ -587,33 +575,58 @@ pub(super) mod tests {
             Vec3::new(-1.0, -0.0, 0.0),
             Vec3::new(0.0, -0.0, 1.0),
             Vec3::new(3.0, -2.0, 1.0),
+            Vec3::new(1.0, 1.0, 1.0),
         ];
-        for o in origins {
-            for d in dirs {
-                let ray = TraceRay::new(Ray::new(o, d));
-                let wr = WideRay::new(&ray);
-                for t_max in [f32::INFINITY, 1.5] {
-                    let got = w.hit(&wr, t_max);
-                    for (k, n) in boxes.iter().enumerate() {
-                        let expected = Aabb::new(n.min, n.max).hit(o, ray.inv_dir, t_max);
-                        let got = Some(got[k]).filter(|t| t.is_finite());
-                        let at = format!("o {o} d {d} t_max {t_max} child {k}");
-                        if d.cmpne(Vec3::ZERO).all()
-                            || (o.cmpne(n.min).all() && o.cmpne(n.max).all())
-                        {
-                            // No slab distance can be NaN: exactly `Aabb::hit`.
-                            assert_eq!(got, expected, "{at}");
-                        } else if let Some(want) = expected {
-                            // A ray parallel to an axis may meet 0 × ∞ on a face plane:
-                            // then the box may be entered early, never missed.
-                            let t = got.unwrap_or_else(|| panic!("missed, {at}"));
-                            assert!(t <= want, "entered at {t}, not by {want}, {at}");
+        for node in boxes.chunks(width - 1) {
+            for o in origins {
+                for d in dirs {
+                    let ray = TraceRay::new(Ray::new(o, d));
+                    for t_max in [f32::INFINITY, 1.5] {
+                        let got = hit(node, &ray, t_max);
+                        for (k, b) in node.iter().enumerate() {
+                            let expected = b.hit(o, ray.inv_dir, t_max);
+                            let at = format!("o {o} d {d} t_max {t_max} box {b:?}");
+                            if d.cmpne(Vec3::ZERO).all()
+                                || (o.cmpne(b.min).all() && o.cmpne(b.max).all())
+                            {
+                                // No slab distance can be NaN: exactly `Aabb::hit`.
+                                assert_eq!(got[k], expected, "{at}");
+                            } else if let Some(want) = expected {
+                                // A ray parallel to an axis may meet 0 × ∞ on a face
+                                // plane: then the box may be entered early, never missed.
+                                let t = got[k].unwrap_or_else(|| panic!("missed, {at}"));
+                                assert!(t <= want, "entered at {t}, not by {want}, {at}");
+                            }
                         }
+                        assert_eq!(got.len(), width);
+                        assert!(
+                            got[node.len()..].iter().all(Option::is_none),
+                            "an unused lane is hit, o {o} d {d} t_max {t_max}"
+                        );
                     }
-                    assert_eq!(got[3], f32::INFINITY, "the unused lane is hit");
                 }
             }
         }
+    }
+
+    /// The 4-wide test's answers for a node holding `lanes`.
+    fn wide_hit(lanes: &[Aabb], ray: &TraceRay, t_max: f32) -> Vec<Option<f32>> {
+        let mut w = WideNode::EMPTY;
+        for (k, b) in lanes.iter().enumerate() {
+            for axis in 0..3 {
+                w.min[axis][k] = b.min[axis];
+                w.max[axis][k] = b.max[axis];
+            }
+        }
+        let t = w.hit(&WideRay::new(ray), t_max).to_array();
+        t.iter()
+            .map(|&t| Some(t).filter(|t| t.is_finite()))
+            .collect()
+    }
+
+    #[test]
+    fn wide_test_matches_the_box_test() {
+        box_test_matches_aabb_hit(4, wide_hit);
     }
 
     /// `NodeWidth::Auto` takes the 8-wide layout exactly when the CPU has AVX2, `Four`
