@@ -927,10 +927,7 @@ mod x86 {
 
         /// The AVX2 test's answers for a node holding `lanes` (AVX2 must be there).
         fn avx2_hit(lanes: &[Aabb], ray: &TraceRay, t_max: f32) -> Vec<Option<f32>> {
-            let mut w = Wide8Node::EMPTY;
-            for (k, b) in lanes.iter().enumerate() {
-                w.set_box(k, &leaf(b.min, b.max));
-            }
+            let w: Wide8Node = crate::accel::bvh::wide::tests::node_of(lanes);
             // SAFETY: the callers skip without AVX2.
             let (mask, t) = unsafe { Ray8::new(ray).hit(&w, t_max) };
             (0..8)

@@ -609,15 +609,16 @@ pub(super) mod tests {
         }
     }
 
+    /// A node of either width holding `lanes[k]` in lane k (leaf children of one
+    /// primitive), the rest unused: what the box tests' checks test.
+    pub(in crate::accel::bvh) fn node_of<W: Lanes>(lanes: &[Aabb]) -> W {
+        let lanes: Vec<(Aabb, u32, u32)> = lanes.iter().map(|&b| (b, 0, 1)).collect();
+        W::of_lanes(&lanes)
+    }
+
     /// The 4-wide test's answers for a node holding `lanes`.
     fn wide_hit(lanes: &[Aabb], ray: &TraceRay, t_max: f32) -> Vec<Option<f32>> {
-        let mut w = WideNode::EMPTY;
-        for (k, b) in lanes.iter().enumerate() {
-            for axis in 0..3 {
-                w.min[axis][k] = b.min[axis];
-                w.max[axis][k] = b.max[axis];
-            }
-        }
+        let w: WideNode = node_of(lanes);
         let t = w.hit(&WideRay::new(ray), t_max).to_array();
         t.iter()
             .map(|&t| Some(t).filter(|t| t.is_finite()))
