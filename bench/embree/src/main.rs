@@ -16,7 +16,11 @@ use std::path::PathBuf;
 
 const USAGE: &str = "usage:
   embree-bench run --mesh NAME [--meshes DIR] [--repeats N] [--builds N] [--threads 1,2] [--csv FILE]
-      NAME: bunny, blob, sphereflake or soup; CSV rows are appended to FILE
+                   [--ray-file FILE]
+      NAME: bunny, blob, sphereflake or soup, or cornell (prism's cornell-light as it is, seen
+      by its camera, lit at its light; prism's tree for rays from inside); CSV rows are appended
+      to FILE; --ray-file: trace FILE's rays (six little-endian f32s each: origin, direction;
+      nearest hit) instead of the generated sets
   embree-bench builds --mesh NAME [--builds N] [--prism-only 1]
       builds alone: prism's default BVH and Embree MEDIUM in turns, medians of wall and process CPU ms
       (--prism-only 1: prism alone, for a profiler)
@@ -39,6 +43,8 @@ struct Options {
     packets: Option<usize>,
     /// `builds` only: time prism's build alone.
     prism_only: bool,
+    /// `run` only: trace these rays instead of the three generated sets.
+    ray_file: Option<PathBuf>,
 }
 
 // The allocator `prism` itself runs with (large blocks advised as huge pages when
@@ -79,6 +85,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         rays: None,
         packets: None,
         prism_only: false,
+        ray_file: None,
     };
     let mut it = args.iter();
     while let Some(flag) = it.next() {
@@ -101,6 +108,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             }
             "--csv" => o.csv = Some(PathBuf::from(value)),
             "--rays" => o.rays = Some(value.clone()),
+            "--ray-file" => o.ray_file = Some(PathBuf::from(value)),
             "--prism-only" => o.prism_only = number()? != 0,
             "--packets" => o.packets = Some(number()?.clamp(1, prism::accel::PACKET_MAX)),
             _ => return Err(format!("unknown option {flag}\n{USAGE}")),
@@ -129,6 +137,16 @@ fn ms(d: std::time::Duration) -> f64 {
 }
 
 /// prism's geometry for a mesh (one `TriangleMesh`, so primitive = triangle index).
+/// prism's tree for a mesh: the default one, and for `cornell` the one its path tracer
+/// builds (`rays=auto` settles on rays from inside for the path integrator).
+fn spec_for(mesh: &str) -> AccelSpec {
+    if mesh == meshes::CORNELL {
+        "bvh:rays=inside".parse().expect("a valid accelerator spec")
+    } else {
+        AccelSpec::default()
+    }
+}
+
 fn prism_geometry(mesh: &meshes::Mesh) -> Result<Geometry, String> {
     let mut geometry = Geometry::default();
     let prism_mesh = TriangleMesh::new(mesh.positions.clone(), mesh.indices.clone(), None, None)
@@ -142,12 +160,16 @@ fn prism_geometry(mesh: &meshes::Mesh) -> Result<Geometry, String> {
 fn diff(o: &Options) -> Result<(), String> {
     let mesh = meshes::make(&o.mesh, &o.meshes_dir)?;
     let geometry = prism_geometry(&mesh)?;
-    let intersector = SceneIntersector::build(&geometry, &AccelSpec::default());
+    let intersector = SceneIntersector::build(&geometry, &spec_for(mesh.name));
     let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
     let device = embree::Device::new();
     let scene = embree::Scene::new(&device, &positions, &mesh.indices, embree::Quality::Medium);
     scene.commit();
-    let sets = workload::generate(&geometry, &intersector);
+    let sets = workload::generate(
+        &geometry,
+        &intersector,
+        &workload::View::of(mesh.name, &geometry),
+    );
     let set = &sets[0];
     let (mut ours, mut theirs) = (Answers::for_set(set), Answers::for_set(set));
     measure::run(&Method::Prism(&intersector, &geometry), set, &mut ours, 1);
@@ -184,7 +206,7 @@ fn builds(o: &Options) -> Result<(), String> {
     let geometry = prism_geometry(&mesh)?;
     let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
     let device = embree::Device::new();
-    let spec = AccelSpec::default();
+    let spec = spec_for(mesh.name);
     let (mut ours, mut theirs) = (Vec::new(), Vec::new());
     // Page faults of each build (fresh memory: the first builds of a process fault in
     // every page they write, later ones reuse what the allocator kept).
@@ -257,12 +279,16 @@ fn minor_faults() -> i64 {
 fn profile(o: &Options) -> Result<(), String> {
     let mesh = meshes::make(&o.mesh, &o.meshes_dir)?;
     let geometry = prism_geometry(&mesh)?;
-    let intersector = SceneIntersector::build(&geometry, &AccelSpec::default());
+    let intersector = SceneIntersector::build(&geometry, &spec_for(mesh.name));
     let method = match o.packets {
         Some(n) => Method::PrismPackets(&intersector, &geometry, n),
         None => Method::Prism(&intersector, &geometry),
     };
-    let sets = workload::generate(&geometry, &intersector);
+    let sets = workload::generate(
+        &geometry,
+        &intersector,
+        &workload::View::of(mesh.name, &geometry),
+    );
     for set in sets
         .iter()
         .filter(|s| o.rays.as_deref().is_none_or(|r| r == s.name))
@@ -285,6 +311,8 @@ fn profile(o: &Options) -> Result<(), String> {
 }
 
 fn run(o: &Options) -> Result<(), String> {
+    // Read first, so that a bad file stops the run before the builds.
+    let file_rays = o.ray_file.as_deref().map(workload::from_file).transpose()?;
     let mesh = match meshes::make(&o.mesh, &o.meshes_dir) {
         Ok(mesh) => mesh,
         Err(reason) => {
@@ -307,7 +335,7 @@ fn run(o: &Options) -> Result<(), String> {
     // does) and Embree's rtcCommitScene at both qualities (the copy into Embree's buffers
     // is not timed). Both use every core: prism through rayon, Embree through TBB.
     let device = embree::Device::new();
-    let spec = AccelSpec::default();
+    let spec = spec_for(mesh.name);
     let qualities = [embree::Quality::Medium, embree::Quality::High];
     let mut build_samples: [Vec<Sample>; 3] = Default::default();
     let mut intersector = None;
@@ -373,7 +401,13 @@ fn run(o: &Options) -> Result<(), String> {
         }
     }
 
-    let sets = workload::generate(&geometry, &intersector);
+    let sets = match file_rays {
+        Some(set) => vec![set],
+        None => {
+            let view = workload::View::of(mesh.name, &geometry);
+            workload::generate(&geometry, &intersector, &view).into()
+        }
+    };
     for set in &sets {
         let n = set.len();
         // An untimed run of each method: it warms the caches and gives the answers that

@@ -1,5 +1,8 @@
 //! The four meshes of the comparison: the Stanford bunny read from disk and three made
 //! here, deterministically, each normalised (centred on the origin, largest extent 100).
+//! Beside them `cornell`: the triangles of prism's built-in `cornell-light` as they are (in
+//! millimetres), seen by its own camera and lit at its ceiling light (`workload::View`), for
+//! the rays of a path tracer in a small closed room (issue 14).
 
 use prism::math::{Frame, Vec3};
 use prism_io::scene::mesh_file::Materials;
@@ -16,6 +19,9 @@ pub struct Mesh {
 
 pub const NAMES: [&str; 4] = ["bunny", "blob", "sphereflake", "soup"];
 
+/// The small room: not one of `NAMES` (the tables of `run.sh`), asked for by name.
+pub const CORNELL: &str = "cornell";
+
 /// The mesh called `name`; `Err` says why it cannot be had (a missing file).
 pub fn make(name: &str, meshes_dir: &Path) -> Result<Mesh, String> {
     let mut mesh = match name {
@@ -23,10 +29,42 @@ pub fn make(name: &str, meshes_dir: &Path) -> Result<Mesh, String> {
         "blob" => blob(92),
         "sphereflake" => sphereflake(4, 12, 7),
         "soup" => soup(1_000_000, 0x5eed),
-        _ => return Err(format!("unknown mesh '{name}', expected one of {NAMES:?}")),
+        CORNELL => return Ok(cornell()),
+        _ => {
+            return Err(format!(
+                "unknown mesh '{name}', expected one of {NAMES:?} or {CORNELL}"
+            ))
+        }
     };
     normalise(&mut mesh);
     Ok(mesh)
+}
+
+/// The 32 triangles of the built-in `cornell-light` (room, blocks and light), in its own
+/// coordinates, so that its camera and light apply.
+fn cornell() -> Mesh {
+    let scene = cornell_light();
+    let mut mesh = Mesh {
+        name: CORNELL,
+        positions: Vec::new(),
+        indices: Vec::new(),
+    };
+    for part in &scene.geometry.meshes {
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend_from_slice(part.positions());
+        mesh.indices
+            .extend(part.indices().iter().map(|t| t.map(|i| i + base)));
+    }
+    mesh
+}
+
+/// prism's built-in `cornell-light`, whose triangles and camera `cornell` takes.
+pub fn cornell_light() -> prism::scene::Scene {
+    prism::scene::builtin::BUILTINS
+        .iter()
+        .find(|b| b.name == "cornell-light")
+        .expect("prism has the built-in cornell-light")
+        .build()
 }
 
 /// Centres the bounds on the origin and scales the largest extent to 100, so every mesh

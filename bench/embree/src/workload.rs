@@ -82,24 +82,57 @@ fn hash01(pixel: u64, dimension: u64) -> f32 {
     (h >> 40) as f32 / (1u64 << 24) as f32
 }
 
-/// The three ray sets for a geometry (one mesh, centred, extent 100) and its prism BVH.
-pub fn generate(geometry: &Geometry, intersector: &SceneIntersector) -> [RaySet; 3] {
-    let bounds = geometry.world_bounds();
-    let (centre, radius) = (bounds.center(), 0.5 * bounds.extent().length());
-    let view = VIEW_DIRECTION.normalize();
-    let half = (0.5 * FOV_DEGREES).to_radians();
-    let camera = Camera {
-        // The bounding sphere just fits the 45° view; the zoom then halves its tangent.
-        eye: centre + view * (radius / half.sin()),
-        look_at: centre,
-        up: Vec3::Y,
-        fov_degrees: 2.0 * (half.tan() / ZOOM).atan().to_degrees(),
-        projection: Projection::Perspective,
+/// Where the rays come from: the camera and the point light the shadow rays go to.
+pub struct View {
+    camera: Camera,
+    light: Vec3,
+}
+
+impl View {
+    /// The view of a mesh called `name`: `cornell` from the built-in's own camera with the
+    /// light just below the centre of its ceiling light; the others framed (`framing`).
+    pub fn of(name: &str, geometry: &Geometry) -> View {
+        if name == crate::meshes::CORNELL {
+            View::cornell()
+        } else {
+            View::framing(geometry)
+        }
     }
-    .setup(SIZE, SIZE)
-    .expect("a valid camera");
-    // A point light above and in front of the object.
-    let light = centre + radius * (1.5 * Vec3::Y + view);
+
+    /// A camera looking at the bounds' centre from `VIEW_DIRECTION`, the bounding sphere
+    /// filling the frame, and a point light above and in front of the object.
+    fn framing(geometry: &Geometry) -> View {
+        let bounds = geometry.world_bounds();
+        let (centre, radius) = (bounds.center(), 0.5 * bounds.extent().length());
+        let view = VIEW_DIRECTION.normalize();
+        let half = (0.5 * FOV_DEGREES).to_radians();
+        View {
+            camera: Camera {
+                // The bounding sphere just fits the 45° view; the zoom then halves its tangent.
+                eye: centre + view * (radius / half.sin()),
+                look_at: centre,
+                up: Vec3::Y,
+                fov_degrees: 2.0 * (half.tan() / ZOOM).atan().to_degrees(),
+                projection: Projection::Perspective,
+            },
+            light: centre + radius * (1.5 * Vec3::Y + view),
+        }
+    }
+
+    /// `cornell-light`'s camera, and a point 1 mm below the middle of its ceiling light
+    /// (x 213-343, z 227-332 mm at y 548.7), where a path's light samples go.
+    fn cornell() -> View {
+        View {
+            camera: crate::meshes::cornell_light().camera,
+            light: Vec3::new(278.0, 547.7, 279.5),
+        }
+    }
+}
+
+/// The three ray sets for a geometry and its prism BVH, seen from `view`.
+pub fn generate(geometry: &Geometry, intersector: &SceneIntersector, view: &View) -> [RaySet; 3] {
+    let camera = view.camera.setup(SIZE, SIZE).expect("a valid camera");
+    let light = view.light;
 
     let mut primary = RaySet::new("primary", true, false);
     let mut incoherent = RaySet::new("incoherent", false, false);
@@ -139,4 +172,35 @@ pub fn generate(geometry: &Geometry, intersector: &SceneIntersector) -> [RaySet;
         }
     }
     [primary, incoherent, shadow]
+}
+
+/// Rays read from `path` (another renderer's, e.g. `bench/mitsuba-rays.py`'s): per ray its
+/// origin and direction, six little-endian f32s, traced for the nearest hit without a
+/// bound, as incoherent rays.
+pub fn from_file(path: &std::path::Path) -> Result<RaySet, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    const RAY_BYTES: usize = 6 * 4;
+    if bytes.is_empty() || bytes.len() % RAY_BYTES != 0 {
+        return Err(format!(
+            "{}: {} bytes, expected a positive multiple of {RAY_BYTES} (origin and direction as six f32s per ray)",
+            path.display(),
+            bytes.len()
+        ));
+    }
+    let mut set = RaySet::new("from file", false, false);
+    for (k, ray) in bytes.chunks_exact(RAY_BYTES).enumerate() {
+        let f: Vec<f32> = ray
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        let (origin, dir) = (Vec3::new(f[0], f[1], f[2]), Vec3::new(f[3], f[4], f[5]));
+        if !origin.is_finite() || !dir.is_finite() || dir == Vec3::ZERO {
+            return Err(format!(
+                "{}: ray {k}: origin {origin} and direction {dir}, expected finite numbers and a non-zero direction",
+                path.display()
+            ));
+        }
+        set.push(Ray::new(origin, dir), f32::INFINITY);
+    }
+    Ok(set)
 }
