@@ -26,7 +26,6 @@ Run it from the repository root.
 import argparse
 import importlib.util
 import os
-import resource
 import subprocess
 import sys
 
@@ -38,21 +37,12 @@ RAYS = 1 << 22
 
 
 def load_cornell_script():
+    """bench/mitsuba-cornell.py as a module: its Mitsuba scene and its CPU clocks."""
     spec = importlib.util.spec_from_file_location(
         "mitsuba_cornell", os.path.join(HERE, "mitsuba-cornell.py"))
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
-
-
-def cpu_seconds():
-    r = resource.getrusage(resource.RUSAGE_SELF)
-    return r.ru_utime + r.ru_stime
-
-
-def child_cpu_seconds():
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
 
 
 def mitsuba_per_path(mi, dr, mc, variant, size, spp, out):
@@ -63,25 +53,25 @@ def mitsuba_per_path(mi, dr, mc, variant, size, spp, out):
         scene = mi.load_dict(mc.mitsuba_scene(mi, "cornell-light", out, size, spp, depth))
         dr.eval(mi.render(scene, spp=1))
         dr.sync_thread()
-        c0 = cpu_seconds()
+        c0 = mc.cpu_seconds()
         image = mi.render(scene, spp=spp)
         dr.eval(image)
         dr.sync_thread()
-        result[depth] = (cpu_seconds() - c0) / (size * size * spp) * 1e9
+        result[depth] = (mc.cpu_seconds() - c0) / (size * size * spp) * 1e9
     return result
 
 
-def prism_per_path(prism, size, spp, threads, out):
+def prism_per_path(mc, prism, size, spp, threads, out):
     n = int(round(spp ** 0.5))
     result = {}
     for depth in DEPTHS:
-        c0 = child_cpu_seconds()
+        c0 = mc.child_cpu_seconds()
         subprocess.run([prism, "render", "--builtin", "cornell-light", "--integrator", "path",
                         "-W", str(size), "-H", str(size), "--depth", str(depth),
                         "--samples", str(n), "--sampler", "jittered",
                         "--threads", str(threads), "-q",
                         "-o", os.path.join(out, f"prism-depth{depth}.exr")], check=True)
-        result[depth] = (child_cpu_seconds() - c0) / (size * size * n * n) * 1e9
+        result[depth] = (mc.child_cpu_seconds() - c0) / (size * size * n * n) * 1e9
     return result
 
 
@@ -108,11 +98,11 @@ def mitsuba_rays(mi, dr, mc, o, d, out, rounds=5):
                        mi.Vector3f(d[:, 0], d[:, 1], d[:, 2]))
         dr.eval(ray)
         dr.sync_thread()
-        c0 = cpu_seconds()
+        c0 = mc.cpu_seconds()
         found = scene.ray_intersect_preliminary(ray)
         dr.eval(found.t)
         dr.sync_thread()
-        times.append((cpu_seconds() - c0) / RAYS * 1e9)
+        times.append((mc.cpu_seconds() - c0) / RAYS * 1e9)
         hits = int(np.isfinite(np.array(found.t)).sum())
     return float(np.median(times[1:])), hits  # the first compiles the kernel
 
@@ -146,7 +136,7 @@ def main():
                                                 args.spp, args.out),
         "Mitsuba scalar_rgb": mitsuba_per_path(mi, dr, mc, "scalar_rgb", args.size,
                                                args.spp, args.out),
-        "prism": prism_per_path(args.prism, args.size, args.spp, args.threads, args.out),
+        "prism": prism_per_path(mc, args.prism, args.size, args.spp, args.threads, args.out),
     }
     print("| renderer | " + " | ".join(f"depth {d}" for d in DEPTHS) + " |")
     print("|---|" + "---:|" * len(DEPTHS))
