@@ -304,6 +304,7 @@ pub(super) struct PacketSearch {
 
 impl CullBound for PacketSearch {
     type Rays = u64;
+    const BY_BRANCHES: bool = false;
     #[inline(always)]
     fn t_max(&self) -> f32 {
         self.t_max
