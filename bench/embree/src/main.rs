@@ -315,10 +315,11 @@ fn run(o: &Options) -> Result<(), String> {
     let file_rays = o.ray_file.as_deref().map(workload::from_file).transpose()?;
     let mesh = match meshes::make(&o.mesh, &o.meshes_dir) {
         Ok(mesh) => mesh,
-        Err(reason) => {
+        Err(meshes::MeshError::Absent(reason)) => {
             println!("## {}: skipped: {reason}\n", o.mesh);
             return Ok(());
         }
+        Err(unknown) => return Err(unknown.into()),
     };
     let triangles = mesh.indices.len();
     let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();

@@ -22,18 +22,34 @@ pub const NAMES: [&str; 4] = ["bunny", "blob", "sphereflake", "soup"];
 /// The small room: not one of `NAMES` (the tables of `run.sh`), asked for by name.
 pub const CORNELL: &str = "cornell";
 
-/// The mesh called `name`; `Err` says why it cannot be had (a missing file).
-pub fn make(name: &str, meshes_dir: &Path) -> Result<Mesh, String> {
+/// Why a mesh cannot be had.
+pub enum MeshError {
+    /// No mesh has that name: a mistake in the command.
+    Unknown(String),
+    /// Its file is absent (the bunny outside this workplace): the run skips it.
+    Absent(String),
+}
+
+impl From<MeshError> for String {
+    fn from(e: MeshError) -> String {
+        match e {
+            MeshError::Unknown(why) | MeshError::Absent(why) => why,
+        }
+    }
+}
+
+/// The mesh called `name`.
+pub fn make(name: &str, meshes_dir: &Path) -> Result<Mesh, MeshError> {
     let mut mesh = match name {
-        "bunny" => bunny(meshes_dir)?,
+        "bunny" => bunny(meshes_dir).map_err(MeshError::Absent)?,
         "blob" => blob(92),
         "sphereflake" => sphereflake(4, 12, 7),
         "soup" => soup(1_000_000, 0x5eed),
         CORNELL => return Ok(cornell()),
         _ => {
-            return Err(format!(
+            return Err(MeshError::Unknown(format!(
                 "unknown mesh '{name}', expected one of {NAMES:?} or {CORNELL}"
-            ))
+            )))
         }
     };
     normalise(&mut mesh);
