@@ -136,7 +136,6 @@ fn ms(d: std::time::Duration) -> f64 {
     d.as_secs_f64() * 1e3
 }
 
-/// prism's geometry for a mesh (one `TriangleMesh`, so primitive = triangle index).
 /// prism's tree for a mesh: the default one, and for `cornell` the one its path tracer
 /// builds (`rays=auto` settles on rays from inside for the path integrator).
 fn spec_for(mesh: &str) -> AccelSpec {
@@ -147,6 +146,7 @@ fn spec_for(mesh: &str) -> AccelSpec {
     }
 }
 
+/// prism's geometry for a mesh (one `TriangleMesh`, so primitive = triangle index).
 fn prism_geometry(mesh: &meshes::Mesh) -> Result<Geometry, String> {
     let mut geometry = Geometry::default();
     let prism_mesh = TriangleMesh::new(mesh.positions.clone(), mesh.indices.clone(), None, None)

@@ -24,30 +24,49 @@ pub const CORNELL: &str = "cornell";
 
 /// Why a mesh cannot be had.
 pub enum MeshError {
-    /// No mesh has that name: a mistake in the command.
-    Unknown(String),
     /// Its file is absent (the bunny outside this workplace): the run skips it.
     Absent(String),
+    /// No mesh has that name, or its file cannot be read: an error.
+    Failed(String),
 }
 
 impl From<MeshError> for String {
     fn from(e: MeshError) -> String {
         match e {
-            MeshError::Unknown(why) | MeshError::Absent(why) => why,
+            MeshError::Absent(why) | MeshError::Failed(why) => why,
         }
+    }
+}
+
+impl Mesh {
+    fn empty(name: &'static str) -> Mesh {
+        Mesh {
+            name,
+            positions: Vec::new(),
+            indices: Vec::new(),
+        }
+    }
+
+    /// Appends a triangle mesh's vertices and triangles (its indices shifted past the
+    /// vertices already here), so that triangle indices mean the same in both libraries.
+    fn append(&mut self, part: &prism::geometry::TriangleMesh) {
+        let base = self.positions.len() as u32;
+        self.positions.extend_from_slice(part.positions());
+        self.indices
+            .extend(part.indices().iter().map(|t| t.map(|i| i + base)));
     }
 }
 
 /// The mesh called `name`.
 pub fn make(name: &str, meshes_dir: &Path) -> Result<Mesh, MeshError> {
     let mut mesh = match name {
-        "bunny" => bunny(meshes_dir).map_err(MeshError::Absent)?,
+        "bunny" => bunny(meshes_dir)?,
         "blob" => blob(92),
         "sphereflake" => sphereflake(4, 12, 7),
         "soup" => soup(1_000_000, 0x5eed),
         CORNELL => return Ok(cornell()),
         _ => {
-            return Err(MeshError::Unknown(format!(
+            return Err(MeshError::Failed(format!(
                 "unknown mesh '{name}', expected one of {NAMES:?} or {CORNELL}"
             )))
         }
@@ -59,17 +78,9 @@ pub fn make(name: &str, meshes_dir: &Path) -> Result<Mesh, MeshError> {
 /// The 32 triangles of the built-in `cornell-light` (room, blocks and light), in its own
 /// coordinates, so that its camera and light apply.
 fn cornell() -> Mesh {
-    let scene = cornell_light();
-    let mut mesh = Mesh {
-        name: CORNELL,
-        positions: Vec::new(),
-        indices: Vec::new(),
-    };
-    for part in &scene.geometry.meshes {
-        let base = mesh.positions.len() as u32;
-        mesh.positions.extend_from_slice(part.positions());
-        mesh.indices
-            .extend(part.indices().iter().map(|t| t.map(|i| i + base)));
+    let mut mesh = Mesh::empty(CORNELL);
+    for part in &cornell_light().geometry.meshes {
+        mesh.append(part);
     }
     mesh
 }
@@ -100,23 +111,16 @@ fn normalise(mesh: &mut Mesh) {
 
 /// The Stanford bunny (69,451 triangles), all parts of the file in one mesh so that
 /// triangle indices mean the same in both libraries.
-fn bunny(dir: &Path) -> Result<Mesh, String> {
+fn bunny(dir: &Path) -> Result<Mesh, MeshError> {
     let path = dir.join("stanford-bunny.obj");
     if !path.exists() {
-        return Err(format!("{} is absent", path.display()));
+        return Err(MeshError::Absent(format!("{} is absent", path.display())));
     }
-    let file =
-        prism_io::scene::load_mesh_file(&path, Materials::Ignore).map_err(|e| e.to_string())?;
-    let mut mesh = Mesh {
-        name: "bunny",
-        positions: Vec::new(),
-        indices: Vec::new(),
-    };
+    let file = prism_io::scene::load_mesh_file(&path, Materials::Ignore)
+        .map_err(|e| MeshError::Failed(e.to_string()))?;
+    let mut mesh = Mesh::empty("bunny");
     for part in &file.parts {
-        let base = mesh.positions.len() as u32;
-        mesh.positions.extend_from_slice(part.mesh.positions());
-        mesh.indices
-            .extend(part.mesh.indices().iter().map(|t| t.map(|i| i + base)));
+        mesh.append(&part.mesh);
     }
     Ok(mesh)
 }

@@ -174,7 +174,7 @@ pub fn generate(geometry: &Geometry, intersector: &SceneIntersector, view: &View
     [primary, incoherent, shadow]
 }
 
-/// Rays read from `path` (another renderer's, e.g. `bench/mitsuba-rays.py`'s): per ray its
+/// Rays read from `path` (another renderer's, e.g. `bench/mitsuba-anatomy.py`'s): per ray its
 /// origin and direction, six little-endian f32s, traced for the nearest hit without a
 /// bound, as incoherent rays.
 pub fn from_file(path: &std::path::Path) -> Result<RaySet, String> {
@@ -189,10 +189,9 @@ pub fn from_file(path: &std::path::Path) -> Result<RaySet, String> {
     }
     let mut set = RaySet::new("from file", false, false);
     for (k, ray) in bytes.chunks_exact(RAY_BYTES).enumerate() {
-        let f: Vec<f32> = ray
-            .chunks_exact(4)
-            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect();
+        let f: [f32; 6] = std::array::from_fn(|i| {
+            f32::from_le_bytes([ray[4 * i], ray[4 * i + 1], ray[4 * i + 2], ray[4 * i + 3]])
+        });
         let (origin, dir) = (Vec3::new(f[0], f[1], f[2]), Vec3::new(f[3], f[4], f[5]));
         if !origin.is_finite() || !dir.is_finite() || dir == Vec3::ZERO {
             return Err(format!(
