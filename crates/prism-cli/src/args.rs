@@ -324,19 +324,19 @@ impl RenderArgs {
             o.filter_radius = Some(v);
         }
         if let Some(v) = self.adaptive_threshold {
-            o.adaptive_threshold = v;
+            o.adaptive.threshold = v;
         }
         if let Some(v) = self.adaptive_depth {
-            o.adaptive_depth = v;
+            o.adaptive.depth = v;
         }
         if let Some(v) = self.adaptive_rule {
-            o.adaptive_rule = v;
+            o.adaptive.rule = v;
         }
         if let Some(v) = self.adaptive_jitter {
-            o.adaptive_jitter = v;
+            o.adaptive.jitter = v;
         }
         if let Some(v) = self.adaptive_texture_spp {
-            o.adaptive_texture_spp = v;
+            o.adaptive.texture_spp = v;
         }
         if let Some(v) = self.min_weight {
             o.min_weight = v;
@@ -410,12 +410,12 @@ mod tests {
     fn the_pov_preset_is_povs_am2_pattern_and_flags_refine_it() {
         let o = options(&["--preset", "pov"]);
         assert_eq!(o.sampler, SamplerKind::Adaptive);
-        assert_eq!(o.adaptive_rule, AdaptiveRule::Corners);
-        assert_eq!((o.adaptive_jitter, o.adaptive_texture_spp), (0.0, 0));
-        assert_eq!(o.adaptive_depth, 2, "+R3 counts the pixel: two levels");
+        assert_eq!(o.adaptive.rule, AdaptiveRule::Corners);
+        assert_eq!((o.adaptive.jitter, o.adaptive.texture_spp), (0.0, 0));
+        assert_eq!(o.adaptive.depth, 2, "+R3 counts the pixel: two levels");
         assert_eq!(
-            o.adaptive_threshold,
-            RenderOptions::default().adaptive_threshold
+            o.adaptive.threshold,
+            RenderOptions::default().adaptive.threshold
         );
         let o = options(&[
             "--preset",
@@ -425,7 +425,7 @@ mod tests {
             "--adaptive-threshold",
             "0.3",
         ]);
-        assert_eq!((o.adaptive_depth, o.adaptive_threshold), (3, 0.3));
-        assert_eq!(o.adaptive_rule, AdaptiveRule::Corners);
+        assert_eq!((o.adaptive.depth, o.adaptive.threshold), (3, 0.3));
+        assert_eq!(o.adaptive.rule, AdaptiveRule::Corners);
     }
 }

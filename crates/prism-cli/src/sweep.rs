@@ -300,11 +300,13 @@ pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
         let options = RenderOptions {
             sampler: run.sampler,
             samples: if run.spp > 0 { per_axis(run.spp)? } else { 1 },
-            adaptive_threshold: run.threshold,
-            adaptive_depth: run.depth,
-            adaptive_rule: run.rule,
-            adaptive_jitter: run.jitter,
-            adaptive_texture_spp: run.texture_spp,
+            adaptive: prism::sampling::AdaptiveSpec {
+                threshold: run.threshold,
+                depth: run.depth,
+                rule: run.rule,
+                jitter: run.jitter,
+                texture_spp: run.texture_spp,
+            },
             ..base.clone()
         };
         let start = Instant::now();

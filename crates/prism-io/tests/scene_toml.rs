@@ -557,10 +557,10 @@ fn sampling_keys_fill_the_render_options() {
     assert_eq!(o.sampler, prism::sampling::SamplerKind::Adaptive);
     assert_eq!(o.filter, prism::render::FilterKind::Gaussian);
     assert_eq!(o.filter_radius, Some(2.0));
-    assert_eq!((o.adaptive_threshold, o.adaptive_depth), (0.2, 2));
-    assert_eq!(o.adaptive_rule, prism::sampling::AdaptiveRule::Corners);
-    assert_eq!((o.adaptive_jitter, o.min_weight), (0.0, 0.01));
-    assert_eq!(o.adaptive_texture_spp, 9);
+    assert_eq!((o.adaptive.threshold, o.adaptive.depth), (0.2, 2));
+    assert_eq!(o.adaptive.rule, prism::sampling::AdaptiveRule::Corners);
+    assert_eq!((o.adaptive.jitter, o.min_weight), (0.0, 0.01));
+    assert_eq!(o.adaptive.texture_spp, 9);
     // Left out, the defaults: the grid, the box, adaptive depth control at 1/255.
     let plain = parse("[render]\nwidth = 8\n").unwrap();
     assert_eq!(plain.options.sampler, prism::sampling::SamplerKind::Grid);

@@ -50,7 +50,10 @@ fn adaptive_sampling_reaches_jittered_16_with_at_most_35_percent_of_the_rays() {
     // which is why the pass exists.
     let (_, subdivided_rays) = measure(RenderOptions {
         sampler: SamplerKind::Adaptive,
-        adaptive_texture_spp: 0,
+        adaptive: prism::sampling::AdaptiveSpec {
+            texture_spp: 0,
+            ..base.adaptive
+        },
         ..base
     });
     assert!(subdivided_rays > adaptive_rays, "{subdivided_rays} rays");

@@ -8,7 +8,7 @@
 //! builds without any format's dependencies. ARCHITECTURE.md maps the modules.
 
 #[macro_use]
-mod kinds;
+pub mod choices;
 
 pub mod accel;
 pub mod camera;

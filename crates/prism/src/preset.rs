@@ -1,7 +1,7 @@
 //! Presets: named bundles of scene and option changes that reproduce a published procedure.
 
+use crate::choices::{AdaptiveRule, SamplerKind};
 use crate::options::RenderOptions;
-use crate::sampling::{AdaptiveRule, SamplerKind};
 use crate::scene::Scene;
 
 /// POV-Ray 3.7's `+AM2` at its default recursion `+R3` (`AdaptiveSupersamplingM2` in POV's
@@ -14,10 +14,10 @@ use crate::scene::Scene;
 /// `+A0.3` has no exact counterpart.
 pub fn apply_pov_am2(options: &mut RenderOptions) {
     options.sampler = SamplerKind::Adaptive;
-    options.adaptive_rule = AdaptiveRule::Corners;
-    options.adaptive_jitter = 0.0;
-    options.adaptive_texture_spp = 0;
-    options.adaptive_depth = 2;
+    options.adaptive.rule = AdaptiveRule::Corners;
+    options.adaptive.jitter = 0.0;
+    options.adaptive.texture_spp = 0;
+    options.adaptive.depth = 2;
 }
 
 /// Eric Haines' SPD testing procedure (SPD 3.14 Readme, "Testing Procedures"): rays through
@@ -39,8 +39,8 @@ pub fn apply_spd(scene: &mut Scene, options: &mut RenderOptions) {
     options.width += 1;
     options.height += 1;
     options.samples = 1;
-    options.sampler = crate::sampling::SamplerKind::Grid;
-    options.filter = crate::render::FilterKind::Box;
+    options.sampler = SamplerKind::Grid;
+    options.filter = crate::choices::FilterKind::Box;
     options.filter_radius = None;
     options.max_depth = 5;
     options.min_weight = 0.0;

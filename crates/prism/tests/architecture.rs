@@ -228,12 +228,18 @@ fn imports_of(src: &Path, module: &str) -> BTreeSet<String> {
                 .chars()
                 .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
                 .collect();
-            if !name.is_empty() && name != module {
+            // Only modules count: `$crate::some_macro!` names no module.
+            if !name.is_empty() && name != module && is_module(src, &name) {
                 out.insert(name);
             }
         }
     }
     out
+}
+
+/// Whether `name` is a top module of the crate whose sources are in `src`.
+fn is_module(src: &Path, name: &str) -> bool {
+    src.join(name).is_dir() || src.join(format!("{name}.rs")).is_file()
 }
 
 /// The top modules of a crate: the folders and files beside its lib.rs.
@@ -248,9 +254,6 @@ fn top_modules(src: &Path) -> BTreeSet<String> {
 
 #[test]
 fn modules_import_only_what_the_order_puts_before_them() {
-    // Outside the engine's order by design (see ARCHITECTURE.md): the settings everyone
-    // reads, and the macros every module may use.
-    let free = ["options", "preset", "kinds"];
     let mut wrong = Vec::new();
     for name in [
         "prism",
@@ -263,16 +266,13 @@ fn modules_import_only_what_the_order_puts_before_them() {
         let src = Path::new(&crate_dir(name, "src")).to_path_buf();
         let level = |m: &str| order.iter().position(|l| l.iter().any(|x| x == m));
         for module in top_modules(&src) {
-            if level(&module).is_none() && !free.contains(&module.as_str()) {
+            if level(&module).is_none() {
                 wrong.push(format!("{name}: {module} is not in the order"));
             }
         }
         for (i, modules) in order.iter().enumerate() {
             for module in modules {
                 for import in imports_of(&src, module) {
-                    if free.contains(&import.as_str()) {
-                        continue;
-                    }
                     match level(&import) {
                         Some(j) if j < i => {}
                         _ => wrong.push(format!("{name}: {module} imports {import}")),

@@ -9,7 +9,7 @@ use common::oracle::{random_ray, TestScene};
 use common::{icosphere, Rng};
 use prism::accel::{
     markdown, Accel, AccelKind, AccelSpec, Accepts, BruteForce, BruteForceOptions, BvhOptions, Key,
-    Method, Value,
+    Keyed, Method, Value,
 };
 use prism::geometry::Geometry;
 use prism::math::{TraceRay, Vec3};
@@ -32,7 +32,7 @@ impl Default for ReversedOptions {
     }
 }
 
-impl Method for ReversedOptions {
+impl Keyed for ReversedOptions {
     const NAME: &'static str = "reversed";
     const SUMMARY: &'static str = "the brute-force list backwards";
     const KEYS: &'static [Key<Self>] = &[
@@ -51,7 +51,9 @@ impl Method for ReversedOptions {
             set: |o, v| o.reverse = v.switch(),
         },
     ];
+}
 
+impl Method for ReversedOptions {
     fn build(&self, _geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
         let mut kept: Vec<u32> = prims.into_iter().step_by(self.stride).collect();
         if self.reverse {

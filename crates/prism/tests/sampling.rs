@@ -10,7 +10,7 @@ use prism::light::Light;
 use prism::math::{Color, Vec3};
 use prism::render::{render, FilterKind, RenderResult};
 use prism::sampling::adaptive::{Square, Visit};
-use prism::sampling::{Sampler, SamplerKind};
+use prism::sampling::{AdaptiveSpec, Sampler, SamplerKind};
 use prism::scene::builtin;
 use prism::shading::{Material, Texture};
 use prism::{RenderOptions, Scene, Stats};
@@ -167,8 +167,11 @@ fn adaptive_sampling_traces_each_lattice_point_once() {
         let scene = builtin::find(name).unwrap();
         let options = RenderOptions {
             sampler: SamplerKind::Adaptive,
-            adaptive_depth: depth,
-            adaptive_texture_spp: texture_spp,
+            adaptive: AdaptiveSpec {
+                depth,
+                texture_spp,
+                ..AdaptiveSpec::default()
+            },
             ..small(&scene, w, h)
         };
         let r = run(&scene, &options);
@@ -205,8 +208,11 @@ fn adaptive_sampling_with_a_threshold_of_one_traces_only_the_corners() {
     for depth in [0, 3] {
         let options = RenderOptions {
             sampler: SamplerKind::Adaptive,
-            adaptive_threshold: 1.0,
-            adaptive_depth: depth,
+            adaptive: AdaptiveSpec {
+                threshold: 1.0,
+                depth,
+                ..AdaptiveSpec::default()
+            },
             ..small(&scene, 20, 15)
         };
         let r = run(&scene, &options);
@@ -224,7 +230,10 @@ fn every_sampler_and_filter_is_bit_identical_for_any_threads_and_tiles() {
                 sampler,
                 filter,
                 samples: 2,
-                adaptive_depth: 2,
+                adaptive: AdaptiveSpec {
+                    depth: 2,
+                    ..AdaptiveSpec::default()
+                },
                 threads,
                 tile_size,
                 seed: 9,
@@ -475,7 +484,7 @@ fn adaptive_pixels_without_splatting_match_the_splatted_ones() {
     let scene = builtin::find("whitted").unwrap();
     let mut options = small(&scene, 64, 48);
     options.sampler = SamplerKind::Adaptive;
-    options.adaptive_texture_spp = 0;
+    options.adaptive.texture_spp = 0;
     options.filter = FilterKind::Box;
     let direct = run(&scene, &options);
     options.filter_radius = Some(0.5 + 1e-4);

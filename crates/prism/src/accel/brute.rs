@@ -1,8 +1,9 @@
 //! Brute force: test every primitive. Slow and obviously right, the oracle for the others.
 
-use super::params::{Key, Method};
 use super::query::HitSearch;
+use super::Method;
 use super::{Accel, AccelInfo, Hit, QueryMode};
+use crate::choices::{Key, Keyed};
 use crate::geometry::Geometry;
 use crate::math::TraceRay;
 use crate::stats::Stats;
@@ -11,11 +12,13 @@ use crate::stats::Stats;
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BruteForceOptions;
 
-impl Method for BruteForceOptions {
+impl Keyed for BruteForceOptions {
     const NAME: &'static str = "brute-force";
     const SUMMARY: &'static str = "test every primitive: the reference";
     const KEYS: &'static [Key<Self>] = &[];
+}
 
+impl Method for BruteForceOptions {
     fn build(&self, _geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
         Box::new(BruteForce::new(prims))
     }

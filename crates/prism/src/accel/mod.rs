@@ -16,16 +16,19 @@ mod spec;
 mod stack;
 pub mod volumes;
 
+pub use crate::choices::{
+    help_text, markdown, method_doc, parse_params, Accepts, Key, KeyDoc, Keyed, MethodDoc, Value,
+};
 pub use brute::{BruteForce, BruteForceOptions};
 pub use bvh::{Avx512, Bvh, BvhBuilder, BvhOptions, NodeWidth, RayOrigins};
 pub use grid::{Grid, GridOptions};
 pub use info::AccelInfo;
 pub use kdtree::{KdTree, KdTreeOptions};
 pub use octree::{Octree, OctreeOptions};
-pub use params::{help_text, markdown, method_doc, Accepts, Key, KeyDoc, Method, MethodDoc, Value};
+pub use params::Method;
 pub(crate) use query::HitSearch;
 pub use query::{Hit, QueryMode};
-pub use spec::{parse_params, AccelKind, AccelSpec};
+pub use spec::{AccelKind, AccelSpec};
 
 use crate::geometry::Geometry;
 use crate::math::{Ray, TraceRay};

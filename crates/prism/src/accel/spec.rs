@@ -4,38 +4,25 @@
 //! `kdtree:isect=80`, `bvh:volume=dop14`. A key without a value means `true` for switches.
 //!
 //! The methods are one list (`accel_methods!` below); each method's keys are its own
-//! table (`Method::KEYS`, in the method's files), from which parsing, printing, help and
+//! table (`choices::Keyed::KEYS`, in the method's files), from which parsing, printing, help and
 //! the documentation check are all derived.
 
-use super::params::{help_text, MethodDoc};
 use super::{BruteForceOptions, BvhOptions, GridOptions, KdTreeOptions, OctreeOptions};
-use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// Declares the acceleration methods: one line per method, `Variant(OptionsType)`, where
-/// the options type implements `Method`. It makes `AccelKind` (the method alone) and
-/// `AccelSpec` (the method with its parameters), their names, parsing and printing, and
-/// `build`. Exported so a test can declare a list with a toy method of its own.
+/// the options type has a key table (`choices::Keyed`) and builds (`accel::Method`). It
+/// makes `AccelKind` (the method alone) and `AccelSpec` (the method with its parameters),
+/// their names, parsing and printing (`method_list!`), and `build`. Exported so a test can
+/// declare a list with a toy method of its own.
 #[macro_export]
 macro_rules! accel_methods {
     ($($(#[$meta:meta])* $variant:ident($options:ty)),+ $(,)?) => {
-        /// Which accelerator to build.
-        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-        pub enum AccelKind {
-            $($(#[$meta])* $variant,)+
+        $crate::method_list! {
+            kind AccelKind, spec AccelSpec, what "accelerator", behaviour dyn $crate::accel::Method;
+            $($(#[$meta])* $variant($options)),+
         }
 
         impl AccelKind {
-            /// Every method, in the order help texts list them.
-            pub const ALL: [AccelKind; [$(stringify!($variant)),+].len()] =
-                [$(AccelKind::$variant),+];
-
-            /// The method's name as `--accel` writes it.
-            pub fn name(self) -> &'static str {
-                match self {
-                    $(AccelKind::$variant => <$options as $crate::accel::Method>::NAME,)+
-                }
-            }
-
             /// Builds over the given (bounded) primitive indices, with default parameters.
             pub fn build(
                 self,
@@ -44,114 +31,26 @@ macro_rules! accel_methods {
             ) -> Box<dyn $crate::accel::Accel> {
                 AccelSpec::from(self).build(geometry, prims)
             }
-
-            /// Every method's name, summary and keys, read from their tables.
-            pub fn docs() -> Vec<$crate::accel::MethodDoc> {
-                vec![$($crate::accel::method_doc::<$options>()),+]
-            }
-        }
-
-        impl ::std::fmt::Display for AccelKind {
-            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
-                f.write_str(self.name())
-            }
-        }
-
-        impl ::std::str::FromStr for AccelKind {
-            type Err = String;
-            fn from_str(s: &str) -> Result<Self, String> {
-                AccelKind::ALL
-                    .into_iter()
-                    .find(|k| k.name() == s)
-                    .ok_or_else(|| {
-                        let names: Vec<_> = AccelKind::ALL.iter().map(|k| k.name()).collect();
-                        format!(
-                            "unknown accelerator '{s}', expected one of: {}",
-                            names.join(", ")
-                        )
-                    })
-            }
-        }
-
-        /// An accelerator and its build parameters.
-        #[derive(Clone, Debug, PartialEq)]
-        pub enum AccelSpec {
-            $(
-                #[doc = concat!("`", stringify!($variant), "` with its parameters.")]
-                $variant($options),
-            )+
-        }
-
-        impl Default for AccelSpec {
-            fn default() -> Self {
-                AccelSpec::from(AccelKind::default())
-            }
-        }
-
-        impl From<AccelKind> for AccelSpec {
-            /// The method with its default parameters.
-            fn from(kind: AccelKind) -> Self {
-                match kind {
-                    $(AccelKind::$variant => AccelSpec::$variant(<$options>::default()),)+
-                }
-            }
         }
 
         impl AccelSpec {
-            /// The method without its parameters.
-            pub fn kind(&self) -> AccelKind {
-                match self {
-                    $(AccelSpec::$variant(_) => AccelKind::$variant,)+
-                }
-            }
-
             /// Builds over the given (bounded) primitive indices.
             pub fn build(
                 &self,
                 geometry: &$crate::geometry::Geometry,
                 prims: Vec<u32>,
             ) -> Box<dyn $crate::accel::Accel> {
-                match self {
-                    $(AccelSpec::$variant(o) => $crate::accel::Method::build(o, geometry, prims),)+
-                }
+                self.method().build(geometry, prims)
             }
 
-            fn set_param(&mut self, key: &str, value: Option<&str>) -> Result<(), String> {
-                match self {
-                    $(AccelSpec::$variant(o) => $crate::accel::Method::set_param(o, key, value),)+
-                }
-            }
-
-            fn non_default_params(&self) -> Vec<String> {
-                match self {
-                    $(AccelSpec::$variant(o) => $crate::accel::Method::non_default_params(o),)+
-                }
-            }
-        }
-
-        impl ::std::fmt::Display for AccelSpec {
-            /// The canonical spelling, which parses back to the same spec.
-            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
-                f.write_str(self.kind().name())?;
-                let params = self.non_default_params();
-                if !params.is_empty() {
-                    write!(f, ":{}", params.join(","))?;
-                }
-                Ok(())
-            }
-        }
-
-        impl ::std::str::FromStr for AccelSpec {
-            type Err = String;
-
-            fn from_str(s: &str) -> Result<Self, String> {
-                let (name, params) = match s.split_once(':') {
-                    Some((name, params)) => (name.trim(), Some(params)),
-                    None => (s.trim(), None),
-                };
-                let mut spec = AccelSpec::from(name.parse::<AccelKind>()?);
-                $crate::accel::parse_params(s, params, |key, value| spec.set_param(key, value))?;
-                Ok(spec)
+            /// `--accel`'s help: the syntax, then every method with its keys, from their
+            /// tables.
+            pub fn help() -> String {
+                format!(
+                    "Acceleration structure and its parameters, METHOD[:KEY=VALUE,...] \
+                     (e.g. bvh:build=sweep,reinsert):{}",
+                    $crate::choices::help_text(&AccelKind::docs())
+                )
             }
         }
     };
@@ -179,83 +78,6 @@ impl AccelSpec {
             AccelSpec::Bvh(o) => AccelSpec::Bvh(o.with_auto_rays(origins)),
             other => other.clone(),
         }
-    }
-}
-
-/// Splits `params` (the text after the method's colon, if any) into `KEY[=VALUE]` pairs
-/// and hands each to `set`, rejecting empty and repeated keys; `whole` is the full spec,
-/// for messages.
-pub fn parse_params(
-    whole: &str,
-    params: Option<&str>,
-    mut set: impl FnMut(&str, Option<&str>) -> Result<(), String>,
-) -> Result<(), String> {
-    let mut seen: Vec<&str> = Vec::new();
-    for param in params.into_iter().flat_map(|p| p.split(',')) {
-        let param = param.trim();
-        if param.is_empty() {
-            return Err(format!(
-                "empty parameter in '{whole}': expected KEY=VALUE pairs separated by commas"
-            ));
-        }
-        let (key, value) = match param.split_once('=') {
-            Some((k, v)) => (k.trim(), Some(v.trim())),
-            None => (param, None),
-        };
-        if seen.contains(&key) {
-            return Err(format!("'{key}' is given twice in '{whole}'"));
-        }
-        seen.push(key);
-        set(key, value)?;
-    }
-    Ok(())
-}
-
-impl AccelSpec {
-    /// The keys each method takes, for error messages and `--help`.
-    pub fn keys(kind: AccelKind) -> Vec<&'static str> {
-        AccelKind::docs()[kind.index()]
-            .keys
-            .iter()
-            .map(|k| k.name)
-            .collect()
-    }
-
-    /// `--accel`'s help: the syntax, then every method with its keys, from their tables.
-    pub fn help() -> String {
-        format!(
-            "Acceleration structure and its parameters, METHOD[:KEY=VALUE,...] \
-             (e.g. bvh:build=sweep,reinsert):{}",
-            help_text(&AccelKind::docs())
-        )
-    }
-
-    /// Every method's name, summary and keys.
-    pub fn docs() -> Vec<MethodDoc> {
-        AccelKind::docs()
-    }
-}
-
-impl AccelKind {
-    /// The position in `ALL`.
-    pub fn index(self) -> usize {
-        AccelKind::ALL
-            .iter()
-            .position(|&k| k == self)
-            .expect("ALL lists every method")
-    }
-}
-
-impl Serialize for AccelSpec {
-    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        serializer.serialize_str(&self.to_string())
-    }
-}
-
-impl<'de> Deserialize<'de> for AccelSpec {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        let text = String::deserialize(deserializer)?;
-        text.parse().map_err(serde::de::Error::custom)
     }
 }
 

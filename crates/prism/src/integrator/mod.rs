@@ -10,55 +10,95 @@ mod path;
 mod shadow;
 mod whitted;
 
+pub use crate::choices::Strategy;
 pub use emitters::{EmitterSample, Emitters};
 pub use light_buffer::{BufferParams, LightBuffer, LightBufferInfo};
-pub use path::{PathTracer, Strategy, RR_DEPTH};
+pub use path::{PathTracer, RR_DEPTH};
 pub use shadow::{begin_piece, ShadowMethod, ShadowSpec, Shadows};
 pub use whitted::Whitted;
 
+use crate::accel::PACKET_MAX;
 use crate::math::hash::Stream;
 use crate::math::{Color, Ray};
-use crate::options::{IntegratorKind, RenderOptions};
-use crate::scene::PreparedScene;
 use crate::stats::Stats;
 
-/// The integrator of one render, chosen by `RenderOptions::integrator`.
-pub enum Integrator<'a> {
-    /// Whitted ray tracing.
-    Whitted(Whitted<'a>),
-    /// Path tracing.
-    Path(PathTracer<'a>),
+/// What an integrator does with camera rays: radiance along one, or along a packet of
+/// them (at most `accel::PACKET_MAX`) with exactly the values one at a time gives. The
+/// renderer's samplers call it; `render::IntegratorMethod` makes one for a render.
+pub trait CameraTracer: Sync {
+    /// Radiance along a camera ray. `stream` holds the sample's random numbers, which a
+    /// stochastic integrator draws.
+    fn trace_camera_ray(&self, ray: &Ray, stream: &Stream, stats: &mut Stats) -> Color;
+
+    /// Radiance along each of `rays` into `colors`, ray i with the random numbers of
+    /// `streams[i]`; `rays_of[i]` gets the rays ray i spawned after itself. By default
+    /// one ray at a time.
+    fn trace_camera_packet(
+        &self,
+        rays: &[Ray],
+        streams: &[Stream],
+        colors: &mut [Color],
+        rays_of: &mut [u32; PACKET_MAX],
+        stats: &mut Stats,
+    ) {
+        for (i, (ray, stream)) in rays.iter().zip(streams).enumerate() {
+            let before = stats.total_rays();
+            colors[i] = self.trace_camera_ray(ray, stream, stats);
+            rays_of[i] = (stats.total_rays() - before).saturating_sub(1) as u32;
+        }
+    }
+
+    /// The shadow-ray machinery (light buffers and why some lights have none), for
+    /// reports; None for an integrator without it.
+    fn shadows(&self) -> Option<&Shadows<'_>> {
+        None
+    }
 }
 
-impl<'a> Integrator<'a> {
-    /// The integrator `options` ask for, over `scene`.
-    pub fn new(scene: &'a PreparedScene<'a>, options: &RenderOptions) -> Self {
-        match options.integrator {
-            IntegratorKind::Whitted => Integrator::Whitted(Whitted::new(scene, options)),
-            IntegratorKind::Path => Integrator::Path(PathTracer::new(scene, options)),
-            // The beam tracer renders whole tiles (`render::render` hands it the film);
-            // callers that ask for radiance ray by ray get the ray tracer it agrees with.
-            IntegratorKind::Beam => Integrator::Whitted(Whitted::new(scene, options)),
-        }
-    }
-
-    /// Radiance along a camera ray. `stream` holds the sample's random numbers, which
-    /// only the path tracer draws.
+impl CameraTracer for Whitted<'_> {
     #[inline]
-    pub fn trace_camera_ray(&self, ray: &Ray, stream: &Stream, stats: &mut Stats) -> Color {
-        match self {
-            Integrator::Whitted(w) => w.trace_camera_ray(ray, stats),
-            Integrator::Path(p) => p.trace_camera_ray(ray, stream, stats),
-        }
+    fn trace_camera_ray(&self, ray: &Ray, _stream: &Stream, stats: &mut Stats) -> Color {
+        Whitted::trace_camera_ray(self, ray, stats)
     }
 
-    /// The shadow-ray machinery of the Whitted integrator (light buffers and why some
-    /// lights have none), for reports; None for the path tracer.
-    pub fn shadows(&self) -> Option<&Shadows<'a>> {
-        match self {
-            Integrator::Whitted(w) => Some(w.shadows()),
-            Integrator::Path(_) => None,
-        }
+    /// The first hits as one packet, then each ray's tree shaded on its own with its
+    /// shadow rays in packets.
+    fn trace_camera_packet(
+        &self,
+        rays: &[Ray],
+        _streams: &[Stream],
+        colors: &mut [Color],
+        rays_of: &mut [u32; PACKET_MAX],
+        stats: &mut Stats,
+    ) {
+        let n = rays.len();
+        let mut hits = [None; PACKET_MAX];
+        self.camera_hits(rays, &mut hits[..n], stats);
+        self.shade_camera_packet(rays, &hits[..n], &mut colors[..n], rays_of, stats);
+    }
+
+    fn shadows(&self) -> Option<&Shadows<'_>> {
+        Some(Whitted::shadows(self))
+    }
+}
+
+impl CameraTracer for PathTracer<'_> {
+    #[inline]
+    fn trace_camera_ray(&self, ray: &Ray, stream: &Stream, stats: &mut Stats) -> Color {
+        PathTracer::trace_camera_ray(self, ray, stream, stats)
+    }
+
+    /// The packet's paths breadth first, a packet per depth.
+    fn trace_camera_packet(
+        &self,
+        rays: &[Ray],
+        streams: &[Stream],
+        colors: &mut [Color],
+        rays_of: &mut [u32; PACKET_MAX],
+        stats: &mut Stats,
+    ) {
+        let n = rays.len();
+        PathTracer::trace_camera_packet(self, rays, streams, &mut colors[..n], rays_of, stats)
     }
 }
 

@@ -30,6 +30,7 @@
 
 use super::emitters::Emitters;
 use crate::accel::{Hit, PACKET_MAX};
+use crate::choices::Strategy;
 use crate::geometry::SurfacePoint;
 use crate::math::hash::Stream;
 use crate::math::robust::{gamma, offset_ray_origin};
@@ -39,7 +40,6 @@ use crate::scene::PreparedScene;
 use crate::shading::Bsdf;
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
-use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
 
 /// Vertices after which Russian roulette may end a path (the camera's hit is vertex 1).
@@ -49,28 +49,6 @@ const FIRST_VERTEX_DIM: u32 = 2;
 /// Numbers each vertex draws: emitter choice, point on it (2), lobe choice, direction in
 /// it (2), Russian roulette.
 const DIMS_PER_VERTEX: u32 = 7;
-
-/// Which estimator of area light reaches the film: both weighted by MIS (the default), or
-/// one alone (for tests: all three converge to the same image, at different noise).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Strategy {
-    /// Light samples and BSDF samples, weighted by the power heuristic.
-    #[default]
-    Mis,
-    /// Light samples only; BSDF samples that hit a sampled emitter add nothing.
-    LightOnly,
-    /// BSDF samples only; no light samples of area lights (delta lights keep theirs).
-    BsdfOnly,
-}
-
-named_kinds! {
-    Strategy, "path strategy" {
-        Mis => "mis",
-        LightOnly => "light-only",
-        BsdfOnly => "bsdf-only",
-    }
-}
 
 /// A path tracer over one prepared scene.
 pub struct PathTracer<'a> {

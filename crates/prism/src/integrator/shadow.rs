@@ -23,6 +23,7 @@
 
 use super::light_buffer::{BufferParams, LightBuffer, LightBufferInfo};
 use crate::accel::{Bvh, Hit, HitSearch, QueryMode, PACKET_MAX};
+pub use crate::choices::{ShadowMethod, ShadowSpec};
 use crate::geometry::{SurfacePoint, Uv};
 use crate::light::{Light, LightSample};
 use crate::math::robust::offset_ray_origin;
@@ -30,69 +31,14 @@ use crate::math::{Color, Ray, TraceRay, Vec3};
 use crate::scene::{PreparedScene, Scene};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
-use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::cell::RefCell;
-use std::fmt;
-use std::str::FromStr;
 
 /// Upper bound on transparent surfaces one shadow ray passes through.
 const MAX_SHADOW_SEGMENTS: u32 = 64;
 /// The light buffers' memory budget when none is given, in MiB (for all lights).
 pub(super) const DEFAULT_LIGHT_BUFFER_BUDGET_MIB: u32 = 256;
 
-/// Who answers shadow rays.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum ShadowMethod {
-    /// The accelerator's any-hit query, for every shadow ray.
-    #[default]
-    AnyHit,
-    /// The shadow cache first (the last blocker per light and depth), then the accelerator.
-    Cache,
-    /// A light buffer per light (a direction cube around a point or spot light, an
-    /// orthographic grid across a directional one); the accelerator where none was built.
-    LightBuffer,
-    /// The cache first, then the light buffer.
-    Both,
-    /// The method prism expects to make renders fastest; today `any-hit`: in packets, as
-    /// renders trace shadow rays, the cache and the light buffer are level with it or
-    /// behind in whole renders of the SPD scenes measured in docs/shadows.md (even where
-    /// `both` wins on single rays).
-    Auto,
-}
-
-named_kinds! {
-    ShadowMethod, "shadow method" {
-        AnyHit => "any-hit",
-        Cache => "cache",
-        LightBuffer => "light-buffer",
-        Both => "both",
-        Auto => "auto",
-    }
-}
-
-impl ShadowMethod {
-    fn uses_cache(self) -> bool {
-        matches!(self, ShadowMethod::Cache | ShadowMethod::Both)
-    }
-
-    /// Whether the method takes the light buffer's keys.
-    fn uses_light_buffer(self) -> bool {
-        matches!(self, ShadowMethod::LightBuffer | ShadowMethod::Both)
-    }
-}
-
-/// A shadow method and its parameters, as `--shadows` and the scene file's `shadows` key
-/// write it: `METHOD[:res=N,budget=MIB]`, e.g. `light-buffer:res=64`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ShadowSpec {
-    /// Who answers the shadow rays.
-    pub method: ShadowMethod,
-    /// Cells along a light buffer face's side; 0 chooses from the primitive count.
-    pub res: u32,
-    /// The light buffers' memory budget in MiB; 0 takes the default.
-    pub budget_mib: u32,
-}
-
+/// What a shadow method's settings mean for the light buffers.
 impl ShadowSpec {
     /// The resolution a buffer over `primitives` gets.
     pub fn resolution(&self, primitives: usize) -> u32 {
@@ -108,84 +54,6 @@ impl ShadowSpec {
             m => m,
         };
         mib as u64 * 1024 * 1024
-    }
-}
-
-impl FromStr for ShadowSpec {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, String> {
-        let (name, params) = match s.split_once(':') {
-            Some((n, p)) => (n, Some(p)),
-            None => (s, None),
-        };
-        let mut spec = ShadowSpec {
-            method: name.trim().parse()?,
-            ..ShadowSpec::default()
-        };
-        crate::accel::parse_params(s, params, |key, value| {
-            if !spec.method.uses_light_buffer() {
-                return Err(format!(
-                    "'{key}' is a light buffer parameter; {} takes none",
-                    spec.method
-                ));
-            }
-            let number = |range: std::ops::RangeInclusive<u32>| {
-                value
-                    .and_then(|v| v.parse::<u32>().ok())
-                    .filter(|v| range.contains(v))
-                    .ok_or_else(|| {
-                        format!(
-                            "{key} in '{s}' must be a whole number from {} to {}, got {}",
-                            range.start(),
-                            range.end(),
-                            value.unwrap_or("nothing")
-                        )
-                    })
-            };
-            match key {
-                "res" => spec.res = number(1..=1024)?,
-                "budget" => spec.budget_mib = number(1..=1 << 20)?,
-                _ => {
-                    return Err(format!(
-                        "unknown key '{key}' in '{s}': light-buffer takes res (cells along a \
-                         face's side) and budget (MiB)"
-                    ))
-                }
-            }
-            Ok(())
-        })?;
-        Ok(spec)
-    }
-}
-
-impl fmt::Display for ShadowSpec {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.method.name())?;
-        let mut params = Vec::new();
-        if self.res != 0 {
-            params.push(format!("res={}", self.res));
-        }
-        if self.budget_mib != 0 {
-            params.push(format!("budget={}", self.budget_mib));
-        }
-        if !params.is_empty() {
-            write!(f, ":{}", params.join(","))?;
-        }
-        Ok(())
-    }
-}
-
-impl Serialize for ShadowSpec {
-    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        serializer.serialize_str(&self.to_string())
-    }
-}
-
-impl<'de> Deserialize<'de> for ShadowSpec {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let text = String::deserialize(d)?;
-        text.parse().map_err(serde::de::Error::custom)
     }
 }
 
@@ -664,35 +532,4 @@ fn step(scene: &Scene, ray: &Ray, remaining: f32, hit: Option<Hit>, atten: &mut 
         return Step::Ends(*atten);
     }
     Step::GoesOn(Ray::new(next, ray.dir), left)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn specs_read_and_print_alike() {
-        for text in [
-            "any-hit",
-            "cache",
-            "light-buffer",
-            "both",
-            "auto",
-            "light-buffer:res=64,budget=32",
-        ] {
-            let spec: ShadowSpec = text.parse().unwrap();
-            assert_eq!(spec.to_string(), text);
-        }
-        let err = "cache:res=4".parse::<ShadowSpec>().unwrap_err();
-        assert!(err.contains("cache takes none"), "{err}");
-        let err = "light-buffer:res=0".parse::<ShadowSpec>().unwrap_err();
-        assert!(err.contains("from 1 to 1024, got 0"), "{err}");
-        let err = "light-buffer:size=3".parse::<ShadowSpec>().unwrap_err();
-        assert!(err.contains("unknown key 'size'"), "{err}");
-        let err = "buffer".parse::<ShadowSpec>().unwrap_err();
-        assert!(
-            err.contains("any-hit, cache, light-buffer, both, auto"),
-            "{err}"
-        );
-    }
 }

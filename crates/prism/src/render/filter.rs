@@ -2,43 +2,7 @@
 //! the filter's radius. Separable, f(dx)·f(dy); a pixel is the filter-weighted average of
 //! the samples around it, so a filter need not integrate to one.
 
-use serde::{Deserialize, Serialize};
-
-/// The reconstruction filters a render can use (`--filter`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum FilterKind {
-    /// Every sample within the radius counts the same; radius 0.5 is the pixel itself.
-    #[default]
-    Box,
-    /// Weight falling linearly to 0 at the radius.
-    Tent,
-    /// exp(−d²/2σ²) with σ = radius/3, shifted down to reach 0 at the radius.
-    Gaussian,
-    /// Mitchell–Netravali cubic with B = C = 1/3: sharper, with small negative lobes.
-    Mitchell,
-}
-
-named_kinds! {
-    FilterKind, "filter" {
-        Box => "box",
-        Tent => "tent",
-        Gaussian => "gaussian",
-        Mitchell => "mitchell",
-    }
-}
-
-impl FilterKind {
-    /// Radius in pixels when the options give none.
-    pub fn default_radius(self) -> f32 {
-        match self {
-            FilterKind::Box => 0.5,
-            FilterKind::Tent => 1.0,
-            FilterKind::Gaussian => 1.5,
-            FilterKind::Mitchell => 2.0,
-        }
-    }
-}
+pub use crate::choices::FilterKind;
 
 /// Mitchell–Netravali's B and C: the pair their paper recommends.
 const MITCHELL_B: f32 = 1.0 / 3.0;

@@ -4,26 +4,25 @@
 
 use super::RenderError;
 use crate::options::RenderOptions;
-use crate::sampling::SamplerKind;
 
 /// Bytes per pixel of the buffers every render holds: the film (RGB f32) and the per-pixel
 /// ray counts of the density and cost views (two u32, four u64).
-const FILM_BYTES: u64 = 12;
-const RAY_COUNT_BYTES: u64 = 40;
+pub(crate) const FILM_BYTES: u64 = 12;
+pub(crate) const RAY_COUNT_BYTES: u64 = 40;
 /// Exact fixed-point sums of a pixel under a filter wider than the pixel: four i128.
-const SPLAT_SUM_BYTES: u64 = 64;
+pub(crate) const SPLAT_SUM_BYTES: u64 = 64;
 /// A pixel corner of the lattice samplers (one per pixel, and a row and a column more):
 /// its colour.
-const CORNER_BYTES: u64 = 12;
+pub(crate) const CORNER_BYTES: u64 = 12;
 /// The corners sampler's centre sample per pixel (Option<Color>).
-const CENTRE_BYTES: u64 = 16;
+pub(crate) const CENTRE_BYTES: u64 = 16;
 /// The adaptive sampler's display-encoded colour of each corner, next to the colour.
-const ENCODED_CORNER_BYTES: u64 = 12;
+pub(crate) const ENCODED_CORNER_BYTES: u64 = 12;
 /// A point the adaptive sampler traced on a horizontal pixel edge, kept by an even row for
 /// the odd row across the edge: (lattice x, colour). At most 2·(2^depth − 1) per pixel of
 /// an even row; one per pixel is the usual order of magnitude. Nothing else of the
 /// refinement outlives the row that traces it.
-const EDGE_POINT_BYTES: u64 = 16;
+pub(crate) const EDGE_POINT_BYTES: u64 = 16;
 /// Bytes per primitive of a prepared scene with its default BVH: the primitive, its box,
 /// the binary and the 4-wide nodes. A rough figure: other structures may need more.
 pub const ACCEL_BYTES_PER_PRIMITIVE: u64 = 160;
@@ -62,41 +61,16 @@ impl MemoryEstimate {
 /// built before the render starts).
 pub fn estimate(options: &RenderOptions) -> MemoryEstimate {
     let pixels = options.width as u64 * options.height as u64;
-    let corners = (options.width as u64 + 1) * (options.height as u64 + 1);
     let mut e = MemoryEstimate::default();
     let box_pixel = super::Filter::new(options.filter, options.filter_radius).is_pixel_box();
+    let sampler = super::sampler_method(options.sampler);
     // The per-pixel samplers write their tiles straight into the film (or into the sums,
     // which become the film); the lattice samplers assemble it once more from theirs.
-    let lattice = matches!(
-        options.sampler,
-        SamplerKind::Corners | SamplerKind::Adaptive
-    );
-    e.add("film", pixels * FILM_BYTES * if lattice { 2 } else { 1 });
+    e.add("film", pixels * FILM_BYTES * sampler.films());
     if options.per_pixel_rays {
         e.add("ray counts", pixels * RAY_COUNT_BYTES);
     }
-    match options.sampler {
-        SamplerKind::Corners => {
-            e.add(
-                "sample lattice",
-                corners * CORNER_BYTES + pixels * CENTRE_BYTES,
-            );
-            e.add("filter sums", pixels * SPLAT_SUM_BYTES);
-        }
-        SamplerKind::Adaptive => {
-            let per_corner = CORNER_BYTES + ENCODED_CORNER_BYTES;
-            e.add(
-                "sample lattice",
-                corners * per_corner + pixels * EDGE_POINT_BYTES,
-            );
-            // Under the pixel box each pixel is its own samples' mean: no sums.
-            if !box_pixel {
-                e.add("filter sums", pixels * SPLAT_SUM_BYTES);
-            }
-        }
-        _ if !box_pixel => e.add("filter sums", pixels * SPLAT_SUM_BYTES),
-        _ => {}
-    }
+    sampler.memory(options, box_pixel, &mut e);
     e
 }
 
@@ -140,6 +114,7 @@ pub fn format_bytes(bytes: u64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::choices::SamplerKind;
 
     #[test]
     fn the_largest_image_is_estimated_in_hundreds_of_gigabytes() {

@@ -8,27 +8,30 @@
 mod beam;
 mod film;
 mod filter;
+mod integrators;
 mod lattice;
 pub mod memory;
 mod packet;
 mod pixels;
 mod progressive;
 mod rays;
+mod samplers;
 mod splat;
 
 pub use beam::{render_beam, BeamRender};
 pub use film::Film;
 pub use filter::{Filter, FilterKind};
+pub use integrators::{integrator_method, IntegratorMethod};
 pub use memory::{estimate as memory_estimate, MemoryEstimate};
 pub use progressive::{PixelTotals, Progressive, MAX_PROGRESSIVE_SAMPLES};
 pub use rays::{PixelRays, RayCounts};
+pub use samplers::{sampler_method, PixelSamples, SamplerMethod};
 
 use crate::camera::{CameraError, CameraRays};
-use crate::integrator::Integrator;
+use crate::integrator::CameraTracer;
 use crate::math::hash::Stream;
 use crate::math::Color;
 use crate::options::RenderOptions;
-use crate::sampling::Sampler;
 use crate::scene::PreparedScene;
 use crate::stats::Stats;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -135,16 +138,12 @@ pub(crate) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, RenderErr
 /// more than there are pieces of work (tiles, or rows for the lattice samplers), since
 /// the others could only wait.
 pub fn worker_threads(options: &RenderOptions) -> usize {
-    use crate::sampling::SamplerKind;
-    let requested = requested_threads(options);
-    let pieces = match options.sampler {
-        SamplerKind::Corners | SamplerKind::Adaptive => options.height as usize + 1,
-        _ => {
-            let size = options.effective_tile_size();
-            (options.width.div_ceil(size) as usize) * (options.height.div_ceil(size) as usize)
-        }
-    };
-    requested.clamp(1, pieces.max(1))
+    workers_for(options, sampler_method(options.sampler))
+}
+
+/// The worker threads `sampler` renders with for `options`.
+fn workers_for(options: &RenderOptions, sampler: &dyn SamplerMethod) -> usize {
+    requested_threads(options).clamp(1, sampler.pieces(options).max(1))
 }
 
 /// What a finished piece of work reports to a progress display. `pixels` counts pixel
@@ -161,13 +160,7 @@ pub struct TileDone {
 /// sampler makes over them.
 pub fn progress_total(options: &RenderOptions) -> u64 {
     let pixels = options.width as u64 * options.height as u64;
-    use crate::sampling::SamplerKind;
-    pixels
-        * match options.sampler {
-            SamplerKind::Corners => lattice::passes(None),
-            SamplerKind::Adaptive => lattice::passes(Some(options.adaptive_depth)),
-            _ => 1,
-        }
+    pixels * sampler_method(options.sampler).passes(options)
 }
 
 /// What a render produced: the image, its statistics and the per-pixel ray counts.
@@ -220,21 +213,23 @@ pub enum RenderError {
     },
 }
 
-/// Everything a worker needs: where rays come from, how they are traced, how samples
-/// become pixels, and whom to tell.
-pub(crate) struct Job<'a> {
+/// Everything a sampler's workers need: where rays come from, how they are traced, how
+/// samples become pixels, and whom to tell. A sampler renders it (`SamplerMethod::render`).
+pub struct Job<'a> {
     width: u32,
     height: u32,
     /// The pixels the result holds: the whole image, or the region of `render_region`.
     area: Tile,
     camera: CameraRays,
-    integrator: Integrator<'a>,
+    tracer: Box<dyn CameraTracer + 'a>,
     seed: u64,
     filter: Filter,
     /// Trace camera rays in packets (`RenderOptions::packets`).
     packets: bool,
     /// Keep per-pixel ray counts (`RenderOptions::per_pixel_rays`).
     per_pixel_rays: bool,
+    /// The edge of the tiles of per-pixel patterns (`RenderOptions::effective_tile_size`).
+    tile_size: u32,
     on_tile: &'a (dyn Fn(TileDone) + Sync),
     cancel: &'a AtomicBool,
 }
@@ -245,8 +240,14 @@ impl Job<'_> {
     /// sampler gives each sample its own of, whoever traces it.
     #[inline]
     fn trace(&self, x: f32, y: f32, stats: &mut Stats) -> Color {
-        self.integrator
+        self.tracer
             .trace_camera_ray(&self.camera.ray(x, y), &self.stream(x, y), stats)
+    }
+
+    /// Renders the area with a per-pixel pattern: tiles over the thread pool, every pixel
+    /// tracing its own samples (the rendering of every per-pixel sampler).
+    pub fn render_pixels(&self, samples: &dyn PixelSamples) -> Result<Traced, RenderError> {
+        pixels::render(self, samples, self.tile_size)
     }
 
     /// The random numbers of the sample at film position (x, y), keyed by the position.
@@ -260,8 +261,8 @@ impl Job<'_> {
     }
 }
 
-/// What a sampler's render produces.
-struct Traced {
+/// What a sampler's render produces: the area's film, statistics and ray counts.
+pub struct Traced {
     film: Film,
     stats: Stats,
     complete: bool,
@@ -290,7 +291,7 @@ impl Traced {
 }
 
 /// Zero ray counts for a `width` × `height` result, or none when they are not kept.
-fn ray_counts(kept: bool, width: u32, height: u32) -> Result<RayCounts, RenderError> {
+pub(crate) fn ray_counts(kept: bool, width: u32, height: u32) -> Result<RayCounts, RenderError> {
     if kept {
         RayCounts::try_new(width, height)
     } else {
@@ -333,64 +334,70 @@ pub fn render_region(
             region.x0, region.x1, region.y0, region.y1, options.width, options.height
         )));
     }
-    let lattice = matches!(
-        options.sampler,
-        crate::sampling::SamplerKind::Corners | crate::sampling::SamplerKind::Adaptive
-    );
-    if lattice && region != full {
+    render_with(
+        scene,
+        options,
+        region,
+        sampler_method(options.sampler),
+        integrator_method(options.integrator),
+        on_tile,
+        cancel,
+    )
+}
+
+/// Renders `region` as `render_region` does, with the sampler and the integrator given as
+/// methods rather than named by `options` (whose other settings still hold): how a method
+/// of one's own renders without joining the lists.
+pub fn render_with(
+    scene: &PreparedScene,
+    options: &RenderOptions,
+    region: Tile,
+    sampler: &dyn SamplerMethod,
+    integrator: &dyn IntegratorMethod,
+    on_tile: &(dyn Fn(TileDone) + Sync),
+    cancel: &AtomicBool,
+) -> Result<RenderResult, RenderError> {
+    if !sampler.renders_regions() && region != Tile::full(options.width, options.height) {
         return Err(RenderError::Options(format!(
             "the {} sampler shares samples between pixels across the whole image, so it \
              renders no region smaller than the image; use a per-pixel sampler",
             options.sampler
         )));
     }
-    if options.integrator == crate::options::IntegratorKind::Beam {
-        // The beam tracer cuts the view into its own tile beams and renders them all.
-        if region != full {
-            return Err(RenderError::Options(
-                "the beam integrator renders whole images only, no region of one".into(),
-            ));
-        }
-        let beam = render_beam(
-            scene,
-            options,
-            crate::integrator::beam::DEFAULT_TOLERANCE,
-            on_tile,
-            cancel,
-        )?;
-        return Ok(RenderResult {
-            film: beam.film,
-            stats: beam.stats,
-            complete: beam.complete,
-            render_time: beam.render_time,
-            rays: ray_counts(options.per_pixel_rays, options.width, options.height)?,
-            light_buffers: Vec::new(),
-            light_buffer_notes: Vec::new(),
-        });
-    }
+    integrator.render(scene, options, region, sampler, on_tile, cancel)
+}
+
+/// Renders `region` in the sampler's pieces over a pool of threads, each camera ray traced
+/// by `tracer`: how integrators that trace rays render (`IntegratorMethod::render`).
+pub fn render_tiled<'a>(
+    scene: &'a PreparedScene<'a>,
+    options: &RenderOptions,
+    region: Tile,
+    sampler: &dyn SamplerMethod,
+    tracer: Box<dyn CameraTracer + 'a>,
+    on_tile: &(dyn Fn(TileDone) + Sync),
+    cancel: &AtomicBool,
+) -> Result<RenderResult, RenderError> {
     let job = Job {
         width: options.width,
         height: options.height,
         area: region,
         camera: scene.scene.camera.setup(options.width, options.height)?,
-        integrator: Integrator::new(scene, options),
+        tracer,
         seed: options.seed,
         filter: Filter::new(options.filter, options.filter_radius),
         packets: options.uses_packets(),
         per_pixel_rays: options.per_pixel_rays,
+        tile_size: options.effective_tile_size(),
         on_tile,
         cancel,
     };
-    let pool = thread_pool(worker_threads(options))?;
+    let pool = thread_pool(workers_for(options, sampler))?;
 
     let start = Instant::now();
-    let traced = pool.install(|| match Sampler::new(options) {
-        Sampler::Pixel(pattern) => pixels::render(&job, &pattern, options.effective_tile_size()),
-        Sampler::Corners => lattice::render_corners(&job),
-        Sampler::Adaptive(rule) => lattice::render_adaptive(&job, &rule),
-    })?;
+    let traced = pool.install(|| sampler.render(&job, options))?;
     let render_time = start.elapsed();
-    let (light_buffers, light_buffer_notes) = match job.integrator.shadows() {
+    let (light_buffers, light_buffer_notes) = match job.tracer.shadows() {
         Some(shadows) => (shadows.buffer_info(), shadows.unbuilt.clone()),
         None => (Vec::new(), Vec::new()),
     };

@@ -10,7 +10,7 @@
 use super::rays::{PixelRays, RayMark};
 use super::Job;
 use crate::accel::PACKET_MAX;
-use crate::integrator::Integrator;
+use crate::integrator::CameraTracer;
 use crate::math::hash::Stream;
 use crate::math::{Color, Ray, Vec2};
 use crate::stats::Stats;
@@ -29,15 +29,15 @@ pub(super) fn trace_packet(
     let camera_rays: ArrayVec<Ray, PACKET_MAX> =
         at.iter().map(|p| job.camera.ray(p.x, p.y)).collect();
     let streams: ArrayVec<Stream, PACKET_MAX> = at.iter().map(|p| job.stream(p.x, p.y)).collect();
-    trace_camera_packet(&job.integrator, &camera_rays, &streams, colors, rays, stats);
+    trace_camera_packet(&*job.tracer, &camera_rays, &streams, colors, rays, stats);
 }
 
-/// Traces `camera_rays` (at most `PACKET_MAX`) as one packet with `integrator`, ray i
+/// Traces `camera_rays` (at most `PACKET_MAX`) as one packet with `tracer`, ray i
 /// with the random numbers of `streams[i]` (which only the path tracer draws):
 /// `colors[i]` is ray i's radiance, and `rays[i]` gains its rays and its even share of
 /// the packets' traversal.
 pub(super) fn trace_camera_packet(
-    integrator: &Integrator,
+    tracer: &dyn CameraTracer,
     camera_rays: &[Ray],
     streams: &[Stream],
     colors: &mut [Color],
@@ -48,17 +48,7 @@ pub(super) fn trace_camera_packet(
     let before = RayMark::of(stats);
     // Per ray, the rays of its tree or path after the camera ray.
     let mut rays_of = [0u32; PACKET_MAX];
-    match integrator {
-        Integrator::Whitted(whitted) => {
-            let mut hits = [None; PACKET_MAX];
-            whitted.camera_hits(camera_rays, &mut hits[..n], stats);
-            let (hits, colors) = (&hits[..n], &mut colors[..n]);
-            whitted.shade_camera_packet(camera_rays, hits, colors, &mut rays_of, stats);
-        }
-        Integrator::Path(path) => {
-            path.trace_camera_packet(camera_rays, streams, &mut colors[..n], &mut rays_of, stats)
-        }
-    }
+    tracer.trace_camera_packet(camera_rays, streams, &mut colors[..n], &mut rays_of, stats);
     // Each ray counts in its own pixel; the traversal work is shared by the packet.
     let shared = PixelRays::since(before, stats);
     for (i, r) in rays[..n].iter_mut().enumerate() {

@@ -13,18 +13,17 @@
 use super::packet::trace_packet;
 use super::rays::PixelRays;
 use super::splat::{FilmSums, SplatBuffer};
-use super::{tiles, Film, Job, RenderError, Tile, TileDone, Traced};
+use super::{tiles, Film, Job, PixelSamples, RenderError, Tile, TileDone, Traced};
 use crate::accel::PACKET_MAX;
 use crate::math::{Color, Vec2};
 use crate::options::PACKET_EDGE;
-use crate::sampling::PixelPattern;
 use crate::stats::Stats;
 use rayon::prelude::*;
 use std::sync::Mutex;
 
 pub(super) fn render(
     job: &Job,
-    pattern: &PixelPattern,
+    pattern: &dyn PixelSamples,
     tile_size: u32,
 ) -> Result<Traced, RenderError> {
     let (width, height) = (job.width, job.height);
@@ -156,7 +155,7 @@ pub(super) fn render(
 /// samples) and its rays, the packets' shared traversal split evenly among their pixels.
 fn trace_packets(
     job: &Job,
-    pattern: &PixelPattern,
+    pattern: &dyn PixelSamples,
     tile: &Tile,
     buffer: &mut Option<SplatBuffer>,
     stats: &mut Stats,

@@ -24,7 +24,7 @@ use super::rays::{PixelRays, RayMark};
 use super::{Film, RenderError};
 use crate::accel::PACKET_MAX;
 use crate::camera::CameraRays;
-use crate::integrator::{begin_piece, Integrator};
+use crate::integrator::{begin_piece, CameraTracer};
 use crate::math::hash::Stream;
 use crate::math::{Color, Ray, Vec2};
 use crate::options::{RenderOptions, PACKET_EDGE};
@@ -202,7 +202,7 @@ impl Progressive {
         if spp == 0 {
             return Ok(Stats::default());
         }
-        let integrator = Integrator::new(scene, options);
+        let integrator = super::integrator_method(options.integrator).tracer(scene, options);
         let bands = self.height.div_ceil(PACKET_EDGE) as usize;
         let threads = super::requested_threads(options).clamp(1, bands);
         if self.pool.as_ref().map(|(n, _)| *n) != Some(threads) {
@@ -211,7 +211,7 @@ impl Progressive {
         let pass = Pass {
             camera: scene.scene.camera.setup(self.width, self.height)?,
             packets: options.uses_packets(),
-            integrator: &integrator,
+            integrator: &*integrator,
             centre: options.sampler == SamplerKind::Centre,
             seed: options.seed,
             samples: start..end,
@@ -260,7 +260,7 @@ impl Progressive {
 /// What every band of one advance shares.
 struct Pass<'i, 's> {
     camera: CameraRays,
-    integrator: &'i Integrator<'s>,
+    integrator: &'i (dyn CameraTracer + 's),
     /// Whether camera rays go as packets.
     packets: bool,
     centre: bool,

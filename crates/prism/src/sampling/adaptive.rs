@@ -27,13 +27,12 @@
 //! pattern into noise at a fixed cost; with `texture_n` = 0 it is refined to depth − 1
 //! everywhere and one level further where it differs, as before.
 
+use crate::choices::{AdaptiveRule, AdaptiveSpec};
 use crate::math::hash::uniform;
 use crate::math::{Color, Vec2};
 use crate::transfer::Transfer;
-use serde::{Deserialize, Serialize};
 
-/// Largest accepted depth: 64×64 squares per pixel.
-pub const MAX_DEPTH: u32 = 6;
+pub use crate::choices::sampler::{MAX_DEPTH, MAX_TEXTURE_N};
 
 /// Hash dimensions of a lattice point's jitter.
 const DIM_JITTER_X: u32 = 7;
@@ -42,28 +41,6 @@ const DIM_JITTER_Y: u32 = 8;
 /// Mixed into the seed of the stratified pass, so that its points are not those of the
 /// jittered sampler with the same seed (sweeps compare the two).
 const TEXTURE_SEED_SALT: u64 = 0xA5A5_7E27_0000_0001;
-
-/// Largest accepted `texture_n`: 32×32 samples per textured pixel.
-pub const MAX_TEXTURE_N: u32 = 32;
-
-/// When a pixel splits.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum AdaptiveRule {
-    /// Only its own four corners decide (POV-Ray's +AM2).
-    Corners,
-    /// The corners of its 3×3 neighbourhood decide, and texture forces refinement.
-    #[default]
-    Neighbourhood,
-}
-
-named_kinds! {
-    AdaptiveRule, "adaptive rule" {
-        Corners => "corners",
-        Neighbourhood => "neighbourhood",
-    }
-    aliases { "neighborhood" => "neighbourhood" }
-}
 
 /// The refinement rule and where it traces.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -87,6 +64,20 @@ pub struct Refinement {
 }
 
 impl Refinement {
+    /// The refinement the adaptive sampler's settings ask for, judged through `transfer`,
+    /// with its jitter and stratified pass seeded by `seed`.
+    pub fn new(spec: &AdaptiveSpec, transfer: Transfer, seed: u64) -> Refinement {
+        Refinement {
+            threshold: spec.threshold,
+            transfer,
+            depth: spec.depth,
+            rule: spec.rule,
+            jitter: spec.jitter,
+            texture_n: spec.texture_n(),
+            seed,
+        }
+    }
+
     /// Lattice steps along a pixel side.
     pub fn steps(&self) -> u32 {
         1 << self.depth

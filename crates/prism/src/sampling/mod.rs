@@ -12,58 +12,12 @@ mod random;
 pub mod relaxed;
 mod voronoi;
 
-pub use adaptive::{AdaptiveRule, Refinement};
+pub use crate::choices::{AdaptiveRule, AdaptiveSpec, SamplerKind};
+pub use adaptive::Refinement;
 pub use relaxed::RelaxedTile;
 
 use crate::math::Vec2;
 use crate::options::RenderOptions;
-use serde::{Deserialize, Serialize};
-
-/// The sampling pattern, as `--sampler` and the scene file's `sampler` name it.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum SamplerKind {
-    /// One ray through the pixel centre.
-    #[serde(alias = "center")]
-    Centre,
-    /// n×n subpixel centres.
-    #[default]
-    Grid,
-    /// The centre and the four corners, corners shared with the neighbours.
-    Corners,
-    /// n² uniform random points.
-    Random,
-    /// n×n strata with one random point each.
-    Jittered,
-    /// Jittered points relaxed toward blue noise.
-    Relaxed,
-    /// Corner rays refined where they differ (Whitted; POV-Ray's +AM2).
-    Adaptive,
-}
-
-named_kinds! {
-    SamplerKind, "sampler" {
-        Centre => "centre",
-        Grid => "grid",
-        Corners => "corners",
-        Random => "random",
-        Jittered => "jittered",
-        Relaxed => "relaxed",
-        Adaptive => "adaptive",
-    }
-    aliases { "center" => "centre" }
-}
-
-impl SamplerKind {
-    /// Whether the pattern takes `samples` (n per axis, n² per pixel); the others choose
-    /// their own count.
-    pub fn uses_sample_count(self) -> bool {
-        matches!(
-            self,
-            SamplerKind::Grid | SamplerKind::Random | SamplerKind::Jittered | SamplerKind::Relaxed
-        )
-    }
-}
 
 /// A pattern whose samples each belong to one pixel.
 #[derive(Clone, Debug)]
@@ -92,6 +46,19 @@ pub enum PixelPattern {
 }
 
 impl PixelPattern {
+    /// The per-pixel pattern of sampler `kind` with `n` samples per axis (where it takes
+    /// a count), or None for a kind whose samples pixels share.
+    pub fn new(kind: SamplerKind, n: u32, seed: u64) -> Option<PixelPattern> {
+        Some(match kind {
+            SamplerKind::Centre => PixelPattern::Grid { n: 1 },
+            SamplerKind::Grid => PixelPattern::Grid { n },
+            SamplerKind::Random => PixelPattern::Random { count: n * n, seed },
+            SamplerKind::Jittered => PixelPattern::Jittered { n, seed },
+            SamplerKind::Relaxed => PixelPattern::Relaxed(RelaxedTile::new(n, seed)),
+            SamplerKind::Corners | SamplerKind::Adaptive => return None,
+        })
+    }
+
     /// Samples per pixel.
     pub fn count(&self) -> u32 {
         match self {
@@ -131,26 +98,17 @@ pub enum Sampler {
 impl Sampler {
     /// Builds the sampler the options ask for (relaxed sampling relaxes its tile here).
     pub fn new(options: &RenderOptions) -> Sampler {
-        let n = options.samples;
-        let seed = options.seed;
         match options.sampler {
-            SamplerKind::Centre => Sampler::Pixel(PixelPattern::Grid { n: 1 }),
-            SamplerKind::Grid => Sampler::Pixel(PixelPattern::Grid { n }),
-            SamplerKind::Random => Sampler::Pixel(PixelPattern::Random { count: n * n, seed }),
-            SamplerKind::Jittered => Sampler::Pixel(PixelPattern::Jittered { n, seed }),
-            SamplerKind::Relaxed => {
-                Sampler::Pixel(PixelPattern::Relaxed(RelaxedTile::new(n, seed)))
-            }
             SamplerKind::Corners => Sampler::Corners,
-            SamplerKind::Adaptive => Sampler::Adaptive(Refinement {
-                threshold: options.adaptive_threshold,
-                transfer: options.transfer,
-                depth: options.adaptive_depth,
-                rule: options.adaptive_rule,
-                jitter: options.adaptive_jitter,
-                texture_n: floor_sqrt(options.adaptive_texture_spp),
-                seed,
-            }),
+            SamplerKind::Adaptive => Sampler::Adaptive(Refinement::new(
+                &options.adaptive,
+                options.transfer,
+                options.seed,
+            )),
+            kind => Sampler::Pixel(
+                PixelPattern::new(kind, options.samples, options.seed)
+                    .expect("every other kind is a per-pixel pattern"),
+            ),
         }
     }
 }

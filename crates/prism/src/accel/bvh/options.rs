@@ -2,9 +2,10 @@
 //! reinsertion pass and when subtrees are built in parallel; the `bvh:` keys.
 
 use super::Bvh;
-use crate::accel::params::{Accepts, Key, Method, Value};
 use crate::accel::volumes::{self, NodeVolume};
 use crate::accel::Accel;
+use crate::accel::Method;
+use crate::choices::{Accepts, Key, Keyed, Value};
 use crate::geometry::Geometry;
 
 /// The construction algorithm.
@@ -201,7 +202,7 @@ impl BvhOptions {
     }
 }
 
-impl Method for BvhOptions {
+impl Keyed for BvhOptions {
     const NAME: &'static str = "bvh";
     const SUMMARY: &'static str = "bounding volume hierarchy (the default)";
     const KEYS: &'static [Key<Self>] = &[
@@ -279,7 +280,9 @@ impl Method for BvhOptions {
             set: |o, v| o.reinsert = v.switch(),
         },
     ];
+}
 
+impl Method for BvhOptions {
     fn build(&self, geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
         match self.volume {
             NodeVolume::Aabb => Box::new(Bvh::build(geometry, prims, self)),

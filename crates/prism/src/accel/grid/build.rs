@@ -7,8 +7,9 @@
 
 use super::Grid;
 use crate::accel::cells::padded_bounds;
-use crate::accel::params::{Accepts, Key, Method, Value};
 use crate::accel::Accel;
+use crate::accel::Method;
+use crate::choices::{Accepts, Key, Keyed, Value};
 use crate::geometry::Geometry;
 use crate::math::{Aabb, Vec3};
 
@@ -30,7 +31,7 @@ impl Default for GridOptions {
     }
 }
 
-impl Method for GridOptions {
+impl Keyed for GridOptions {
     const NAME: &'static str = "grid";
     const SUMMARY: &'static str = "uniform grid walked by 3D-DDA";
     const KEYS: &'static [Key<Self>] = &[
@@ -52,7 +53,9 @@ impl Method for GridOptions {
             set: |o, v| o.max_cells = v.int(),
         },
     ];
+}
 
+impl Method for GridOptions {
     fn build(&self, geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
         Box::new(Grid::build(geometry, prims, self))
     }

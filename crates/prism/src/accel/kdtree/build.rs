@@ -11,8 +11,9 @@
 
 use super::{KdTree, Node, MAX_DEPTH};
 use crate::accel::cells::padded_bounds;
-use crate::accel::params::{Accepts, Key, Method, Value};
 use crate::accel::Accel;
+use crate::accel::Method;
+use crate::choices::{Accepts, Key, Keyed, Value};
 use crate::geometry::Geometry;
 use crate::math::Aabb;
 
@@ -40,7 +41,7 @@ impl Default for KdTreeOptions {
     }
 }
 
-impl Method for KdTreeOptions {
+impl Keyed for KdTreeOptions {
     const NAME: &'static str = "kdtree";
     const SUMMARY: &'static str = "kd-tree, SAH event-sweep build";
     const KEYS: &'static [Key<Self>] = &[
@@ -79,7 +80,9 @@ impl Method for KdTreeOptions {
             set: |o, v| o.max_depth = v.int(),
         },
     ];
+}
 
+impl Method for KdTreeOptions {
     fn build(&self, geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
         Box::new(KdTree::build(geometry, prims, self))
     }

@@ -3,8 +3,9 @@
 
 use super::{octant, Node, Octree, INTERIOR, MAX_DEPTH};
 use crate::accel::cells::padded_bounds;
-use crate::accel::params::{Accepts, Key, Method, Value};
 use crate::accel::Accel;
+use crate::accel::Method;
+use crate::choices::{Accepts, Key, Keyed, Value};
 use crate::geometry::Geometry;
 use crate::math::Aabb;
 
@@ -26,7 +27,7 @@ impl Default for OctreeOptions {
     }
 }
 
-impl Method for OctreeOptions {
+impl Keyed for OctreeOptions {
     const NAME: &'static str = "octree";
     const SUMMARY: &'static str = "adaptive octree";
     const KEYS: &'static [Key<Self>] = &[
@@ -45,7 +46,9 @@ impl Method for OctreeOptions {
             set: |o, v| o.max_depth = v.int(),
         },
     ];
+}
 
+impl Method for OctreeOptions {
     fn build(&self, geometry: &Geometry, prims: Vec<u32>) -> Box<dyn Accel> {
         Box::new(Octree::build(geometry, prims, self))
     }

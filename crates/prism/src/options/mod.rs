@@ -1,59 +1,34 @@
-//! Render options: the one home of every setting. The scene file, the CLI and the library
-//! API all fill this struct; anything they leave out keeps the default documented here.
+//! Render options: the one home of every setting, plain data made of the choices' specs
+//! (`choices`) and the accelerator's (`accel::AccelSpec`). The scene file, the CLI and the
+//! library API all fill this struct; anything they leave out keeps the default documented
+//! here.
+
+mod wire;
+
+pub use crate::choices::sampler::{
+    DEFAULT_ADAPTIVE_DEPTH, DEFAULT_ADAPTIVE_TEXTURE_SPP, DEFAULT_ADAPTIVE_THRESHOLD,
+};
+pub use crate::choices::IntegratorKind;
+pub use crate::choices::MAX_FILTER_RADIUS;
 
 use crate::accel::{AccelSpec, RayOrigins};
-use crate::integrator::Strategy;
-use crate::render::FilterKind;
-use crate::sampling::{adaptive, AdaptiveRule, SamplerKind};
-use crate::transfer::Transfer;
+use crate::choices::{AdaptiveSpec, FilterKind, SamplerKind, ShadowSpec, Strategy, Transfer};
 use serde::{Deserialize, Serialize};
 
 /// Largest accepted `max_depth`.
 pub const MAX_DEPTH_LIMIT: u32 = 256;
 /// POV-Ray's `adc_bailout`: one 8-bit level.
 pub const DEFAULT_MIN_WEIGHT: f32 = 1.0 / 255.0;
-/// The adaptive sampler's default split threshold: a tenth of the display range.
-pub const DEFAULT_ADAPTIVE_THRESHOLD: f32 = 0.1;
-/// The adaptive sampler's default levels of splitting below the pixel.
-pub const DEFAULT_ADAPTIVE_DEPTH: u32 = 3;
-/// Samples of the stratified pass in a textured pixel (see `adaptive_texture_spp`): with
-/// threshold 0.1 and depth 3, the setting that meets issue 5's goal on the checkerboard and
-/// the default scene (docs/sampling.md).
-pub const DEFAULT_ADAPTIVE_TEXTURE_SPP: u32 = 25;
 /// Most worker threads a render may ask for. Far above any core count a machine offers
 /// today; beyond it a typo (`--threads 1000000000000`) would start thousands of OS threads.
 pub const MAX_THREADS: usize = 1024;
 /// Most samples per pixel along each axis (`samples`).
 pub const MAX_SAMPLES_PER_AXIS: u32 = 64;
-/// Largest accepted filter radius, in pixels.
-pub const MAX_FILTER_RADIUS: f32 = 8.0;
-
-/// Which integrator renders (`--integrator`, the scene file's `integrator`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum IntegratorKind {
-    /// Whitted's recursive ray tracer: point lights, mirror and refracted rays.
-    #[default]
-    Whitted,
-    /// A path tracer with area lights, next-event estimation and MIS.
-    Path,
-    /// Heckbert & Hanrahan's beam tracer: exact visible polygons, box-filtered exactly
-    /// (planar scenes only; docs/beam-tracing.md).
-    Beam,
-}
-
-named_kinds! {
-    IntegratorKind, "integrator" {
-        Whitted => "whitted",
-        Path => "path",
-        Beam => "beam",
-    }
-}
 
 /// Every setting of a render, in one place: filled from defaults, then the scene file, then the
 /// command line.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(from = "wire::RenderTable", into = "wire::RenderTable")]
 pub struct RenderOptions {
     /// Image width in pixels.
     pub width: u32,
@@ -70,23 +45,9 @@ pub struct RenderOptions {
     /// The filter's radius in pixels; None takes the filter's usual radius (box 0.5, tent
     /// 1, Gaussian 1.5, Mitchell 2).
     pub filter_radius: Option<f32>,
-    /// Adaptive sampling: a square splits when, in some channel, its corners'
-    /// display-encoded (sRGB) values span more than this (0 to 1).
-    pub adaptive_threshold: f32,
-    /// Adaptive sampling: levels of splitting below the pixel (0 to 6); d allows 2^d × 2^d
-    /// squares per pixel.
-    pub adaptive_depth: u32,
-    /// Adaptive sampling: what decides that a pixel splits (its own corners, as POV-Ray, or
-    /// its neighbourhood's).
-    pub adaptive_rule: AdaptiveRule,
-    /// Adaptive sampling: 0 traces points exactly on the lattice (POV-Ray's +AM2 without
-    /// jitter); 1 anywhere in their lattice cell (pixel corners within ±¼ pixel).
-    pub adaptive_jitter: f32,
-    /// Adaptive sampling: samples (a square number) that a textured pixel, one whose
-    /// neighbourhood shows detail finer than the pixels, takes in a stratified (jittered)
-    /// pass instead of being subdivided; 0 subdivides it like any other pixel. Only the
-    /// neighbourhood rule detects texture.
-    pub adaptive_texture_spp: u32,
+    /// The adaptive sampler's settings (threshold, depth, rule, jitter, texture spp); the
+    /// scene file writes them as `adaptive_threshold`, `adaptive_depth`, … .
+    pub adaptive: AdaptiveSpec,
     /// What the pixel values mean: linear light shown through the sRGB curve (`srgb`), or
     /// display values written as they are (`display`, the default of NFF scenes).
     pub transfer: Transfer,
@@ -115,7 +76,7 @@ pub struct RenderOptions {
     pub accel: AccelSpec,
     /// Who answers shadow rays: the accelerator's any-hit query, a shadow cache, light
     /// buffers or both (`integrator::ShadowSpec`); every method gives the same image.
-    pub shadows: crate::integrator::ShadowSpec,
+    pub shadows: ShadowSpec,
     /// Edge length of the square tiles handed to worker threads (rounded up to whole
     /// packets, `PACKET_EDGE`, when `packets` is on).
     pub tile_size: u32,
@@ -134,19 +95,12 @@ pub struct RenderOptions {
     pub integrator: IntegratorKind,
     /// The path tracer's estimator of area light: MIS (the default) or one strategy alone.
     /// A switch for tests and experiments; scene files and the CLI do not set it.
-    #[serde(skip)]
     pub path_strategy: Strategy,
     /// Count every pixel's rays and their work (`RenderResult::rays`, for the density and
     /// cost views). Off, `rays` holds no counts and the render writes 40 bytes a pixel
     /// less (a tenth of a gigabyte at 1080p, each page of it a page fault); `prism render`
     /// counts only for `--density` and `--cost`. Not a scene file's setting.
-    #[serde(skip, default = "counts_rays")]
     pub per_pixel_rays: bool,
-}
-
-/// `RenderOptions::per_pixel_rays` by default: on.
-fn counts_rays() -> bool {
-    true
 }
 
 /// Pixels along each side of a camera-ray packet: 8 × 8 rays at one sample per pixel
@@ -162,11 +116,7 @@ impl Default for RenderOptions {
             sampler: SamplerKind::Grid,
             filter: FilterKind::Box,
             filter_radius: None,
-            adaptive_threshold: DEFAULT_ADAPTIVE_THRESHOLD,
-            adaptive_depth: DEFAULT_ADAPTIVE_DEPTH,
-            adaptive_rule: AdaptiveRule::Neighbourhood,
-            adaptive_jitter: 1.0,
-            adaptive_texture_spp: DEFAULT_ADAPTIVE_TEXTURE_SPP,
+            adaptive: AdaptiveSpec::default(),
             transfer: Transfer::Srgb,
             max_depth: 5,
             min_weight: DEFAULT_MIN_WEIGHT,
@@ -189,14 +139,7 @@ impl RenderOptions {
     pub fn sampling_summary(&self) -> String {
         let n = self.samples;
         let pattern = match self.sampler {
-            SamplerKind::Adaptive => format!(
-                "adaptive (threshold {}, depth {}, {} rule, jitter {}, texture {} spp)",
-                self.adaptive_threshold,
-                self.adaptive_depth,
-                self.adaptive_rule,
-                self.adaptive_jitter,
-                self.adaptive_texture_spp
-            ),
+            SamplerKind::Adaptive => format!("adaptive ({})", self.adaptive.summary()),
             SamplerKind::Centre | SamplerKind::Corners => self.sampler.name().to_string(),
             kind => format!("{kind} {n}×{n} ({} spp)", n * n),
         };
@@ -208,9 +151,9 @@ impl RenderOptions {
     /// settled by the integrator (inside for the path tracer, whose rays start on
     /// surfaces within the scene; outside for camera rays and Whitted's trees).
     pub fn accel_to_build(&self) -> AccelSpec {
-        let origins = match self.integrator {
-            IntegratorKind::Path => RayOrigins::Inside,
-            IntegratorKind::Whitted | IntegratorKind::Beam => RayOrigins::Outside,
+        let origins = match self.integrator.rays_start_inside() {
+            true => RayOrigins::Inside,
+            false => RayOrigins::Outside,
         };
         self.accel.with_auto_rays(origins)
     }
@@ -256,33 +199,7 @@ impl RenderOptions {
                 ));
             }
         }
-        if !(0.0..=1.0).contains(&self.adaptive_threshold) {
-            return Err(format!(
-                "adaptive_threshold must be between 0 and 1, got {}",
-                self.adaptive_threshold
-            ));
-        }
-        if !(0.0..=1.0).contains(&self.adaptive_jitter) {
-            return Err(format!(
-                "adaptive_jitter must be between 0 and 1, got {}",
-                self.adaptive_jitter
-            ));
-        }
-        if self.adaptive_depth > adaptive::MAX_DEPTH {
-            return Err(format!(
-                "adaptive_depth must be between 0 and {}, got {}",
-                adaptive::MAX_DEPTH,
-                self.adaptive_depth
-            ));
-        }
-        let n = crate::sampling::floor_sqrt(self.adaptive_texture_spp);
-        if n * n != self.adaptive_texture_spp || n > adaptive::MAX_TEXTURE_N {
-            return Err(format!(
-                "adaptive_texture_spp must be 0 or a square number up to {}, got {}",
-                adaptive::MAX_TEXTURE_N * adaptive::MAX_TEXTURE_N,
-                self.adaptive_texture_spp
-            ));
-        }
+        self.adaptive.validate()?;
         if self.threads > MAX_THREADS {
             return Err(format!(
                 "threads must be between 0 (every core) and {MAX_THREADS}, got {}",
@@ -298,11 +215,7 @@ impl RenderOptions {
     /// Whether the render traces camera rays in packets: `packets`, with the Whitted
     /// integrator or the path tracer (the beam tracer traces no rays).
     pub fn uses_packets(&self) -> bool {
-        self.packets
-            && matches!(
-                self.integrator,
-                IntegratorKind::Whitted | IntegratorKind::Path
-            )
+        self.packets && self.integrator.traces_rays()
     }
 
     /// The edge of the tiles a render hands out: `tile_size`, rounded up to whole packets
