@@ -38,6 +38,7 @@ named_kinds! {
 
 impl ShadowMethod {
     /// Whether the method asks the shadow cache first.
+    #[inline]
     pub fn uses_cache(self) -> bool {
         matches!(self, ShadowMethod::Cache | ShadowMethod::Both)
     }
