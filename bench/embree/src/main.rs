@@ -17,6 +17,8 @@ use std::path::PathBuf;
 const USAGE: &str = "usage:
   embree-bench run --mesh NAME [--meshes DIR] [--repeats N] [--builds N] [--threads 1,2] [--csv FILE]
                    [--ray-file FILE]
+      DIR: where the bunny (stanford-bunny.obj) is read from; default ../shared/meshes,
+      beside the repository when run from its root (as run.sh does)
       NAME: bunny, blob, sphereflake or soup, or cornell (prism's cornell-light as it is, seen
       by its camera, lit at its light; prism's tree for rays from inside); CSV rows are appended
       to FILE; --ray-file: trace FILE's rays (six little-endian f32s each: origin, direction;
@@ -77,7 +79,8 @@ fn main() {
 fn parse(args: &[String]) -> Result<Options, String> {
     let mut o = Options {
         mesh: String::new(),
-        meshes_dir: PathBuf::from("/work/shared/meshes"),
+        // Beside the repository: `run.sh` runs this binary from the repository's root.
+        meshes_dir: PathBuf::from("../shared/meshes"),
         repeats: 5,
         builds: 3,
         threads: vec![1, 2],
