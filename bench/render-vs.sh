@@ -3,8 +3,8 @@
 # time (user + system) of each `prism render` with one render thread, the two binaries taken
 # in turns ROUNDS times (default 3), medians, and whether the two images are byte-identical.
 # Scenes: the SPD files (with --preset spd) when ../shared/scenes/spd exists, and the
-# built-ins whitted, cornell, sphereflake and torusknot. How docs/performance.md's
-# "Whole renders" table was made.
+# built-ins whitted, cornell, sphereflake and torusknot. How the whole-render
+# tables of docs/performance.md and docs/journal/performance.md were made.
 #
 # Usage: bench/render-vs.sh REVISION [output file]   e.g. bench/render-vs.sh 29d38f2
 # PRISM_LOCK names a lock file that serialises each timed render with other builds and

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 14's goals for the live viewer, measured through its real WebSocket by a small
+# The live viewer's goals (docs/viewer.md), measured through its real WebSocket by a small
 # client (crates/prism-serve/examples/viewer_bench.rs): frames per second at one sample per
 # pixel per frame, the time from a camera move to the first frame that shows it (a preview
 # when full frames are slow) and to the first full-resolution frame, and what each frame

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 5's goal for adaptive sampling, end to end: on the checkerboard and the default
+# The adaptive-sampling goal (docs/sampling.md), end to end: on the checkerboard and the default
 # scene (whitted), does the adaptive sampler at its default settings reach the RMSE of
 # 16-spp jittered sampling with at most 35 % of its rays?
 #

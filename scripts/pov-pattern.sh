@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 13: the adaptive sampler's defaults against POV-Ray's +AM2 pattern (`--preset pov`:
+# The adaptive sampler's defaults against POV-Ray's +AM2 pattern (`--preset pov`:
 # corners rule, no jitter, no stratified pass) at equal error. Each is swept over
 # thresholds 0.05-0.3 and depths 1-3; scripts/equal-error.py then reads each family's
 # error-against-rays front and says how many rays the other family needs to reach each

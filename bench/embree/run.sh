@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# prism against Embree 3, side by side in one process per mesh (issue 11). Installs
-# Debian's libembree-dev when it is missing (as root), builds bench/embree, runs the four
+# prism against Embree 3, side by side in one process per mesh. Installs Debian's
+# libembree-dev when it is missing (as root), builds bench/embree, runs the four
 # meshes, and writes bench/results/embree.{txt,csv,md} and the tables in
 # docs/performance.md (between the embree-bench markers).
 # Usage: bench/embree/run.sh [embree-bench run options, e.g. --repeats 3]

@@ -2,7 +2,7 @@
 //! here, deterministically, each normalised (centred on the origin, largest extent 100).
 //! Beside them `cornell`: the triangles of prism's built-in `cornell-light` as they are (in
 //! millimetres), seen by its own camera and lit at its ceiling light (`workload::View`), for
-//! the rays of a path tracer in a small closed room (issue 14).
+//! the rays of a path tracer in a small closed room (docs/path-tracing.md).
 
 use prism::math::{Frame, Vec3};
 use prism_io::scene::mesh_file::Materials;

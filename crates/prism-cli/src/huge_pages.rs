@@ -3,7 +3,7 @@
 //! pages (`madvise(MADV_HUGEPAGE)`), as Embree's allocator does for its blocks. Where the
 //! kernel gives huge pages only on request (Debian's default, `madvise`), a large scene's
 //! BVH build otherwise faults in its arrays 4 KiB at a time: on a Zen 4 machine the hint
-//! made builds 7-13 % faster (docs/performance.md, the tenth step). It is off by default
+//! made builds 7-13 % faster (docs/journal/performance.md, the tenth step). It is off by default
 //! because on a virtual machine whose host backs a guest's huge pages on first touch, a
 //! huge page can take a millisecond or more to fault in: on the Xeon VM of the sixteenth
 //! step, half of eight 1080p renders ran 1.5-1.7x slower with it and a million-triangle

@@ -1,4 +1,4 @@
-//! The front door (issue 9): what a newcomer types works, fails early and cleanly, or says
+//! The front door: what a newcomer types works, fails early and cleanly, or says
 //! why. Each test names the case it holds; all of them failed on the main branch before.
 
 mod common;

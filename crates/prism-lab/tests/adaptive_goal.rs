@@ -1,4 +1,4 @@
-//! Issue 5's goal for adaptive sampling, on the one scene with an exact reference: on the
+//! The adaptive-sampling goal (docs/sampling.md), on the one scene with an exact reference: on the
 //! built-in checkerboard at its own size, the adaptive sampler at its default settings
 //! reaches the RMSE of 16-spp jittered sampling with at most 35 % of its rays (every ray
 //! counts; the checkerboard has no lights, so all rays are camera rays). The default scene

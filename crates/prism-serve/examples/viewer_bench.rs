@@ -1,4 +1,4 @@
-//! Issue 14's viewer goals, measured through the real WebSocket: frames per second at one
+//! The viewer's goals, measured through the real WebSocket: frames per second at one
 //! sample per pixel per frame, and the time from a camera move to the first frame that
 //! shows it, for a scene at a resolution (default: the built-in Whitted scene at 640×360),
 //! plus what each way of encoding a frame would cost. `bench/serve.sh` runs it; the figures

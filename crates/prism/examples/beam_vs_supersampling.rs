@@ -1,4 +1,4 @@
-//! Beam tracing against jittered supersampling (issue 15's measurement): for each scene the
+//! Beam tracing against jittered supersampling (docs/beam-tracing.md): for each scene the
 //! beam tracer's exact box-filtered image and its time, fragments and beam-tree size, then
 //! jittered 4×4, 8×8 and 16×16 samples per pixel with their times and RMSE against it.
 //! Writes a Markdown table to stdout and an SVG plot (error against time) to the path given

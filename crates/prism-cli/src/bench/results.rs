@@ -1,5 +1,5 @@
 //! What `prism bench` found: per scene, one row per method, measured or skipped, and the
-//! comparisons the issue asks for (the fastest method for primary rays, each method's
+//! comparisons the acceleration work asks for (the fastest method for primary rays, each method's
 //! speed relative to it).
 
 use prism::accel::AccelSpec;
@@ -80,11 +80,11 @@ impl SceneResult {
     }
 }
 
-/// How close the default must be to the fastest method (issue 4): within 10 %.
+/// How close the default must be to the fastest method (docs/acceleration.md): within 10 %.
 pub(super) const DEFAULT_TOLERANCE: f64 = 0.9;
 
 /// The closing lines: per scene the fastest method and where the default stands, then
-/// how many scenes meet the issue's demand.
+/// how many scenes meet that demand.
 pub(super) fn summary(scenes: &[SceneResult]) -> Vec<String> {
     let mut lines = Vec::new();
     let default = AccelSpec::default().to_string();
