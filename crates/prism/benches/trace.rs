@@ -1,7 +1,7 @@
 //! Criterion benches for the foundation: primary-ray throughput through the scene
 //! intersector, full Whitted renders, and BVH build times, on a ~1M-triangle mesh, the
 //! sphereflake and the default (Whitted) scene. `bench/run.sh` runs them and summarises the
-//! medians; docs/performance.md records the figures.
+//! medians; docs/journal/performance.md records the figures.
 //!
 //! Before the timings, each scene prints one `context:` line (accelerator description and
 //! work per ray), which is deterministic and so needs no statistics.

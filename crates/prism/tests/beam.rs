@@ -1,4 +1,4 @@
-//! The beam tracer (issue 15): every pixel's fragments cover it exactly once; on the
+//! The beam tracer (docs/beam-tracing.md): every pixel's fragments cover it exactly once; on the
 //! checkerboard the beam image is the analytic exact reference; on polygon scenes (a
 //! Cornell box with flat walls and a mirror, a mirror corner, SPD tetra) jittered
 //! supersampling converges to the beam image; the same picture at 1e-3 and 1e3; curved

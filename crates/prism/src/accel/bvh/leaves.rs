@@ -140,7 +140,7 @@ pub(super) fn pack_triangles<N: LeafSlots>(
 /// Then reading corners straight from the meshes in leaf order stays within a few pages
 /// at a time: on the million-triangle sphereflake packing takes 34 ms instead of 45 (the
 /// gathered array is 42 MB of fresh pages), while on a million scattered triangles it
-/// would take twice as long as with the array (docs/performance.md).
+/// would take twice as long as with the array (docs/journal/performance.md).
 fn leaves_are_local(geometry: &Geometry, prims: &[u32]) -> bool {
     if prims.len() < 2 {
         return true;

@@ -537,7 +537,7 @@ impl Octants {
     /// of a camera's view, or of shadow rays toward a light amid their hits, splits into
     /// coherent parts; the rays a packet of reflected rays holds in one octant come from
     /// all over its hits, and walked together from 4 of them they were slower than one
-    /// by one on SPD balls, lattice and rings, from 16 level (docs/performance.md,
+    /// by one on SPD balls, lattice and rings, from 16 level (docs/journal/performance.md,
     /// seventeenth and eighteenth steps).
     const MIN_RAYS: usize = 16;
 

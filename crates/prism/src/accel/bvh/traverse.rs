@@ -244,7 +244,7 @@ pub(super) fn walk<N: LeafSlots, S: CullBound, const ORDERED: bool>(
                 // are predicted, and its load can start while the box test that decides
                 // them is still running; taking the lane from the mask (its trailing
                 // zeros) made every step wait for the box test. Shadow rays 1.1-1.35x
-                // faster, nearest-hit rays 2-24 % (docs/performance.md, twenty-third step).
+                // faster, nearest-hit rays 2-24 % (docs/journal/performance.md, twenty-third step).
                 for k in (0..children.len()).rev() {
                     if mask >> k & 1 == 1 {
                         stack.push((children[k], counts[k], t[k], r[k]));

@@ -212,7 +212,7 @@ impl SplitRule for BinnedSah {
         // scales its bins the same way). The bins' clearing and sweep are paid per node,
         // and the many small nodes near the leaves paid more for them than for binning
         // their few primitives; the SAH costs of the trees came out lower, not higher
-        // (docs/performance.md, the tenth step).
+        // (docs/journal/performance.md, the tenth step).
         let nb = self.bins.min((n / 8).max(4));
         let extent = centroid_bounds.max - centroid_bounds.min;
         let scale = Vec3::select(extent.cmpgt(Vec3::ZERO), nb as f32 / extent, Vec3::ZERO);

@@ -173,7 +173,7 @@ impl<R: SplitRule> TopDown<'_, R> {
     /// A placeholder root in a vector with room for the nodes of a tree over `n`
     /// primitives in leaves of about four (more grow it). Room for the worst case, 2n,
     /// made each subtree's vector a fresh mapping of the OS (glibc maps requests over
-    /// 128 KiB), whose pages fault in one by one in every build (docs/performance.md,
+    /// 128 KiB), whose pages fault in one by one in every build (docs/journal/performance.md,
     /// the seventh step).
     fn first_node(n: usize) -> Vec<Node> {
         let mut nodes = Vec::with_capacity(n / 2 + 1);
