@@ -1,7 +1,9 @@
 //! Bounding volume hierarchy over axis-aligned boxes: several builders (`build/`) into a
-//! flat array of 32-byte nodes, an optional reinsertion pass (`reinsert.rs`), and a stack
-//! traversal that visits the nearer child first (`traverse.rs`).
+//! flat array of 32-byte nodes, an optional reinsertion pass (`reinsert.rs`), a stack
+//! traversal that visits the nearer child first (`traverse.rs`), and the queries of
+//! `Accel` over it (`accel.rs`).
 
+mod accel;
 mod build;
 mod leaves;
 mod options;

@@ -16,7 +16,8 @@
 //! sign on each axis and no zero component (no infinite inverse); other packets are
 //! answered one ray at a time.
 
-use super::traverse::{walk, CullBound, LeafQuery, Root, Visit};
+use super::accel::Root;
+use super::traverse::{walk, CullBound, LeafQuery, Visit};
 use super::wide::WideNode;
 use super::Bvh;
 use crate::accel::query::HitSearch;

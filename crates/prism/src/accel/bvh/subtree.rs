@@ -6,7 +6,7 @@
 //! `Accel::query` does (the tie rule makes the nearest hit among any superset of the
 //! primitives a ray meets the brute-force one).
 
-use super::traverse::Root;
+use super::accel::Root;
 use super::wide::{Lanes, Wide8Node, WideNode};
 use super::Bvh;
 use crate::accel::{Hit, QueryMode};
