@@ -30,6 +30,7 @@ __all__ = [
     "read",
     "compare",
     "bench",
+    "settings",
     "PrismError",
     "SceneError",
     "RenderError",
@@ -123,6 +124,7 @@ class Scene:
         depth=None,
         packets=None,
         region=None,
+        **settings,
     ):
         """Renders the scene; returns (image, stats).
 
@@ -132,7 +134,9 @@ class Scene:
         every random decision. threads: worker threads, 0 = every core. tile: edge of
         the tiles the threads take. depth: ray-tree depth limit. packets: trace camera
         rays in packets (the image is the same either way). region: (x0, y0, x1, y1) to
-        render only that rectangle, whose pixels are bit for bit the whole image's.
+        render only that rectangle, whose pixels are bit for bit the whole image's. Any
+        other keyword is a setting of `settings()` by its key, as the scene file's
+        [render] table writes it (e.g. adaptive_depth=2, min_weight=0, filter_radius=1.5).
 
         image: float32 array (rows, columns, 3) of linear RGB. stats: a dict with the
         engine's counters ("counters"), "total_rays", "render_seconds",
@@ -153,11 +157,28 @@ class Scene:
             depth=depth,
             packets=packets,
             region=None if region is None else tuple(int(v) for v in region),
+            settings=[(key, _setting_text(value)) for key, value in settings.items()],
         )
         return _array(pixels, w, h), _json.loads(stats)
 
     def __repr__(self):
         return repr(self._native)
+
+
+def _setting_text(value):
+    """A setting's value as the settings table reads it: booleans as true/false."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return str(value)
+
+
+def settings():
+    """Every render setting as a dict: key, type, default (as text) and help. Each key is a
+    keyword of `Scene.render` and of the scene file's [render] table."""
+    return [
+        {"key": key, "type": kind, "default": default, "help": help_text}
+        for key, kind, default, help_text in _prism.settings()
+    ]
 
 
 def load(path):

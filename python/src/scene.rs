@@ -105,7 +105,7 @@ impl PyScene {
     /// returns (pixels as bytearray of f32 RGB, width, height, statistics as JSON).
     #[pyo3(signature = (*, width=None, height=None, spp=None, sampler=None, filter=None,
         accel=None, integrator=None, shadows=None, seed=None, threads=None, tile=None,
-        depth=None, packets=None, region=None))]
+        depth=None, packets=None, region=None, settings=None))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -124,6 +124,7 @@ impl PyScene {
         depth: Option<u32>,
         packets: Option<bool>,
         region: Option<(u32, u32, u32, u32)>,
+        settings: Option<Vec<(String, String)>>,
     ) -> PyResult<Bound<'py, PyTuple>> {
         let settings = Settings {
             width,
@@ -139,6 +140,7 @@ impl PyScene {
             tile,
             depth,
             packets,
+            others: settings.unwrap_or_default(),
         };
         let options = settings.apply(&self.scene.options)?;
         self.scene

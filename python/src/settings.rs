@@ -27,6 +27,8 @@ pub(crate) struct Settings {
     pub(crate) tile: Option<u32>,
     pub(crate) depth: Option<u32>,
     pub(crate) packets: Option<bool>,
+    /// Any other setting of the settings table, by key, as text (`RenderOptions::set`).
+    pub(crate) others: Vec<(String, String)>,
 }
 
 /// `text` parsed as a `T`, or a `ValueError` naming the argument.
@@ -97,8 +99,22 @@ impl Settings {
         if let Some(v) = self.packets {
             o.packets = v;
         }
+        for (key, text) in &self.others {
+            o.set(key, text)
+                .map_err(|e| bad_argument(format!("{key}={text:?}: {e}")))?;
+        }
         o.validate()
             .map_err(|e| bad_argument(format!("invalid options: {e}")))?;
         Ok(o)
     }
+}
+
+/// Every setting of the settings table as (key, type, default, help): what `Scene.render`
+/// takes by keyword.
+#[pyo3::pyfunction]
+pub(crate) fn settings() -> Vec<(&'static str, &'static str, String, &'static str)> {
+    prism::options::SETTINGS
+        .iter()
+        .map(|s| (s.key, s.kind.type_name(), s.default_text(), s.help))
+        .collect()
 }

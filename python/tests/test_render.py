@@ -123,3 +123,34 @@ def test_bench_returns_records_that_match_the_reference():
     for r in records:
         assert r["matches_reference"], r
         assert r["primary_rays"] > 0 and r["nodes"] > 0 and r["primary_mrays_per_s"] > 0
+
+
+def _value(setting):
+    """A setting's default as the Python value a user would pass."""
+    text = setting["default"]
+    return {
+        "integer": int,
+        "number": float,
+        "boolean": lambda t: t == "true",
+    }.get(setting["type"], str)(text)
+
+
+def test_every_setting_of_the_table_is_a_render_keyword():
+    """The settings table is the one list: each key renders as a keyword, a setting reaches
+    the engine, and a key the table lacks is refused."""
+    keys = [s["key"] for s in prism.settings()]
+    assert keys[:3] == ["width", "height", "samples"], keys
+    assert {"adaptive_depth", "min_weight", "tile_size", "spd_rules"} <= set(keys)
+    scene = prism.builtin("whitted")
+    base, _ = scene.render(width=12, height=9)
+    for setting in prism.settings():
+        if setting["key"] in ("width", "height"):
+            continue
+        image, _ = scene.render(width=12, height=9, **{setting["key"]: _value(setting)})
+        assert image.shape == (9, 12, 3), setting["key"]
+    deeper, _ = scene.render(width=12, height=9, max_depth=1)
+    assert not same_bits(deeper, base), "max_depth reaches the engine"
+    with pytest.raises(ValueError, match="unknown setting 'colour'"):
+        scene.render(width=12, height=9, colour=1)
+    with pytest.raises(ValueError, match="adaptive_depth"):
+        scene.render(width=12, height=9, adaptive_depth=9)

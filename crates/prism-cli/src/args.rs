@@ -102,16 +102,13 @@ pub(crate) struct RenderArgs {
     #[arg(long)]
     pub half: bool,
 
-    /// Image width in pixels [default: the scene's].
-    #[arg(short = 'W', long, value_name = "PIXELS")]
+    #[arg(short = 'W', long, value_name = "PIXELS", help = setting_help("width"))]
     pub width: Option<u32>,
 
-    /// Image height in pixels [default: the scene's].
-    #[arg(short = 'H', long, value_name = "PIXELS")]
+    #[arg(short = 'H', long, value_name = "PIXELS", help = setting_help("height"))]
     pub height: Option<u32>,
 
-    /// Samples per pixel along each axis: N gives N×N samples per pixel.
-    #[arg(short, long, value_name = "N", conflicts_with = "spp")]
+    #[arg(short, long, value_name = "N", conflicts_with = "spp", help = setting_help("samples"))]
     pub samples: Option<u32>,
 
     /// Samples per pixel, a square number (1, 4, 9, 16, …) for every pattern, so that
@@ -119,97 +116,59 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub spp: Option<u32>,
 
-    /// Sampling pattern: centre, grid, corners, random, jittered, relaxed or adaptive
-    /// [default: grid].
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME", help = setting_help("sampler"))]
     pub sampler: Option<SamplerKind>,
 
-    /// Reconstruction filter: box, tent, gaussian or mitchell [default: box].
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME", help = setting_help("filter"))]
     pub filter: Option<FilterKind>,
 
-    /// Filter radius in pixels [default: box 0.5, tent 1, gaussian 1.5, mitchell 2].
-    #[arg(long, value_name = "PIXELS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "PIXELS", allow_negative_numbers = true, help = setting_help("filter_radius"))]
     pub filter_radius: Option<f32>,
 
-    /// Adaptive sampling: split a square when its corners differ by more than this, in
-    /// display (sRGB) units from 0 to 1 [default: 0.1].
-    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    #[arg(long, value_name = "X", allow_negative_numbers = true, help = setting_help("adaptive_threshold"))]
     pub adaptive_threshold: Option<f32>,
 
-    /// Adaptive sampling: levels of splitting below the pixel, 0 to 6 [default: 3].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", help = setting_help("adaptive_depth"))]
     pub adaptive_depth: Option<u32>,
 
-    /// Adaptive sampling: what splits a pixel, `neighbourhood` (the 16 corners around it,
-    /// and texture finer than the pixels) or `corners` (its own four, as POV-Ray)
-    /// [default: neighbourhood].
-    #[arg(long, value_name = "RULE")]
+    #[arg(long, value_name = "RULE", help = setting_help("adaptive_rule"))]
     pub adaptive_rule: Option<prism::sampling::AdaptiveRule>,
 
-    /// Adaptive sampling: 0 traces exactly on the lattice, 1 anywhere in each point's
-    /// lattice cell [default: 1].
-    #[arg(long, value_name = "X", allow_negative_numbers = true)]
+    #[arg(long, value_name = "X", allow_negative_numbers = true, help = setting_help("adaptive_jitter"))]
     pub adaptive_jitter: Option<f32>,
 
-    /// Adaptive sampling: samples (a square number) that a textured pixel takes in a
-    /// stratified pass instead of being subdivided; 0 subdivides it [default: 25].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", help = setting_help("adaptive_texture_spp"))]
     pub adaptive_texture_spp: Option<u32>,
 
-    /// Adaptive depth control: stop a reflected or refracted branch whose weight in the
-    /// pixel is below this, and cast no shadow ray to a light that could add less than
-    /// this to the pixel (it gets through as much as the tested lights do); 0 traces every
-    /// branch to the depth limit and tests every light [default: 1/255].
-    #[arg(long, value_name = "W", allow_negative_numbers = true)]
+    #[arg(long, value_name = "W", allow_negative_numbers = true, help = setting_help("min_weight"))]
     pub min_weight: Option<f32>,
 
-    /// What pixel values mean: `srgb` (linear light, written through the sRGB curve) or
-    /// `display` (display values written as they are, as 1980s renderers did) [default:
-    /// srgb; display for NFF scenes].
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME", help = setting_help("transfer"))]
     pub transfer: Option<prism::transfer::Transfer>,
 
-    /// Maximum ray-tree depth, counting the eye ray as 1 (1 to 256) [default: 5]; for the
-    /// path tracer, the most segments of a path.
-    #[arg(short, long, value_name = "N")]
+    #[arg(short, long, value_name = "N", help = setting_help("max_depth"))]
     pub depth: Option<u32>,
 
-    /// Worker threads; 0 uses every core, at most 1024 [default: 0]. A render never starts
-    /// more threads than it has tiles.
-    #[arg(short, long, value_name = "N")]
+    #[arg(short, long, value_name = "N", help = setting_help("threads"))]
     pub threads: Option<usize>,
 
-    /// Seed for random decisions [default: 0].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", help = setting_help("seed"))]
     pub seed: Option<u64>,
 
     // The help lists every method's keys from their tables (`Method::KEYS`).
     #[arg(long, value_name = "SPEC", help = AccelSpec::help())]
     pub accel: Option<AccelSpec>,
 
-    /// Who answers shadow rays, METHOD[:KEY=VALUE,...]: any-hit (the accelerator, the
-    /// default), cache (the last blocker per light and depth tried first, after a blocked
-    /// ray), light-buffer (Haines & Greenberg's direction cube per point light, an
-    /// orthographic grid per directional light, its cells holding BVH subtrees; keys res =
-    /// cells along a face window's side, budget = MiB for
-    /// all lights), both, or auto (what is predicted to pay in a render: today any-hit, in packets). Every method
-    /// gives the same image.
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", help = setting_help("shadows"))]
     pub shadows: Option<prism::integrator::ShadowSpec>,
 
-    /// Trace every camera ray (and every path) on its own instead of in packets of 8 × 8
-    /// neighbouring pixels. The image is the same either way; this measures what packets
-    /// buy.
-    #[arg(long)]
+    #[arg(long, help = setting_help("packets"))]
     pub no_packets: bool,
 
-    /// The integrator: whitted (Whitted's recursive ray tracer, the default), path (a
-    /// path tracer with area lights, next-event estimation and MIS; each sample of the
-    /// sampler is one path, so --samples 8 traces 64 paths per pixel; docs/path-tracing.md)
-    /// or beam (beam tracing of planar polygons, each pixel the exact area average of what
-    /// it sees; the sampler and filter are not used; docs/beam-tracing.md).
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "PIXELS", help = setting_help("tile_size"))]
+    pub tile_size: Option<u32>,
+
+    #[arg(long, value_name = "NAME", help = setting_help("integrator"))]
     pub integrator: Option<prism::options::IntegratorKind>,
 
     /// Apply a published procedure: `spd` = Haines' SPD rules (corner rays, depth 5, a
@@ -259,6 +218,28 @@ pub(crate) struct RenderArgs {
     /// empty scene, …) as errors: stop before rendering.
     #[arg(long)]
     pub strict: bool,
+}
+
+/// A setting's `--help` text, read from the settings table (`prism::options::SETTINGS`):
+/// its sentence, what it accepts and its default. Every render setting's flag takes its help
+/// from here, so the command line says what the scene file and Python say.
+pub(crate) fn setting_help(key: &str) -> String {
+    use prism::options::SettingKind;
+    let s = prism::options::setting(key).unwrap_or_else(|| panic!("no setting '{key}'"));
+    let accepts = match s.kind {
+        SettingKind::Integer { lo, hi } if hi <= 1 << 20 => format!(", {lo} to {hi}"),
+        SettingKind::Number { lo, hi } => format!(", {lo} to {hi}"),
+        SettingKind::Name(names) => format!(": {}", names.join(", ")),
+        _ => String::new(),
+    };
+    let default = match key {
+        "width" | "height" => "the scene's".to_string(),
+        "filter_radius" => "per filter".to_string(),
+        "min_weight" => "1/255".to_string(),
+        "packets" => "packets on".to_string(),
+        _ => s.default_text(),
+    };
+    format!("{}{accepts} [default: {default}]", s.help)
 }
 
 /// A built-in scene by name, or an error listing the names there are.
@@ -361,6 +342,9 @@ impl RenderArgs {
         }
         if self.no_packets {
             o.packets = false;
+        }
+        if let Some(v) = self.tile_size {
+            o.tile_size = v;
         }
         if let Some(v) = self.integrator {
             o.integrator = v;

@@ -349,3 +349,30 @@ fn transfer_chooses_how_pixel_values_are_written() {
     assert!(brighter > srgb.len() / 2, "only {brighter} channels differ");
     assert_dir_holds(&dir, &["display.png", "srgb.png"]);
 }
+
+/// Every render setting of the settings table has its flag in `prism render --help`, with
+/// the table's help text: a setting added to the table and not to the command line fails.
+#[test]
+fn render_help_offers_every_setting_of_the_table() {
+    let dir = work_dir("settings-help");
+    let out = prism(&dir, &["render", "--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    // Help texts are wrapped: compare with the line breaks folded.
+    let folded: String = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    for s in prism::options::SETTINGS {
+        let Some(flag) = s.flag else {
+            // Set by a preset or the scene file only.
+            assert_eq!(s.key, "spd_rules", "{} has no flag", s.key);
+            continue;
+        };
+        assert!(folded.contains(&format!("--{flag}")), "no --{flag}: {text}");
+        if s.key != "accel" {
+            let first: String = s.help.split_whitespace().collect::<Vec<_>>().join(" ");
+            assert!(
+                folded.contains(&first),
+                "--{flag}: '{first}' not in the help"
+            );
+        }
+    }
+    assert_dir_holds(&dir, &[]);
+}

@@ -181,6 +181,17 @@ pub fn controls() -> Vec<Control> {
     ]
 }
 
+/// The setting of the settings table (`prism::options::SETTINGS`) that control `name`
+/// changes, or None for the viewer's own controls (`view`; `resolution`, which sets
+/// `width` and `height` together).
+pub fn setting_key(name: &str) -> Option<&'static str> {
+    match name {
+        "depth" => Some("max_depth"),
+        "view" | "resolution" => None,
+        other => prism::options::setting(other).map(|s| s.key),
+    }
+}
+
 /// Checks `value` for the control `name`; the error says what is accepted.
 pub fn parse(name: &str, value: &str) -> Result<Setting, String> {
     let value = value.trim();
@@ -288,6 +299,35 @@ fn resolution(value: &str) -> Result<(u32, u32), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The viewer offers a subset of the settings (those worth changing between frames);
+    /// each is a setting of the table under its key, and a value it accepts the table
+    /// accepts too.
+    #[test]
+    fn every_control_is_a_setting_of_the_table_or_the_viewers_own() {
+        for c in controls() {
+            match setting_key(c.name) {
+                Some(key) => {
+                    let setting = prism::options::setting(key).unwrap();
+                    for choice in &c.choices {
+                        let text = match key {
+                            // The viewer writes weights as fractions too.
+                            "min_weight" => match parse(c.name, choice) {
+                                Ok(Setting::MinWeight(w)) => w.to_string(),
+                                other => panic!("{choice}: {other:?}"),
+                            },
+                            _ => choice.clone(),
+                        };
+                        let mut o = prism::RenderOptions::default();
+                        setting
+                            .set(&mut o, &text)
+                            .unwrap_or_else(|e| panic!("{}: {choice}: {e}", c.name));
+                    }
+                }
+                None => assert!(["view", "resolution"].contains(&c.name), "{}", c.name),
+            }
+        }
+    }
 
     #[test]
     fn every_listed_choice_parses() {

@@ -3,7 +3,10 @@
 //! library API all fill this struct; anything they leave out keeps the default documented
 //! here.
 
+pub mod settings;
 mod wire;
+
+pub use settings::{setting, Setting, SettingKind, SETTINGS};
 
 pub use crate::choices::sampler::{
     DEFAULT_ADAPTIVE_DEPTH, DEFAULT_ADAPTIVE_TEXTURE_SPP, DEFAULT_ADAPTIVE_THRESHOLD,
