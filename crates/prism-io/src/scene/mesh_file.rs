@@ -2,8 +2,8 @@
 //! meshes and materials, and a mesh file on its own turned into a scene with a camera and a
 //! light (`prism render bunny.obj`). docs/formats.md describes both formats.
 
-use super::load::LoadError;
 use super::{framing, obj, ply, Scene};
+use crate::source::{LoadError, Reader};
 use prism::geometry::TriangleMesh;
 use prism::shading::Material;
 use std::path::Path;
@@ -58,6 +58,15 @@ pub const MESH_EXTENSIONS: &[&str] = &["obj", "ply"];
 
 /// Reads an OBJ or PLY file (chosen by extension). A file without faces is an error.
 pub fn load_mesh_file(path: &Path, materials: Materials) -> Result<MeshFile, LoadError> {
+    load_mesh_file_with(path, materials, &mut Reader::new())
+}
+
+/// Reads an OBJ or PLY file as `load_mesh_file` does, through `reader`.
+pub fn load_mesh_file_with(
+    path: &Path,
+    materials: Materials,
+    reader: &mut Reader,
+) -> Result<MeshFile, LoadError> {
     let ext = extension(path);
     if let Some(message) = super::sniff::mismatch(path, &ext) {
         return Err(LoadError::Invalid {
@@ -66,8 +75,8 @@ pub fn load_mesh_file(path: &Path, materials: Materials) -> Result<MeshFile, Loa
         });
     }
     let file = match ext.as_str() {
-        "obj" => obj::load(path, materials)?,
-        "ply" => ply::load(path)?,
+        "obj" => obj::load(path, materials, reader)?,
+        "ply" => ply::load(path, reader)?,
         ext => {
             return Err(LoadError::UnknownFormat {
                 path: path.display().to_string(),
@@ -87,9 +96,10 @@ pub fn load_mesh_file(path: &Path, materials: Materials) -> Result<MeshFile, Loa
 }
 
 /// A mesh file as a whole scene: its meshes and materials, faces without a material in
-/// prism's default one, and a camera and light that frame the mesh.
-pub fn load_scene(path: &Path) -> Result<Scene, LoadError> {
-    mesh_scene(load_mesh_file(path, Materials::Read)?, path)
+/// prism's default one, and a camera and light that frame the mesh; files are read through
+/// `reader`.
+pub fn load_scene(path: &Path, reader: &mut Reader) -> Result<Scene, LoadError> {
+    mesh_scene(load_mesh_file_with(path, Materials::Read, reader)?, path)
 }
 
 /// A mesh file already read (from `path`, which names it in errors) as a whole scene, as

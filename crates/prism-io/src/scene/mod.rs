@@ -20,7 +20,8 @@ mod toml;
 pub use self::gltf::parse as parse_gltf;
 /// Parses TOML scene text; the path names it in errors and anchors relative file names.
 pub use self::toml::parse as parse_toml;
-pub use load::{load, load_listing_files, LoadError};
-pub use mesh_file::{load_mesh_file, mesh_scene, MeshFile, MeshPart};
+pub use crate::source::LoadError;
+pub use load::{load, load_listing_files, load_with};
+pub use mesh_file::{load_mesh_file, load_mesh_file_with, mesh_scene, MeshFile, MeshPart};
 
 use prism::Scene;

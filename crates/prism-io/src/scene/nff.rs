@@ -2,8 +2,8 @@
 //! Databases. Read as a token stream (entities may span lines), with every error naming the
 //! file, line and column. docs/nff.md says how each entity maps onto prism's scene.
 
-use super::load::LoadError;
 use super::Scene;
+use crate::source::{LoadError, Reader};
 use prism::camera::{Camera, Projection};
 use prism::geometry::{polygon, Cone, Shape, Sphere, TriangleMesh};
 use prism::light::Light;
@@ -13,13 +13,11 @@ use prism::transfer::Transfer;
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Reads and parses an NFF file.
-pub fn load(path: &Path) -> Result<Scene, LoadError> {
-    crate::scene::load::note_read(path);
-    let text = std::fs::read_to_string(path).map_err(|e| LoadError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })?;
+/// Reads (through `reader`) and parses an NFF file.
+pub fn load(path: &Path, reader: &mut Reader) -> Result<Scene, LoadError> {
+    let text = reader
+        .read_to_string(path)
+        .map_err(|e| LoadError::unreadable(path, e))?;
     parse(&text, &path.display().to_string())
 }
 

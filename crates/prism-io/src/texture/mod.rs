@@ -5,6 +5,7 @@ mod decode;
 
 pub use decode::{decode, MAX_TEXELS, MAX_TEXTURE_SIDE};
 
+use crate::source::Reader;
 use prism::shading::ImageTexture;
 use std::path::Path;
 
@@ -21,13 +22,13 @@ pub enum TextureError {
     },
 }
 
-/// Loads a PNG or JPEG; 8-bit values are taken as sRGB-encoded.
-pub fn load(path: &Path) -> Result<ImageTexture, TextureError> {
+/// Loads a PNG or JPEG, read through `reader`; 8-bit values are taken as sRGB-encoded.
+pub fn load(path: &Path, reader: &mut Reader) -> Result<ImageTexture, TextureError> {
     let read_error = |message: String| TextureError::Read {
         path: path.display().to_string(),
         message,
     };
-    let bytes = std::fs::read(path).map_err(|e| read_error(e.to_string()))?;
+    let bytes = reader.read(path).map_err(|e| read_error(e.to_string()))?;
     let img = decode(&bytes).map_err(read_error)?;
     Ok(from_srgb(&img))
 }

@@ -2,16 +2,17 @@
 //! (for a .glb's first buffer without a uri) the BIN chunk.
 
 use super::uri::{self, Source};
-use crate::scene::load::read_regular_file;
+use crate::source::Reader;
 use gltf::json::Root;
 use std::borrow::Cow;
 use std::path::Path;
 
-/// Loads every buffer, cut to its declared `byteLength`.
+/// Loads every buffer, cut to its declared `byteLength`; files are read through `reader`.
 pub(super) fn load<'a>(
     root: &Root,
     glb_bin: Option<&'a [u8]>,
     base_dir: &Path,
+    reader: &mut Reader,
 ) -> Result<Vec<Cow<'a, [u8]>>, String> {
     root.buffers
         .iter()
@@ -20,7 +21,7 @@ pub(super) fn load<'a>(
             let declared = buffer.byte_length.0;
             let (data, origin): (Cow<'a, [u8]>, String) =
                 match &buffer.uri {
-                    Some(u) => (read(u, base_dir, &format!("buffer {index}"))?, {
+                    Some(u) => (read(u, base_dir, &format!("buffer {index}"), reader)?, {
                         format!("'{}'", uri::shorten(u))
                     }),
                     None if index == 0 => match glb_bin {
@@ -58,17 +59,26 @@ pub(super) fn load<'a>(
         .collect()
 }
 
-/// Reads the bytes a uri names; `what` ("buffer 2", "image 0") starts error messages.
-pub(super) fn read<'a>(u: &str, base_dir: &Path, what: &str) -> Result<Cow<'a, [u8]>, String> {
+/// Reads the bytes a uri names (a file through `reader`); `what` ("buffer 2", "image 0")
+/// starts error messages.
+pub(super) fn read<'a>(
+    u: &str,
+    base_dir: &Path,
+    what: &str,
+    reader: &mut Reader,
+) -> Result<Cow<'a, [u8]>, String> {
     match uri::resolve(u, base_dir).map_err(|e| format!("{what}: {e}"))? {
         Source::Inline(bytes) => Ok(Cow::Owned(bytes)),
-        Source::File(file) => read_regular_file(&file).map(Cow::Owned).map_err(|e| {
-            format!(
-                "{what}: cannot read '{}' ({}): {e}",
-                uri::shorten(u),
-                file.display()
-            )
-        }),
+        Source::File(file) => reader
+            .read_regular_file(&file)
+            .map(Cow::Owned)
+            .map_err(|e| {
+                format!(
+                    "{what}: cannot read '{}' ({}): {e}",
+                    uri::shorten(u),
+                    file.display()
+                )
+            }),
     }
 }
 

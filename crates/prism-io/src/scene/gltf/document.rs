@@ -2,7 +2,7 @@
 //! validated by the gltf crate, whose terse findings ("Index out of bounds" at a JSON path)
 //! are reworded here to say what the path refers to and what exists.
 
-use crate::scene::load::LoadError;
+use crate::source::LoadError;
 use gltf::json::mesh::Semantic;
 use gltf::json::validation::{Checked, Error as Finding, Validate};
 use gltf::json::Root;

@@ -3,6 +3,7 @@
 //! most once however many materials use it.
 
 use super::{buffers, uri};
+use crate::source::Reader;
 use gltf::json::Root;
 use image::DynamicImage;
 use std::borrow::Cow;
@@ -14,15 +15,23 @@ pub(super) struct Images<'a> {
     root: &'a Root,
     buffers: &'a [Cow<'a, [u8]>],
     base_dir: &'a Path,
+    /// Reads the image files.
+    reader: &'a mut Reader,
     decoded: HashMap<usize, Rc<DynamicImage>>,
 }
 
 impl<'a> Images<'a> {
-    pub(super) fn new(root: &'a Root, buffers: &'a [Cow<'a, [u8]>], base_dir: &'a Path) -> Self {
+    pub(super) fn new(
+        root: &'a Root,
+        buffers: &'a [Cow<'a, [u8]>],
+        base_dir: &'a Path,
+        reader: &'a mut Reader,
+    ) -> Self {
         Images {
             root,
             buffers,
             base_dir,
+            reader,
             decoded: HashMap::new(),
         }
     }
@@ -47,7 +56,7 @@ impl<'a> Images<'a> {
         Ok(img)
     }
 
-    fn decode(&self, index: usize) -> Result<DynamicImage, String> {
+    fn decode(&mut self, index: usize) -> Result<DynamicImage, String> {
         let image = self.root.images.get(index).ok_or_else(|| {
             format!(
                 "image {index} does not exist (the file has {})",
@@ -57,7 +66,7 @@ impl<'a> Images<'a> {
         let what = format!("image {index}");
         let (bytes, origin): (Cow<[u8]>, String) = match (&image.uri, image.buffer_view) {
             (Some(u), _) => (
-                buffers::read(u, self.base_dir, &what)?,
+                buffers::read(u, self.base_dir, &what, self.reader)?,
                 format!("'{}'", uri::shorten(u)),
             ),
             (None, Some(view)) => (

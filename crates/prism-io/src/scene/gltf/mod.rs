@@ -21,8 +21,8 @@ mod nodes;
 mod transform;
 mod uri;
 
-use super::load::LoadError;
 use super::Scene;
+use crate::source::{LoadError, Reader};
 use accessor::Accessors;
 use gltf::json::Root;
 use images::Images;
@@ -31,19 +31,24 @@ use std::collections::HashMap;
 use std::path::Path;
 use transform::Placement;
 
-/// Reads a .gltf or .glb file. The content decides which: GLB files start with "glTF".
-pub(super) fn load(path: &Path) -> Result<Scene, LoadError> {
-    crate::scene::load::note_read(path);
-    let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })?;
-    parse(&bytes, path)
+/// Reads a .gltf or .glb file, and its buffers and images, through `reader`. The content
+/// decides which: GLB files start with "glTF".
+pub(super) fn load(path: &Path, reader: &mut Reader) -> Result<Scene, LoadError> {
+    let bytes = reader
+        .read(path)
+        .map_err(|e| LoadError::unreadable(path, e))?;
+    parse_with(&bytes, path, reader)
 }
 
 /// Parses the bytes of a .gltf or .glb file. `path` names it in errors; buffers and images
 /// with relative URIs are read from its folder, the document itself is not read again.
 pub fn parse(bytes: &[u8], path: &Path) -> Result<Scene, LoadError> {
+    parse_with(bytes, path, &mut Reader::new())
+}
+
+/// Parses the bytes of a .gltf or .glb file as `parse` does, reading buffers and images
+/// through `reader`.
+fn parse_with(bytes: &[u8], path: &Path, reader: &mut Reader) -> Result<Scene, LoadError> {
     let file = path.display().to_string();
     let invalid = |message: String| LoadError::Invalid {
         path: file.clone(),
@@ -59,7 +64,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<Scene, LoadError> {
     };
     let root = document::parse(json, path, is_glb)?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
-    let mut scene = build(&root, json.len(), bin, base_dir).map_err(invalid)?;
+    let mut scene = build(&root, json.len(), bin, base_dir, reader).map_err(invalid)?;
     for w in &mut scene.warnings {
         *w = format!("{file}: {w}");
     }
@@ -78,10 +83,11 @@ fn build(
     json_len: usize,
     bin: Option<&[u8]>,
     base_dir: &Path,
+    reader: &mut Reader,
 ) -> Result<Scene, String> {
-    let buffers = buffers::load(root, bin, base_dir)?;
+    let buffers = buffers::load(root, bin, base_dir, reader)?;
     let accessors = Accessors::new(root, &buffers);
-    let mut images = Images::new(root, &buffers, base_dir);
+    let mut images = Images::new(root, &buffers, base_dir, reader);
     let placed = nodes::walk(root)?;
 
     let mut decoded: HashMap<usize, Vec<mesh::Primitive>> = HashMap::new();

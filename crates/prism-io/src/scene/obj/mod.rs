@@ -12,30 +12,40 @@ mod mtl;
 mod scan;
 
 use super::faces;
-use super::load::LoadError;
 use super::mesh_file::{Materials, MeshFile, MeshPart};
+use crate::source::{LoadError, Reader};
 use mtl::{Library, TextureCache};
 use prism::geometry::TriangleMesh;
 use prism::math::{Vec2, Vec3};
 use std::path::Path;
 
-/// Reads the OBJ file at `path` and, unless told to ignore them, its material libraries.
-pub fn load(path: &Path, materials: Materials) -> Result<MeshFile, LoadError> {
-    crate::scene::load::note_read(path);
-    let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })?;
+/// Reads the OBJ file at `path` and, unless told to ignore them, its material libraries,
+/// through `reader`.
+pub fn load(path: &Path, materials: Materials, reader: &mut Reader) -> Result<MeshFile, LoadError> {
+    let bytes = reader
+        .read(path)
+        .map_err(|e| LoadError::unreadable(path, e))?;
     // Some exporters write comments or names in Latin-1; numbers are ASCII either way.
-    parse(&String::from_utf8_lossy(&bytes), path, materials)
+    parse_with(&String::from_utf8_lossy(&bytes), path, materials, reader)
 }
 
 /// Reads OBJ text; `path` names it in errors and anchors material libraries.
 pub fn parse(text: &str, path: &Path, materials: Materials) -> Result<MeshFile, LoadError> {
+    parse_with(text, path, materials, &mut Reader::new())
+}
+
+/// Reads OBJ text as `parse` does, its libraries and their images through `reader`.
+fn parse_with(
+    text: &str,
+    path: &Path,
+    materials: Materials,
+    reader: &mut Reader,
+) -> Result<MeshFile, LoadError> {
     let name = path.display().to_string();
     let mut opener = LibraryOpener {
         obj_path: &name,
         dir: path.parent().unwrap_or(Path::new("")),
+        reader,
         libraries: Vec::new(),
         textures: TextureCache::new(),
         warnings: Vec::new(),
@@ -86,7 +96,8 @@ pub fn parse(text: &str, path: &Path, materials: Materials) -> Result<MeshFile, 
 /// Reads MTL library text on its own: the materials it defines, in order. `path` names it
 /// in errors and anchors its image files.
 pub fn parse_mtl(text: &str, path: &Path) -> Result<Vec<prism::shading::Material>, LoadError> {
-    mtl::parse(text, path, &mut TextureCache::new()).map(|library| library.materials)
+    let mut reader = Reader::new();
+    mtl::parse(text, path, &mut TextureCache::new(), &mut reader).map(|library| library.materials)
 }
 
 fn tobj_failed(path: &str, e: tobj::LoadError) -> LoadError {
@@ -103,6 +114,7 @@ fn tobj_failed(path: &str, e: tobj::LoadError) -> LoadError {
 struct LibraryOpener<'a> {
     obj_path: &'a str,
     dir: &'a Path,
+    reader: &'a mut Reader,
     libraries: Vec<Library>,
     textures: TextureCache,
     /// Libraries that are not there (downloaded models often come without theirs) and
@@ -139,16 +151,18 @@ impl scan::Libraries for LibraryOpener<'_> {
                 self.missing_library = true;
                 continue;
             }
-            let parsed = mtl::load(&path, &mut self.textures).map_err(|e| LoadError::Syntax {
-                path: self.obj_path.to_string(),
-                line,
-                column,
-                message: format!(
-                    "cannot read the material library {}: {e}; expected an MTL file beside the \
-                     OBJ file (or, from a TOML scene, give the mesh a material to ignore the \
-                     library)",
-                    path.display()
-                ),
+            let parsed = mtl::load(&path, &mut self.textures, self.reader).map_err(|e| {
+                LoadError::Syntax {
+                    path: self.obj_path.to_string(),
+                    line,
+                    column,
+                    message: format!(
+                        "cannot read the material library {}: {e}; expected an MTL file beside \
+                         the OBJ file (or, from a TOML scene, give the mesh a material to \
+                         ignore the library)",
+                        path.display()
+                    ),
+                }
             })?;
             library.append(parsed?);
         }

@@ -6,7 +6,7 @@
 
 use super::material::{whitted, Extras};
 use super::scan::Words;
-use crate::scene::load::LoadError;
+use crate::source::{LoadError, Reader};
 use prism::math::{Color, Vec2};
 use prism::shading::{ImageTexture, Material};
 use std::collections::HashMap;
@@ -50,16 +50,31 @@ impl Library {
 /// A library's text checked and read: the library, or an error located in it.
 pub(super) type Parsed = Result<Library, LoadError>;
 
-/// Reads the library at `path`; image files are resolved against its folder. The outer
-/// error is the file's (the caller knows where it was named); the inner one is located in
-/// the library.
-pub(super) fn load(path: &Path, textures: &mut TextureCache) -> Result<Parsed, std::io::Error> {
-    let bytes = crate::scene::load::read_regular_file(path)?;
-    Ok(parse(&String::from_utf8_lossy(&bytes), path, textures))
+/// Reads the library at `path` through `reader`; image files are resolved against its
+/// folder. The outer error is the file's (the caller knows where it was named); the inner
+/// one is located in the library.
+pub(super) fn load(
+    path: &Path,
+    textures: &mut TextureCache,
+    reader: &mut Reader,
+) -> Result<Parsed, std::io::Error> {
+    let bytes = reader.read_regular_file(path)?;
+    Ok(parse(
+        &String::from_utf8_lossy(&bytes),
+        path,
+        textures,
+        reader,
+    ))
 }
 
-/// Checks and reads library text; `path` names it in errors and anchors image files.
-pub(super) fn parse(text: &str, path: &Path, textures: &mut TextureCache) -> Parsed {
+/// Checks and reads library text; `path` names it in errors and anchors image files, which
+/// are read through `reader`.
+pub(super) fn parse(
+    text: &str,
+    path: &Path,
+    textures: &mut TextureCache,
+    reader: &mut Reader,
+) -> Parsed {
     let mut checker = Checker {
         path,
         dir: path.parent().unwrap_or(Path::new("")),
@@ -67,6 +82,7 @@ pub(super) fn parse(text: &str, path: &Path, textures: &mut TextureCache) -> Par
         line: "",
         extras: Vec::new(),
         textures,
+        reader,
         out: String::with_capacity(text.len()),
         warnings: Vec::new(),
     };
@@ -112,6 +128,8 @@ struct Checker<'a> {
     line: &'a str,
     extras: Vec<Extras>,
     textures: &'a mut TextureCache,
+    /// Reads the image files `map_Kd` names.
+    reader: &'a mut Reader,
     out: String,
     warnings: Vec<String>,
 }
@@ -362,8 +380,7 @@ impl Checker<'_> {
         let image = match self.textures.get(&file) {
             Some(image) => image.clone(),
             None => {
-                crate::scene::load::note_read(&file);
-                let image = crate::texture::load(&file).map_err(|e| {
+                let image = crate::texture::load(&file, self.reader).map_err(|e| {
                     self.error(
                         file_at,
                         format!("expected a readable PNG or JPEG image for map_Kd: {e}"),

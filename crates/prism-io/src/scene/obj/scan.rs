@@ -8,7 +8,7 @@
 //! vertex colours, `vt` with both coordinates, libraries named by number. Statements prism
 //! does not use become blank lines, so line numbers stay those of the file.
 
-use crate::scene::load::LoadError;
+use crate::source::LoadError;
 use std::fmt::Write;
 
 /// What the scan needs from the material side: `mtllib` lines open libraries (relative to

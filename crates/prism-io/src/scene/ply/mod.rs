@@ -12,21 +12,19 @@ mod body;
 mod header;
 
 use super::faces;
-use super::load::LoadError;
 use super::mesh_file::{MeshFile, MeshPart};
+use crate::source::{LoadError, Reader};
 use body::{Ascii, Binary, BodyError, Location, Source};
 use header::{Element, Format, Header, PropertyType, Scalar};
 use prism::geometry::TriangleMesh;
 use prism::math::{Vec2, Vec3};
 use std::path::Path;
 
-/// Reads the PLY file at `path`.
-pub fn load(path: &Path) -> Result<MeshFile, LoadError> {
-    crate::scene::load::note_read(path);
-    let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })?;
+/// Reads the PLY file at `path` through `reader`.
+pub fn load(path: &Path, reader: &mut Reader) -> Result<MeshFile, LoadError> {
+    let bytes = reader
+        .read(path)
+        .map_err(|e| LoadError::unreadable(path, e))?;
     parse(&bytes, &path.display().to_string())
 }
 

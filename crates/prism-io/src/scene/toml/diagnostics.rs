@@ -1,7 +1,7 @@
 //! Problems found in a scene file and how they become `LoadError`s: byte spans turn into
 //! line and column numbers, and serde's Rust-flavoured wording into the format's own.
 
-use crate::scene::LoadError;
+use crate::source::LoadError;
 use std::ops::Range;
 use std::path::Path;
 

@@ -5,7 +5,8 @@
 use super::diagnostics::Problem;
 use super::mesh::Transform;
 use super::schema::MeshDef;
-use crate::scene::mesh_file::{extension, load_mesh_file, Materials, MESH_EXTENSIONS};
+use crate::scene::mesh_file::{extension, load_mesh_file_with, Materials, MESH_EXTENSIONS};
+use crate::source::Reader;
 use prism::scene::Scene;
 use std::ops::Range;
 use std::path::Path;
@@ -13,7 +14,8 @@ use toml::Spanned;
 
 /// Adds the meshes of the file named by `def` (whose table starts at `span`). `material`
 /// is the object's own; without it the file's materials apply, and faces the file gives no
-/// material get `default(scene)`.
+/// material get `default(scene)`. The file is read through `reader`.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn add_mesh_file(
     scene: &mut Scene,
     def: MeshDef,
@@ -22,6 +24,7 @@ pub(super) fn add_mesh_file(
     base_dir: &Path,
     material: Option<u32>,
     default: &mut dyn FnMut(&mut Scene) -> u32,
+    reader: &mut Reader,
 ) -> Result<(), Problem> {
     if def.positions.is_some()
         || def.indices.is_some()
@@ -47,7 +50,7 @@ pub(super) fn add_mesh_file(
         Some(_) => Materials::Ignore,
         None => Materials::Read,
     };
-    let loaded = load_mesh_file(&path, materials)
+    let loaded = load_mesh_file_with(&path, materials, reader)
         .map_err(|e| Problem::at(file.span(), format!("cannot load the mesh file: {e}")))?;
 
     scene.warnings.extend(loaded.warnings);

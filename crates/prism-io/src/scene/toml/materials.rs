@@ -3,12 +3,19 @@
 
 use super::diagnostics::Problem;
 use super::schema::{CheckerSpaceDef, MaterialDef, TextureDef};
+use crate::source::Reader;
 use prism::shading::{Checker, CheckerSpace, Material, Texture};
 use std::path::Path;
 use toml::Spanned;
 
-/// Builds the material `name`; image paths are resolved against `base_dir`.
-pub(super) fn material(name: &str, def: MaterialDef, base_dir: &Path) -> Result<Material, Problem> {
+/// Builds the material `name`; image paths are resolved against `base_dir` and read
+/// through `reader`.
+pub(super) fn material(
+    name: &str,
+    def: MaterialDef,
+    base_dir: &Path,
+    reader: &mut Reader,
+) -> Result<Material, Problem> {
     let d = Material::default();
     let color = match (def.color, def.texture) {
         (Some(_), Some(t)) => {
@@ -18,7 +25,7 @@ pub(super) fn material(name: &str, def: MaterialDef, base_dir: &Path) -> Result<
             ))
         }
         (Some(c), None) => Texture::Solid(c.0),
-        (None, Some(t)) => texture(t, base_dir)?,
+        (None, Some(t)) => texture(t, base_dir, reader)?,
         (None, None) => d.color,
     };
     Ok(Material {
@@ -37,7 +44,11 @@ pub(super) fn material(name: &str, def: MaterialDef, base_dir: &Path) -> Result<
     })
 }
 
-fn texture(def: Spanned<TextureDef>, base_dir: &Path) -> Result<Texture, Problem> {
+fn texture(
+    def: Spanned<TextureDef>,
+    base_dir: &Path,
+    reader: &mut Reader,
+) -> Result<Texture, Problem> {
     Ok(match def.into_inner() {
         TextureDef::Solid(s) => Texture::Solid(s.color.0),
         TextureDef::Checker(c) => Texture::Checker(Checker {
@@ -51,8 +62,7 @@ fn texture(def: Spanned<TextureDef>, base_dir: &Path) -> Result<Texture, Problem
         }),
         TextureDef::Image(i) => {
             let file = base_dir.join(i.path.get_ref());
-            crate::scene::load::note_read(&file);
-            let mut image = crate::texture::load(&file).map_err(|e| {
+            let mut image = crate::texture::load(&file, reader).map_err(|e| {
                 Problem::at(
                     i.path.span(),
                     format!("expected a readable PNG or JPEG image: {e}"),

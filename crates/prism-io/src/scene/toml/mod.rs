@@ -18,8 +18,8 @@ mod schema;
 mod tagged;
 mod values;
 
-use super::load::LoadError;
 use super::Scene;
+use crate::source::{LoadError, Reader};
 use diagnostics::Problem;
 use prism::shading::Material;
 use schema::{ObjectDef, SceneDef};
@@ -27,13 +27,11 @@ use serde::Deserialize;
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Reads and parses the scene file at `path`.
-pub(super) fn load(path: &Path) -> Result<Scene, LoadError> {
-    crate::scene::load::note_read(path);
-    let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })?;
+/// Reads and parses the scene file at `path`, and the files it names, through `reader`.
+pub(super) fn load(path: &Path, reader: &mut Reader) -> Result<Scene, LoadError> {
+    let bytes = reader
+        .read(path)
+        .map_err(|e| LoadError::unreadable(path, e))?;
     let text = match String::from_utf8(bytes) {
         Ok(text) => text,
         Err(e) => {
@@ -47,15 +45,20 @@ pub(super) fn load(path: &Path) -> Result<Scene, LoadError> {
             return Err(problem.into_load_error(path, &prefix));
         }
     };
-    parse(&text, path)
+    parse_with(&text, path, reader)
 }
 
 /// Parses scene text. `path` names the text in errors and anchors relative file names
 /// (image textures); nothing is read from it but those.
 pub fn parse(text: &str, path: &Path) -> Result<Scene, LoadError> {
+    parse_with(text, path, &mut Reader::new())
+}
+
+/// Parses scene text as `parse` does, reading the files it names through `reader`.
+fn parse_with(text: &str, path: &Path, reader: &mut Reader) -> Result<Scene, LoadError> {
     let base_dir = path.parent().unwrap_or(Path::new(""));
     parse_def(text)
-        .and_then(|def| build(def, base_dir))
+        .and_then(|def| build(def, base_dir, reader))
         .map_err(|p| p.into_load_error(path, text))
 }
 
@@ -65,7 +68,7 @@ fn parse_def(text: &str) -> Result<SceneDef, Problem> {
     SceneDef::deserialize(toml::de::Deserializer::from(root)).map_err(|e| Problem::from_toml(&e))
 }
 
-fn build(def: SceneDef, base_dir: &Path) -> Result<Scene, Problem> {
+fn build(def: SceneDef, base_dir: &Path, reader: &mut Reader) -> Result<Scene, Problem> {
     let mut scene = Scene::default();
     if let Some(render) = def.render {
         let span = render.span();
@@ -87,7 +90,7 @@ fn build(def: SceneDef, base_dir: &Path) -> Result<Scene, Problem> {
 
     let mut material_index = HashMap::new();
     for (name, m) in def.materials {
-        let m = materials::material(&name, m.into_inner(), base_dir)?;
+        let m = materials::material(&name, m.into_inner(), base_dir, reader)?;
         material_index.insert(name, scene.add_material(m));
     }
     let mut default_material = None;
@@ -125,6 +128,7 @@ fn build(def: SceneDef, base_dir: &Path) -> Result<Scene, Problem> {
                         base_dir,
                         named,
                         &mut default,
+                        reader,
                     )?;
                     continue;
                 }
