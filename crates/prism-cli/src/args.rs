@@ -168,6 +168,9 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "PIXELS", help = setting_help("tile_size"))]
     pub tile_size: Option<u32>,
 
+    #[arg(long, value_name = "N", help = setting_help("area_samples"))]
+    pub area_samples: Option<u32>,
+
     #[arg(long, value_name = "NAME", help = setting_help("integrator"))]
     pub integrator: Option<prism::options::IntegratorKind>,
 
@@ -345,6 +348,9 @@ impl RenderArgs {
         }
         if let Some(v) = self.tile_size {
             o.tile_size = v;
+        }
+        if let Some(v) = self.area_samples {
+            o.area_samples = v;
         }
         if let Some(v) = self.integrator {
             o.integrator = v;

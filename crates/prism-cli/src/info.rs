@@ -45,6 +45,7 @@ pub(crate) fn print(scene: &Scene, name: &str, accel: &AccelSpec) -> Result<()> 
         );
     }
     println!("lights             {}", scene.lights.len());
+    print_emitters(scene);
     let b = g.world_bounds();
     if b.is_empty() {
         println!("bounds             (none: only unbounded shapes)");
@@ -104,6 +105,38 @@ pub(crate) fn print(scene: &Scene, name: &str, accel: &AccelSpec) -> Result<()> 
 }
 
 /// A colour as one number when it is a grey, else as [r, g, b].
+/// The emitting materials and their primitives: the area lights both integrators light
+/// the scene by (Whitted's by `area_samples` shadow rays a point); planes, boxes and cones
+/// that emit are seen but light nothing.
+fn print_emitters(scene: &Scene) {
+    use prism::geometry::Shape;
+    let g = &scene.geometry;
+    let emissive: Vec<usize> = (0..scene.materials.len())
+        .filter(|&i| scene.materials[i].emission.max_element() > 0.0)
+        .collect();
+    let count = |m: usize, sampled: bool| {
+        g.primitives
+            .iter()
+            .filter(|p| p.material as usize == m)
+            .filter(|p| !sampled || matches!(p.shape, Shape::Triangle { .. } | Shape::Sphere(_)))
+            .count()
+    };
+    let total: usize = emissive.iter().map(|&m| count(m, true)).sum();
+    println!("emitters           {total} primitives (area lights)");
+    for m in emissive {
+        let (all, sampled) = (count(m, false), count(m, true));
+        let seen_only = match all - sampled {
+            0 => String::new(),
+            n => format!(", {n} seen only (planes, boxes, cones)"),
+        };
+        println!(
+            "  {:<16} emission {}  ({sampled} primitives{seen_only})",
+            scene.materials[m].name,
+            grey_or_rgb(scene.materials[m].emission)
+        );
+    }
+}
+
 fn grey_or_rgb(c: prism::math::Color) -> String {
     if c.x == c.y && c.y == c.z {
         format!("{:.2}", c.x)

@@ -376,3 +376,27 @@ fn render_help_offers_every_setting_of_the_table() {
     }
     assert_dir_holds(&dir, &[]);
 }
+
+/// `prism info` lists the emitting surfaces, which light the Whitted render as area
+/// lights.
+#[test]
+fn info_lists_the_emitters() {
+    let dir = work_dir("info-emitters");
+    let out = prism(&dir, &["info", "-b", "cornell-light"]);
+    let text = stdout(&out);
+    assert!(
+        text.contains("emitters           2 primitives (area lights)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("light            emission [17.00, 12.00, 4.00]  (2 primitives)"),
+        "{text}"
+    );
+    let out = prism(&dir, &["info", "-b", "whitted"]);
+    assert!(
+        stdout(&out).contains("emitters           0 primitives"),
+        "{}",
+        stdout(&out)
+    );
+    assert_dir_holds(&dir, &[]);
+}

@@ -71,6 +71,7 @@ fn every_setting_reads_from_a_scene_file_as_set_gives_it() {
         ("integrator", "path"),
         ("max_depth", "7"),
         ("min_weight", "0.125"),
+        ("area_samples", "4"),
         ("spd_rules", "true"),
         ("threads", "2"),
         ("seed", "99"),

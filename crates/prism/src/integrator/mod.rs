@@ -3,6 +3,7 @@
 //! area lights (`emitters.rs`) and the lobes of `shading::Bsdf`; the beam tracer (`beam/`)
 //! traces whole beams of planar polygons instead of rays.
 
+mod area_lights;
 pub mod beam;
 mod emitters;
 mod light_buffer;

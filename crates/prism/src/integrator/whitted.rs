@@ -8,10 +8,11 @@
 //! meet a transparent surface continue through it, filtered by its kt (a colour), as
 //! POV-Ray does. Weights are colours too: red glass passes red light only.
 
+use super::area_lights::AreaLights;
 use super::shadow::Shadows;
 use crate::accel::{Hit, PACKET_MAX};
 use crate::geometry::SurfacePoint;
-use crate::light::{Light, LightSample};
+use crate::light::LightSample;
 use crate::math::robust::offset_ray_origin;
 use crate::math::Vec3;
 use crate::math::{Color, Ray};
@@ -27,6 +28,8 @@ use arrayvec::ArrayVec;
 pub struct Whitted<'a> {
     scene: &'a PreparedScene<'a>,
     shadows: Shadows<'a>,
+    /// The emitting surfaces as lights sampled by shadow rays; None without any.
+    area: Option<AreaLights>,
     max_depth: u32,
     min_weight: f32,
     spd_rules: bool,
@@ -42,6 +45,7 @@ impl<'a> Whitted<'a> {
         Whitted {
             scene,
             shadows: Shadows::new(scene, options.shadows),
+            area: AreaLights::new(scene.scene, options.area_samples, options.seed),
             max_depth: options.max_depth,
             min_weight: options.min_weight,
             spd_rules: options.spd_rules,
@@ -144,12 +148,13 @@ impl<'a> Whitted<'a> {
         // `shade_packet`'s time in a viewer frame).
         let mut samples = [Lit::NONE; PACKET_MAX];
         let mut faint = [FaintLights::default(); PACKET_MAX];
-        for (index, light) in scene.lights.iter().enumerate() {
+        for j in 0..self.sources() {
+            let index = self.shadow_index(j);
             lit.clear();
             for (i, s) in surfaces.iter().enumerate() {
                 let Some(s) = s else { continue };
                 let sample = &mut samples[i];
-                match self.lit_by(s, light, weights[i], sample, stats) {
+                match self.lit_by(s, j, weights[i], sample, stats) {
                     Some(Seen::ByShadowRay) => lit.push(i as u8),
                     Some(Seen::Estimated) => faint[i].add_faint(&sample.ls, sample.reflected),
                     None => {}
@@ -412,10 +417,31 @@ impl<'a> Whitted<'a> {
         }
     }
 
-    /// What light `light` sends towards `surface`: None when it sends nothing there or
-    /// lies behind the surface (SPD rule 10: then no shadow ray is cast).
-    fn light_sample(&self, surface: &Surface, light: &Light) -> Option<LightSample> {
-        let ls = light.sample(surface.sp.p)?;
+    /// The sources of light a surface is lit by, one shadow ray each: the scene's lights,
+    /// then the area lights' points.
+    fn sources(&self) -> usize {
+        self.scene.scene.lights.len() + self.area.as_ref().map_or(0, |a| a.samples() as usize)
+    }
+
+    /// The light index whose shadow method answers source `j`'s shadow rays: the light's
+    /// own for the scene's lights, one past them (no light buffer) for the area lights.
+    fn shadow_index(&self, j: usize) -> usize {
+        j.min(self.scene.scene.lights.len())
+    }
+
+    /// What source `j` sends towards `surface`: None when it sends nothing there or lies
+    /// behind the surface (SPD rule 10: then no shadow ray is cast).
+    #[inline]
+    fn light_sample(&self, surface: &Surface, j: usize) -> Option<LightSample> {
+        let lights = &self.scene.scene.lights;
+        let ls = match lights.get(j) {
+            Some(light) => light.sample(surface.sp.p)?,
+            None => {
+                let area = self.area.as_ref()?;
+                let k = (j - lights.len()) as u32;
+                area.sample(self.scene.scene, surface.sp.p, surface.ng, k)?
+            }
+        };
         (surface.ng.dot(ls.to_light) > 0.0).then_some(ls)
     }
 
@@ -431,9 +457,10 @@ impl<'a> Whitted<'a> {
     ) -> Color {
         let mut radiance = self.own_radiance(surface);
         let mut faint = FaintLights::default();
-        for (index, light) in self.scene.scene.lights.iter().enumerate() {
+        for j in 0..self.sources() {
+            let index = self.shadow_index(j);
             let mut sample = Lit::NONE;
-            let Some(seen) = self.lit_by(surface, light, weight, &mut sample, stats) else {
+            let Some(seen) = self.lit_by(surface, j, weight, &mut sample, stats) else {
                 continue;
             };
             let Lit { ls, reflected } = sample;
@@ -453,8 +480,8 @@ impl<'a> Whitted<'a> {
         radiance
     }
 
-    /// The surface's own radiance: ambient light, and the emission of an area light (which
-    /// Whitted's shadow rays do not sample; the path tracer does).
+    /// The surface's own radiance: ambient light, and the emission of an area light (seen
+    /// directly; its light on other surfaces comes by the area lights' shadow rays).
     fn own_radiance(&self, surface: &Surface) -> Color {
         let material = surface.material;
         let mut radiance = material.ambient * surface.color * self.scene.scene.ambient;
@@ -483,12 +510,12 @@ impl<'a> Whitted<'a> {
     fn lit_by(
         &self,
         surface: &Surface,
-        light: &Light,
+        source: usize,
         weight: Color,
         out: &mut Lit,
         stats: &mut Stats,
     ) -> Option<Seen> {
-        let ls = self.light_sample(surface, light)?;
+        let ls = self.light_sample(surface, source)?;
         out.ls = ls;
         let Surface {
             material,

@@ -22,6 +22,11 @@ use serde::{Deserialize, Serialize};
 pub const MAX_DEPTH_LIMIT: u32 = 256;
 /// POV-Ray's `adc_bailout`: one 8-bit level.
 pub const DEFAULT_MIN_WEIGHT: f32 = 1.0 / 255.0;
+/// Points on the area lights per shading point: a 4 × 4 grid's worth, as POV-Ray's
+/// `area_light` examples take.
+pub const DEFAULT_AREA_SAMPLES: u32 = 16;
+/// Most points on the area lights per shading point.
+pub const MAX_AREA_SAMPLES: u32 = 4096;
 /// Most worker threads a render may ask for. Far above any core count a machine offers
 /// today; beyond it a typo (`--threads 1000000000000`) would start thousands of OS threads.
 pub const MAX_THREADS: usize = 1024;
@@ -66,6 +71,10 @@ pub struct RenderOptions {
     /// through as much as the lights tested there do (Ward 1991). 0 traces every ray up to
     /// `max_depth` and tests every light.
     pub min_weight: f32,
+    /// Whitted's tracer: points sampled on the emitting surfaces (area lights) per shading
+    /// point, one shadow ray each; 0 lights nothing by them (their emission is still seen
+    /// directly). More points, softer and smoother shadows.
+    pub area_samples: u32,
     /// Follow the SPD testing procedure's ray-tree rules (Haines, SPD rules 8 and 9): every
     /// hit on a surface with Ks > 0 or T > 0 spawns a reflection ray, and every hit on a
     /// transmitter a refraction ray, whatever their weight; `min_weight` is ignored.
@@ -123,6 +132,7 @@ impl Default for RenderOptions {
             transfer: Transfer::Srgb,
             max_depth: 5,
             min_weight: DEFAULT_MIN_WEIGHT,
+            area_samples: DEFAULT_AREA_SAMPLES,
             spd_rules: false,
             threads: 0,
             seed: 0,
@@ -203,6 +213,12 @@ impl RenderOptions {
             }
         }
         self.adaptive.validate()?;
+        if self.area_samples > MAX_AREA_SAMPLES {
+            return Err(format!(
+                "area_samples must be between 0 and {MAX_AREA_SAMPLES}, got {}",
+                self.area_samples
+            ));
+        }
         if self.threads > MAX_THREADS {
             return Err(format!(
                 "threads must be between 0 (every core) and {MAX_THREADS}, got {}",

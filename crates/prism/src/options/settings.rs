@@ -5,7 +5,10 @@
 //! controls, and docs/scene-format.md's `[render]` table are held to it by tests, so a
 //! setting added here that a front end misses fails a test.
 
-use super::{RenderOptions, MAX_DEPTH_LIMIT, MAX_FILTER_RADIUS, MAX_SAMPLES_PER_AXIS, MAX_THREADS};
+use super::{
+    RenderOptions, MAX_AREA_SAMPLES, MAX_DEPTH_LIMIT, MAX_FILTER_RADIUS, MAX_SAMPLES_PER_AXIS,
+    MAX_THREADS,
+};
 use crate::choices::sampler::{MAX_DEPTH as MAX_ADAPTIVE_DEPTH, MAX_TEXTURE_N};
 use crate::choices::{AdaptiveRule, FilterKind, IntegratorKind, SamplerKind, Transfer};
 use std::str::FromStr;
@@ -342,6 +345,22 @@ pub const SETTINGS: &[Setting] = &[
         get: |o| o.min_weight.to_string(),
         put: |o, t| {
             o.min_weight = parse::<f32>(t).abs();
+            Ok(())
+        },
+    },
+    Setting {
+        key: "area_samples",
+        flag: Some("area-samples"),
+        kind: SettingKind::Integer {
+            lo: 0,
+            hi: MAX_AREA_SAMPLES as u64,
+        },
+        help: "Whitted's tracer: points sampled on the emitting surfaces (area lights) per \
+               shading point, one shadow ray each, for soft shadows; 0 lights nothing by \
+               them",
+        get: |o| o.area_samples.to_string(),
+        put: |o, t| {
+            o.area_samples = parse(t);
             Ok(())
         },
     },
