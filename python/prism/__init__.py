@@ -14,6 +14,7 @@ with prism's own message, a scene file's mistakes as file:line:col; bad argument
 """
 
 import json as _json
+import operator as _operator
 import os as _os
 
 import numpy as _np
@@ -143,26 +144,75 @@ class Scene:
         "build_seconds", "threads" and the settings in words.
         """
         pixels, w, h, stats = self._native.render(
-            width=width,
-            height=height,
-            spp=spp,
+            width=_whole("width", width),
+            height=_whole("height", height),
+            spp=_samples_per_pixel(spp),
             sampler=sampler,
             filter=filter,
             accel=accel,
             integrator=integrator,
             shadows=shadows,
-            seed=seed,
-            threads=threads,
-            tile=tile,
-            depth=depth,
+            seed=_whole("seed", seed),
+            threads=_whole("threads", threads),
+            tile=_whole("tile", tile, "tile_size"),
+            depth=_whole("depth", depth, "max_depth"),
             packets=packets,
             region=None if region is None else tuple(int(v) for v in region),
-            settings=[(key, _setting_text(value)) for key, value in settings.items()],
+            settings=[
+                (key, _setting_text(_whole(key, value))) for key, value in settings.items()
+            ],
         )
         return _array(pixels, w, h), _json.loads(stats)
 
     def __repr__(self):
         return repr(self._native)
+
+
+def _integer_ranges():
+    """{key: (lowest, highest)} of the whole-number settings, from the settings table."""
+    return {key: (lo, hi) for key, lo, hi in _prism.integer_ranges()}
+
+
+_RANGES = _integer_ranges()
+
+
+def _whole(keyword, value, key=None):
+    """`value` of the keyword `keyword` (the setting `key`, the keyword itself by default)
+    checked against the setting's range: a negative or too large whole number raises
+    ValueError naming the keyword and the range, rather than the native side's
+    OverflowError. Values that are not whole numbers pass unchanged, for the native side
+    to refuse by type."""
+    if value is None or isinstance(value, bool):
+        return value
+    bounds = _RANGES.get(key or keyword)
+    if bounds is None:
+        return value
+    try:
+        number = _operator.index(value)
+    except TypeError:
+        return value
+    lo, hi = bounds
+    if not lo <= number <= hi:
+        raise ValueError(f"{keyword}={number}: expected a whole number from {lo} to {hi}")
+    return number
+
+
+def _samples_per_pixel(spp):
+    """`spp` checked against its range, 1 to the largest square of samples per axis (the
+    native side checks that it is a square)."""
+    if spp is None or isinstance(spp, bool):
+        return spp
+    try:
+        number = _operator.index(spp)
+    except TypeError:
+        return spp
+    hi = _RANGES["samples"][1] ** 2
+    if not 1 <= number <= hi:
+        raise ValueError(
+            f"spp={number}: samples per pixel must be a square number from 1 to {hi} "
+            "(n × n samples)"
+        )
+    return number
 
 
 def _setting_text(value):

@@ -118,3 +118,18 @@ pub(crate) fn settings() -> Vec<(&'static str, &'static str, String, &'static st
         .map(|s| (s.key, s.kind.type_name(), s.default_text(), s.help))
         .collect()
 }
+
+/// The whole-number settings of the settings table as (key, lowest, highest): the ranges
+/// `Scene.render` checks its integer keywords against before they reach the native side,
+/// so that a negative or too large number is a `ValueError` naming the keyword and range.
+#[pyo3::pyfunction]
+pub(crate) fn integer_ranges() -> Vec<(&'static str, u64, u64)> {
+    use prism::options::SettingKind;
+    prism::options::SETTINGS
+        .iter()
+        .filter_map(|s| match s.kind {
+            SettingKind::Integer { lo, hi } => Some((s.key, lo, hi)),
+            _ => None,
+        })
+        .collect()
+}

@@ -41,13 +41,14 @@ def test_an_unknown_builtin_lists_the_known_ones():
     [
         ({"spp": 3}, "square number"),
         ({"spp": 0}, "square number"),
-        ({"width": 0}, "at least 1×1"),
+        ({"width": 0}, "width=0: expected a whole number from 1 to 65536"),
         ({"sampler": "wobbly"}, "sampler"),
         ({"accel": "bvh:leaf=banana"}, "accel"),
         ({"integrator": "photon"}, "integrator"),
-        ({"depth": 0}, "max_depth"),
+        ({"depth": 0}, "depth=0: expected a whole number from 1 to 256"),
+        ({"max_depth": 0}, "max_depth=0: expected a whole number from 1 to 256"),
         ({"threads": 100000}, "threads"),
-        ({"tile": 0}, "tile_size"),
+        ({"tile": 0}, "tile=0"),
         ({"region": (0, 0, 100, 10)}, "outside"),
         ({"region": (5, 5, 5, 9)}, "empty"),
         ({"sampler": "adaptive", "region": (0, 0, 4, 4)}, "whole image"),
@@ -65,8 +66,36 @@ def test_wrong_types_raise_type_error():
     scene = prism.builtin("whitted")
     with pytest.raises(TypeError):
         scene.render(width="wide")
-    with pytest.raises(OverflowError):
-        scene.render(width=-1)
+
+
+@pytest.mark.parametrize(
+    "keyword,value,accepted",
+    [
+        ("width", -1, "from 1 to 65536"),
+        ("width", 2**40, "from 1 to 65536"),
+        ("height", -1, "from 1 to 65536"),
+        ("spp", -4, "square number from 1 to 4096"),
+        ("spp", 2**70, "square number from 1 to 4096"),
+        ("seed", -1, "from 0 to 18446744073709551615"),
+        ("seed", 2**64, "from 0 to 18446744073709551615"),
+        ("threads", -2, "from 0 to 1024"),
+        ("threads", 2**65, "from 0 to 1024"),
+        ("tile", -16, "from 1 to 4294967295"),
+        ("depth", -1, "from 1 to 256"),
+        ("depth", 2**33, "from 1 to 256"),
+        ("tile_size", -16, "from 1 to 4294967295"),
+        ("adaptive_depth", -1, "from 0 to"),
+    ],
+)
+def test_negative_or_too_large_numbers_raise_value_error_naming_keyword_and_range(
+    keyword, value, accepted
+):
+    scene = prism.builtin("whitted")
+    with pytest.raises(ValueError) as caught:
+        scene.render(**{keyword: value})
+    message = str(caught.value)
+    assert message.startswith(f"{keyword}={value}:"), message
+    assert accepted in message, message
 
 
 def test_bad_overrides_raise_value_error():
