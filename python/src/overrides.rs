@@ -107,13 +107,45 @@ pub(crate) struct MaterialChange {
     pub(crate) emission: Option<[f32; 3]>,
 }
 
-/// A coefficient that must lie in [lo, hi].
-fn within(name: &str, v: f32, lo: f32, hi: f32) -> PyResult<f32> {
-    if v.is_finite() && (lo..=hi).contains(&v) {
+/// What a coefficient accepts.
+#[derive(Clone, Copy)]
+enum Bounds {
+    /// 0 to 1.
+    Unit,
+    /// 0 or more, no upper bound.
+    NonNegative,
+    /// More than 0, no upper bound.
+    Positive,
+}
+
+impl Bounds {
+    fn contains(self, v: f32) -> bool {
+        v.is_finite()
+            && match self {
+                Bounds::Unit => (0.0..=1.0).contains(&v),
+                Bounds::NonNegative => v >= 0.0,
+                Bounds::Positive => v > 0.0,
+            }
+    }
+
+    /// The range in words; a missing upper bound is said, not printed as `f32::MAX`.
+    fn text(self) -> &'static str {
+        match self {
+            Bounds::Unit => "between 0 and 1",
+            Bounds::NonNegative => "a finite number of at least 0 (no upper bound)",
+            Bounds::Positive => "a finite number greater than 0 (no upper bound)",
+        }
+    }
+}
+
+/// A coefficient within `bounds`, or a `ValueError` saying the range.
+fn within(name: &str, v: f32, bounds: Bounds) -> PyResult<f32> {
+    if bounds.contains(v) {
         Ok(v)
     } else {
         Err(bad_argument(format!(
-            "{name} must be between {lo} and {hi}, got {v}"
+            "{name} must be {}, got {v}",
+            bounds.text()
         )))
     }
 }
@@ -137,25 +169,25 @@ pub(crate) fn set_material(scene: &mut Scene, name: &str, change: &MaterialChang
         m.color = Texture::Solid(color("color", v)?);
     }
     if let Some(v) = change.ambient {
-        m.ambient = within("ambient", v, 0.0, f32::MAX)?;
+        m.ambient = within("ambient", v, Bounds::NonNegative)?;
     }
     if let Some(v) = change.diffuse {
-        m.diffuse = within("diffuse", v, 0.0, f32::MAX)?;
+        m.diffuse = within("diffuse", v, Bounds::NonNegative)?;
     }
     if let Some(v) = change.specular {
-        m.specular = within("specular", v, 0.0, f32::MAX)?;
+        m.specular = within("specular", v, Bounds::NonNegative)?;
     }
     if let Some(v) = change.shininess {
-        m.shininess = within("shininess", v, 0.0, f32::MAX)?;
+        m.shininess = within("shininess", v, Bounds::NonNegative)?;
     }
     if let Some(v) = change.reflect {
-        m.reflect = within("reflect", v, 0.0, 1.0)?;
+        m.reflect = within("reflect", v, Bounds::Unit)?;
     }
     if let Some(v) = change.transmit {
         m.transmit = color("transmit", v)?;
     }
     if let Some(v) = change.ior {
-        m.ior = within("ior", v, f32::MIN_POSITIVE, f32::MAX)?;
+        m.ior = within("ior", v, Bounds::Positive)?;
     }
     if let Some(v) = change.emission {
         m.emission = color("emission", v)?;

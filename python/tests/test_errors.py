@@ -115,6 +115,25 @@ def test_bad_overrides_raise_value_error():
         scene.set_material(name, reflect=2.0)
 
 
+@pytest.mark.parametrize(
+    "change,message",
+    [
+        ({"diffuse": -1.0}, "diffuse must be a finite number of at least 0 (no upper bound)"),
+        ({"shininess": float("inf")}, "shininess must be a finite number of at least 0"),
+        ({"ior": 0.0}, "ior must be a finite number greater than 0 (no upper bound)"),
+        ({"reflect": 2.0}, "reflect must be between 0 and 1"),
+    ],
+)
+def test_material_ranges_say_no_upper_bound_rather_than_print_the_largest_float(
+    change, message
+):
+    scene = prism.builtin("whitted")
+    with pytest.raises(ValueError) as caught:
+        scene.set_material(scene.materials[0]["name"], **change)
+    assert message in str(caught.value)
+    assert "340282" not in str(caught.value) and "e-38" not in str(caught.value)
+
+
 def test_image_errors(tmp_path):
     image = np.zeros((4, 5, 3), dtype=np.float32)
     with pytest.raises(prism.ImageError):
