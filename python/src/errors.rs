@@ -57,12 +57,58 @@ pub(crate) fn image_error(e: impl std::fmt::Display) -> PyErr {
 }
 
 /// A render refused or failed by the engine. Options it refuses are the caller's
-/// arguments, so they are a `ValueError`; the camera belongs to the scene.
+/// arguments, so they are a `ValueError`; the camera belongs to the scene. The engine's
+/// advice names command-line flags (`--integrator whitted`); Python is told the keyword
+/// (`integrator="whitted"`).
 pub(crate) fn render_error(e: prism::render::RenderError) -> PyErr {
     use prism::render::RenderError as E;
     match e {
-        E::Options(message) => bad_argument(format!("invalid options: {message}")),
-        E::Camera(e) => SceneError::new_err(format!("the scene's camera: {e}")),
-        other => RenderError::new_err(other.to_string()),
+        E::Options(message) => bad_argument(keywords(&format!("invalid options: {message}"))),
+        E::Camera(e) => SceneError::new_err(keywords(&format!("the scene's camera: {e}"))),
+        other => RenderError::new_err(keywords(&other.to_string())),
     }
+}
+
+/// `message` with each `--flag VALUE` of a render setting written as the keyword
+/// `Scene.render` takes, `key="VALUE"` (a flag without a value as its key alone). Other
+/// text, and flags that are no setting's, stay as they are.
+pub(crate) fn keywords(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(at) = rest.find("--") {
+        out.push_str(&rest[..at]);
+        let after = &rest[at + 2..];
+        let flag_len = after
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '-'))
+            .unwrap_or(after.len());
+        let flag = &after[..flag_len];
+        let setting = prism::options::SETTINGS
+            .iter()
+            .find(|s| !flag.is_empty() && s.flag == Some(flag));
+        let Some(setting) = setting else {
+            out.push_str("--");
+            rest = after;
+            continue;
+        };
+        let tail = &after[flag_len..];
+        let value = tail.strip_prefix(' ').map(|v| {
+            let end = v
+                .find(|c: char| !(c.is_ascii_alphanumeric() || "_:=,.".contains(c)))
+                .unwrap_or(v.len());
+            // A sentence's full stop or comma is not part of the value.
+            v[..end].trim_end_matches(['.', ','])
+        });
+        match value {
+            Some(v) if !v.is_empty() => {
+                out.push_str(&format!("{}=\"{v}\"", setting.key));
+                rest = &tail[1 + v.len()..];
+            }
+            _ => {
+                out.push_str(setting.key);
+                rest = tail;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
 }

@@ -150,3 +150,13 @@ def test_image_errors(tmp_path):
         prism.read(tmp_path / "missing.exr")
     with pytest.raises(ValueError, match="scene"):
         prism.bench(["not-a-scene"])
+
+
+def test_render_errors_name_the_python_keyword_not_the_command_line_flag():
+    # The beam tracer refuses curved shapes and says which integrator to use instead.
+    scene = prism.builtin("whitted")
+    with pytest.raises(prism.RenderError) as caught:
+        scene.render(width=8, height=6, integrator="beam")
+    message = str(caught.value)
+    assert 'integrator="whitted"' in message, message
+    assert "--integrator" not in message, message
