@@ -870,3 +870,32 @@ fn emissive_factor_makes_an_area_light() {
     dark["materials"][0]["emissiveFactor"] = json!([-1.0, 0.0, 0.0]);
     assert!(load_doc("emissive-negative", &dark).is_err());
 }
+
+/// A material's normalTexture becomes a normal map with its scale, its texels read as
+/// data (no sRGB curve), and it changes the picture; a scale that is not a number is an
+/// error.
+#[test]
+fn a_normal_texture_is_a_normal_map() {
+    let dir = temp_dir("normal-map");
+    write_texture(&dir);
+    // Tilted towards +u: (191, 128, 255) is about (0.5, 0, 1) in the tangent frame.
+    image::RgbImage::from_pixel(2, 2, image::Rgb([191, 128, 255]))
+        .save(dir.join("normals.png"))
+        .unwrap();
+    let mut doc = quad_document(Some(&quad_buffer_uri()));
+    doc["textures"] = json!([{ "source": 0 }, { "source": 1 }]);
+    doc["images"] = json!([{ "uri": "card.png" }, { "uri": "normals.png" }]);
+    let plain = load(&write(&dir, "plain.gltf", &pretty(&doc))).unwrap();
+    assert!(plain.materials.iter().all(|m| m.normal_map.is_none()));
+    doc["materials"][0]["normalTexture"] = json!({ "index": 1, "scale": 0.5 });
+    let mapped = load(&write(&dir, "mapped.gltf", &pretty(&doc))).unwrap();
+    let map = mapped.materials[0].normal_map.as_ref().expect("a normal map");
+    assert_eq!(map.scale, 0.5);
+    // The texels are data: 128 is 128/255, not its sRGB decoding (about 0.216).
+    let texel = map.texture.eval(prism::math::Vec2::new(0.5, 0.5));
+    assert_eq!(texel, prism::math::Color::new(191.0, 128.0, 255.0) / 255.0);
+    let (a, b) = (render_at(&plain, 48, 32), render_at(&mapped, 48, 32));
+    assert_ne!(a.pixels, b.pixels, "the normal map changes the shading");
+    doc["materials"][0]["normalTexture"] = json!({ "index": 1, "scale": "x" });
+    assert!(load(&write(&dir, "bad.gltf", &pretty(&doc))).is_err());
+}

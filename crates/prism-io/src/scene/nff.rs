@@ -78,6 +78,7 @@ impl Fill {
             ior: if t > 0.0 && ior > 0.0 { ior } else { 1.0 },
             fresnel: FresnelMode::Off,
             emission: Color::ZERO,
+            normal_map: None,
         }
     }
 }

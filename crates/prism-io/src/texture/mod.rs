@@ -39,3 +39,14 @@ pub fn from_srgb(img: &image::DynamicImage) -> ImageTexture {
     let rgb = img.to_rgb8();
     ImageTexture::from_srgb8(rgb.width() as usize, rgb.height() as usize, rgb.as_raw())
 }
+
+/// A decoded image of data rather than colour (a normal map): its 8-bit values taken as
+/// they are, v/255, without the sRGB curve.
+pub fn from_linear(img: &image::DynamicImage) -> ImageTexture {
+    let rgb = img.to_rgb8();
+    let texels = rgb
+        .pixels()
+        .map(|p| prism::math::Color::new(p[0] as f32, p[1] as f32, p[2] as f32) / 255.0)
+        .collect();
+    ImageTexture::from_texels(rgb.width() as usize, rgb.height() as usize, texels)
+}

@@ -135,6 +135,26 @@ impl TriangleMesh {
         ]
     }
 
+    /// The directions in which the surface point of triangle `tri` moves as u and as v
+    /// grow (∂p/∂u, ∂p/∂v, constant over the triangle), for a tangent frame; None without
+    /// uvs or where the triangle's uvs are degenerate.
+    pub fn uv_derivatives(&self, tri: u32) -> Option<(Vec3, Vec3)> {
+        let uvs = self.uvs.as_ref()?;
+        let [a, b, c] = self.indices[tri as usize];
+        let [pa, pb, pc] = self.vertices(tri);
+        let (ta, tb, tc) = (uvs[a as usize], uvs[b as usize], uvs[c as usize]);
+        let (e1, e2) = (pb - pa, pc - pa);
+        let (d1, d2) = (tb - ta, tc - ta);
+        let det = d1.x * d2.y - d1.y * d2.x;
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let dpdu = (e1 * d2.y - e2 * d1.y) * inv;
+        let dpdv = (e2 * d1.x - e1 * d2.x) * inv;
+        (dpdu.is_finite() && dpdv.is_finite()).then_some((dpdu, dpdv))
+    }
+
     /// Applies `f` to every position and `g` to every normal (a transform and its
     /// inverse transpose).
     pub fn transform(&mut self, f: impl Fn(Vec3) -> Vec3, g: impl Fn(Vec3) -> Vec3) {

@@ -234,7 +234,8 @@ impl<'a> PathTracer<'a> {
         }
         let prim = &geometry.primitives[hit.prim as usize];
         let material = &scene.materials[prim.material as usize];
-        let sp = geometry.surface_with(hit.prim, ray, &hit.shape_hit(), material.uv_need());
+        let mut sp = geometry.surface_with(hit.prim, ray, &hit.shape_hit(), material.uv_need());
+        crate::shading::normal_map::apply(material, geometry, hit.prim, &mut sp);
         let (entering, ng, ns) = sp.facing(ray.dir);
         let wo = -ray.dir;
 

@@ -19,7 +19,7 @@ use crate::math::{Color, Ray};
 use crate::options::RenderOptions;
 use crate::scene::PreparedScene;
 use crate::shading::optics::{reflect, refract};
-use crate::shading::Material;
+use crate::shading::{normal_map, Material};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
 
@@ -403,7 +403,9 @@ impl<'a> Whitted<'a> {
         }
         let prim = &scene.geometry.primitives[hit.prim as usize];
         let material = &scene.materials[prim.material as usize];
-        let sp = (scene.geometry).surface_with(hit.prim, ray, &hit.shape_hit(), material.uv_need());
+        let mut sp =
+            (scene.geometry).surface_with(hit.prim, ray, &hit.shape_hit(), material.uv_need());
+        normal_map::apply(material, &scene.geometry, hit.prim, &mut sp);
         // Face the normals towards the incoming ray; `entering` says which side it came from.
         let (entering, ng, ns) = sp.facing(ray.dir);
         Surface {

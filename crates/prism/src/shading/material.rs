@@ -53,6 +53,9 @@ pub struct Material {
     /// Radiance the surface emits from its front side (the side its geometric normal
     /// faces): an area light. Zero for every surface that is not a light.
     pub emission: Color,
+    /// A normal map turning the shading normal per texel (triangles with uvs); None for
+    /// the interpolated normal alone.
+    pub normal_map: Option<super::NormalMap>,
 }
 
 impl Default for Material {
@@ -70,6 +73,7 @@ impl Default for Material {
             ior: 1.5,
             fresnel: FresnelMode::Off,
             emission: Color::ZERO,
+            normal_map: None,
         }
     }
 }
@@ -192,7 +196,7 @@ impl Material {
 
     /// Whether `color_at` reads the surface's uv (see `geometry::Uv`).
     pub fn uv_need(&self) -> Uv {
-        if self.color.reads_uv() {
+        if self.color.reads_uv() || self.normal_map.is_some() {
             Uv::Compute
         } else {
             Uv::Skip

@@ -5,10 +5,12 @@
 mod bsdf;
 pub mod fresnel;
 mod material;
+pub mod normal_map;
 pub mod optics;
 mod texture;
 
 pub use bsdf::{Bsdf, BsdfSample};
 pub use fresnel::FresnelMode;
 pub use material::{Highlight, Material, SpecularWeights};
+pub use normal_map::NormalMap;
 pub use texture::{Checker, CheckerSpace, ImageTexture, Texture};

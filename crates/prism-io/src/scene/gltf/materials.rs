@@ -10,7 +10,7 @@
 use super::images::Images;
 use gltf::json::Root;
 use prism::math::Color;
-use prism::shading::{FresnelMode, Highlight, Material, Texture};
+use prism::shading::{FresnelMode, Highlight, Material, NormalMap, Texture};
 
 /// Highlight exponents are capped here: a mirror-smooth surface's highlight is already
 /// a single bright pixel at this exponent.
@@ -90,6 +90,7 @@ pub(super) fn whitted(name: String, pbr: &Pbr, color: Texture) -> Material {
             FresnelMode::Off
         },
         emission: pbr.emission,
+        normal_map: None,
     }
 }
 
@@ -192,7 +193,22 @@ pub(super) fn material(
         .name
         .clone()
         .unwrap_or_else(|| format!("gltf material {index}"));
-    Ok(whitted(name, &pbr, color))
+    let mut material = whitted(name, &pbr, color);
+    // The normal map's texels are directions, not colours: read without the sRGB curve.
+    if let Some(info) = &json.normal_texture {
+        if !info.scale.is_finite() {
+            return Err(context(format!(
+                "normalTexture.scale is {}; expected a finite number",
+                info.scale
+            )));
+        }
+        let img = images.texture(info.index.value()).map_err(context)?;
+        material.normal_map = Some(NormalMap {
+            texture: crate::texture::from_linear(&img),
+            scale: info.scale,
+        });
+    }
+    Ok(material)
 }
 
 /// The TEXCOORD set the base colour texture of material `index` reads.

@@ -81,6 +81,7 @@ pub(super) fn whitted(m: &tobj::Material, extras: &Extras) -> Material {
         ior,
         fresnel,
         emission: extras.ke.unwrap_or(Color::ZERO),
+        normal_map: None,
     }
 }
 

@@ -41,6 +41,7 @@ pub(super) fn material(
         ior: def.ior.map_or(d.ior, |v| v.0),
         fresnel: def.fresnel.unwrap_or(d.fresnel),
         emission: def.emission.map_or(d.emission, |c| c.0),
+        normal_map: None,
     })
 }
 
