@@ -16,6 +16,7 @@ with prism's own message, a scene file's mistakes as file:line:col; bad argument
 import json as _json
 import operator as _operator
 import os as _os
+import warnings as _warnings
 
 import numpy as _np
 
@@ -132,8 +133,10 @@ class Scene:
         width, height: image size in pixels. spp: samples per pixel, a square number
         (n × n). sampler, filter, accel, integrator, shadows: names as the command line
         takes them (e.g. accel="bvh:build=sweep", integrator="path"). seed: the seed of
-        every random decision. threads: worker threads, 0 = every core. tile: edge of
-        the tiles the threads take. depth: ray-tree depth limit. packets: trace camera
+        every random decision. threads: worker threads, 0 = every core. tile_size: the
+        edge in pixels of the square tiles the threads take (tile_size=16: tiles of
+        16 × 16 pixels, not 16 tiles); tile= is its deprecated old name, the same edge
+        in pixels. depth: ray-tree depth limit. packets: trace camera
         rays in packets (the image is the same either way). region: (x0, y0, x1, y1) to
         render only that rectangle, whose pixels are bit for bit the whole image's. Any
         other keyword is a setting of `settings()` by its key, as the scene file's
@@ -143,6 +146,14 @@ class Scene:
         engine's counters ("counters"), "total_rays", "render_seconds",
         "build_seconds", "threads" and the settings in words.
         """
+        if tile is not None:
+            if "tile_size" in settings:
+                raise ValueError("tile= and tile_size= name the same setting: give tile_size= only")
+            _warnings.warn(
+                "tile= is deprecated: use tile_size=, the same tile edge in pixels",
+                DeprecationWarning,
+                stacklevel=2,
+            )
         pixels, w, h, stats = self._native.render(
             width=_whole("width", width),
             height=_whole("height", height),

@@ -4,7 +4,8 @@
     image, stats = prism.distributed.render("scenes/whitted.toml", width=1920, height=1080,
                                             spp=16, tiles=128)
 
-The image is cut into square tiles of `tiles` pixels; each tile is a Dask task that renders
+The image is cut into square tiles `tiles` pixels on a side (tiles=128: tiles of 128 × 128
+pixels, not 128 tiles); each tile is a Dask task that renders
 that region with `Scene.render(region=...)`, and the client assembles them. prism renders
 every pixel as a pure function of scene, settings and position, so the result is
 bit-identical to one local render whatever the tile size and however many workers took
@@ -187,7 +188,8 @@ def render(
     images, one per frame, and the stats.
 
     client: a `distributed.Client`; None starts a `LocalCluster` of `workers` processes
-    of one thread each, closed at the end. tiles: the tiles' edge in pixels. materials:
+    of one thread each, closed at the end. tiles: the edge of a tile in pixels (tiles=64:
+    tiles of 64 × 64 pixels, however many that makes; not a count of tiles). materials:
     {name: {coefficient: value}} overrides, as `Scene.set_material` takes them. shared:
     the workers open the scene at its path (a shared file system) instead of receiving
     its files. progress: called as progress(done, total) after each tile. Every other
@@ -285,7 +287,12 @@ def _arguments():
     p.add_argument("-o", "--output", default="prism.exr", help="image file: .exr, .pfm or .png")
     p.add_argument("--scheduler", help="address of a running scheduler, e.g. tcp://HOST:8786")
     p.add_argument("--workers", type=int, default=2, help="local worker processes without --scheduler")
-    p.add_argument("--tiles", type=int, default=64, help="edge of a tile in pixels (default 64)")
+    p.add_argument(
+        "--tiles",
+        type=int,
+        default=64,
+        help="edge of a tile in pixels, not a count of tiles (default 64: 64 × 64-pixel tiles)",
+    )
     p.add_argument("--shared", action="store_true", help="workers open the scene at its path")
     p.add_argument("-W", "--width", type=int)
     p.add_argument("-H", "--height", type=int)

@@ -55,6 +55,7 @@ def test_an_unknown_builtin_lists_the_known_ones():
         ({"sampler": "corners", "spp": 4}, "own sample count"),
     ],
 )
+@pytest.mark.filterwarnings("ignore:tile= is deprecated")
 def test_bad_settings_raise_value_error(settings, message):
     scene = prism.builtin("whitted")
     settings = {"width": 20, "height": 10, **settings}
@@ -87,6 +88,7 @@ def test_wrong_types_raise_type_error():
         ("adaptive_depth", -1, "from 0 to"),
     ],
 )
+@pytest.mark.filterwarnings("ignore:tile= is deprecated")
 def test_negative_or_too_large_numbers_raise_value_error_naming_keyword_and_range(
     keyword, value, accepted
 ):

@@ -17,7 +17,7 @@ CASES = [
     ),
     (
         SCENES / "mesh-room.toml",
-        {"width": 72, "height": 40, "filter": "mitchell", "spp": 4, "threads": 1, "tile": 5},
+        {"width": 72, "height": 40, "filter": "mitchell", "spp": 4, "threads": 1, "tile_size": 5},
         ["-W", 72, "-H", 40, "--filter", "mitchell", "--spp", 4],
     ),
     (
@@ -64,8 +64,8 @@ def test_regions_hold_the_whole_images_pixels():
 
 def test_threads_and_tiles_do_not_change_the_image():
     scene = prism.builtin("sphereflake:2")
-    a, sa = scene.render(width=48, height=32, spp=4, threads=1, tile=64)
-    b, sb = scene.render(width=48, height=32, spp=4, threads=2, tile=3)
+    a, sa = scene.render(width=48, height=32, spp=4, threads=1, tile_size=64)
+    b, sb = scene.render(width=48, height=32, spp=4, threads=2, tile_size=3)
     assert same_bits(a, b)
     assert sa["counters"] == sb["counters"]
 
@@ -154,3 +154,14 @@ def test_every_setting_of_the_table_is_a_render_keyword():
         scene.render(width=12, height=9, colour=1)
     with pytest.raises(ValueError, match="adaptive_depth"):
         scene.render(width=12, height=9, adaptive_depth=9)
+
+
+def test_tile_size_is_the_tile_edge_and_tile_its_deprecated_alias():
+    scene = prism.builtin("whitted")
+    settings = {"width": 40, "height": 24, "threads": 2, "packets": False}
+    by_key, _ = scene.render(tile_size=7, **settings)
+    with pytest.warns(DeprecationWarning, match="tile_size="):
+        by_alias, _ = scene.render(tile=7, **settings)
+    assert same_bits(by_key, by_alias)
+    with pytest.raises(ValueError, match="tile_size= only"):
+        scene.render(tile=7, tile_size=7, **settings)
