@@ -889,7 +889,10 @@ fn a_normal_texture_is_a_normal_map() {
     assert!(plain.materials.iter().all(|m| m.normal_map.is_none()));
     doc["materials"][0]["normalTexture"] = json!({ "index": 1, "scale": 0.5 });
     let mapped = load(&write(&dir, "mapped.gltf", &pretty(&doc))).unwrap();
-    let map = mapped.materials[0].normal_map.as_ref().expect("a normal map");
+    let map = mapped.materials[0]
+        .normal_map
+        .as_ref()
+        .expect("a normal map");
     assert_eq!(map.scale, 0.5);
     // The texels are data: 128 is 128/255, not its sRGB decoding (about 0.216).
     let texel = map.texture.eval(prism::math::Vec2::new(0.5, 0.5));
@@ -898,4 +901,36 @@ fn a_normal_texture_is_a_normal_map() {
     assert_ne!(a.pixels, b.pixels, "the normal map changes the shading");
     doc["materials"][0]["normalTexture"] = json!({ "index": 1, "scale": "x" });
     assert!(load(&write(&dir, "bad.gltf", &pretty(&doc))).is_err());
+}
+
+/// What prism reads and does not render is said once per file, naming each feature and
+/// how often it appears; a file with none of it loads without a warning.
+#[test]
+fn features_not_rendered_are_named_in_one_warning() {
+    let dir = temp_dir("dropped");
+    write_texture(&dir);
+    let mut doc = quad_document(Some(&quad_buffer_uri()));
+    let plain = load(&write(&dir, "plain.gltf", &pretty(&doc))).unwrap();
+    assert!(plain.warnings.is_empty(), "{:?}", plain.warnings);
+    doc["textures"] = json!([{ "source": 0 }]);
+    doc["images"] = json!([{ "uri": "card.png" }]);
+    doc["materials"][0]["occlusionTexture"] = json!({ "index": 0 });
+    doc["materials"][0]["alphaMode"] = json!("BLEND");
+    doc["animations"] = json!([]);
+    let scene = load(&write(&dir, "dropped.gltf", &pretty(&doc))).unwrap();
+    assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
+    let w = &scene.warnings[0];
+    assert!(
+        w.contains("dropped.gltf: read but not rendered as authored"),
+        "{w}"
+    );
+    assert!(w.contains("occlusionTexture, not applied (1)"), "{w}");
+    assert!(
+        w.contains("alphaMode MASK or BLEND, drawn opaque (1)"),
+        "{w}"
+    );
+    assert!(
+        !w.contains("animations"),
+        "an empty list is nothing dropped: {w}"
+    );
 }

@@ -12,6 +12,7 @@ mod accessor;
 mod buffers;
 mod camera;
 mod document;
+mod dropped;
 mod glb;
 mod images;
 mod lights;
@@ -150,5 +151,6 @@ fn build(
         scene.lights.push(lights::default_light(&scene.camera));
     }
     scene.validate().map_err(|e| e.to_string())?;
+    scene.warnings.extend(dropped::warning(root));
     Ok(scene)
 }
