@@ -563,8 +563,8 @@ const MALFORMED_MTL: &[(&str, &str, usize, usize, &str)] = &[
         "expected a material name after newmtl",
     ),
     (
-        "missing image",
-        "newmtl a\nmap_Kd -s 2 2 missing.png\n",
+        "unreadable image",
+        "newmtl a\nmap_Kd -s 2 2 bad.mtl\n",
         2,
         15,
         "expected a readable PNG or JPEG image for map_Kd",
@@ -764,4 +764,38 @@ fn mtl_ke_makes_an_area_light() {
         "m.obj",
     );
     assert!(bad.is_err());
+}
+
+/// A missing map_Kd image is a warning naming the library, line and column (as a missing
+/// library is): the material keeps its colour. Texture maps prism does not render are named
+/// once per library.
+#[test]
+fn a_missing_texture_is_a_warning_and_unrendered_maps_are_named() {
+    let dir = temp_dir("missing-texture");
+    write(
+        &dir,
+        "lib.mtl",
+        "newmtl a\nKd 0.2 0.4 0.6\nmap_Kd missing.png\nmap_Bump bumps.png\nnorm n.png\n\
+         map_Ks spec.png\n",
+    );
+    let obj = format!("mtllib lib.mtl\nusemtl a\n{TRIANGLE}f 1 2 3\n");
+    let scene = obj::parse(&obj, &dir.join("m.obj"), Materials::Read).unwrap();
+    let material = scene
+        .materials
+        .iter()
+        .find(|m| m.name == "a")
+        .expect("material a");
+    assert_eq!(
+        material.color,
+        prism::shading::Texture::Solid(prism::math::Color::new(0.2, 0.4, 0.6))
+    );
+    let w = scene.warnings.join("\n");
+    assert!(
+        w.contains("lib.mtl:3:8: the map_Kd image") && w.contains("missing.png is missing"),
+        "{w}"
+    );
+    assert!(
+        w.contains("read but not rendered: map_Bump, map_Ks, norm"),
+        "{w}"
+    );
 }

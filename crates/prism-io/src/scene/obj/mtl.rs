@@ -85,6 +85,7 @@ pub(super) fn parse(
         reader,
         out: String::with_capacity(text.len()),
         warnings: Vec::new(),
+        unrendered: std::collections::BTreeSet::new(),
     };
     for (i, raw) in text.split('\n').enumerate() {
         checker.line_number = i + 1;
@@ -107,6 +108,14 @@ pub(super) fn parse(
                 checker.extras.len()
             ),
         });
+    }
+    if !checker.unrendered.is_empty() {
+        let names: Vec<&str> = checker.unrendered.iter().map(String::as_str).collect();
+        checker.warnings.push(format!(
+            "{}: read but not rendered: {} (prism's materials use map_Kd's colour image only)",
+            path.display(),
+            names.join(", ")
+        ));
     }
     let materials = parsed
         .0
@@ -132,6 +141,9 @@ struct Checker<'a> {
     reader: &'a mut Reader,
     out: String,
     warnings: Vec<String>,
+    /// Texture statements read and not rendered (`map_Bump`, `norm`, …), named once in a
+    /// warning.
+    unrendered: std::collections::BTreeSet<String>,
 }
 
 impl Checker<'_> {
@@ -225,11 +237,19 @@ impl Checker<'_> {
                 }
             }
             "map_Kd" => {
-                let texture = self.texture(&words)?;
-                self.current().texture = Some(texture);
+                if let Some(texture) = self.texture(&words)? {
+                    self.current().texture = Some(texture);
+                }
             }
-            // Emission, other texture maps, the PBR extensions and the rest: prism's
-            // Whitted model has no use for them.
+            // Other texture maps: said once in a warning, so a model is not drawn
+            // differently from how it was authored without a word.
+            other
+                if other.starts_with("map_")
+                    || matches!(other, "bump" | "norm" | "disp" | "decal" | "refl") =>
+            {
+                self.unrendered.insert(other.to_string());
+            }
+            // The PBR scalars and the rest: prism's Whitted model has no use for them.
             _ => {}
         }
         Ok(())
@@ -314,7 +334,7 @@ impl Checker<'_> {
     }
 
     /// `map_Kd [options] file`: the options' arguments are skipped, `-s` kept as the scale.
-    fn texture(&mut self, words: &Words) -> Result<ImageTexture, LoadError> {
+    fn texture(&mut self, words: &Words) -> Result<Option<ImageTexture>, LoadError> {
         let w = &words.words;
         let mut scale = Vec2::ONE;
         let mut i = 1;
@@ -377,6 +397,22 @@ impl Checker<'_> {
         // Files written on Windows name folders with backslashes.
         let name = self.line[file_at..].trim().replace('\\', "/");
         let file = self.dir.join(&name);
+        if !file.exists() {
+            // As a missing material library: render with the material's colour, and say so.
+            self.warnings.push(format!(
+                "{}:{}:{}: the map_Kd image {} is missing; the material keeps its colour",
+                self.path.display(),
+                self.line_number,
+                self.line
+                    .get(..file_at)
+                    .unwrap_or(self.line)
+                    .chars()
+                    .count()
+                    + 1,
+                file.display()
+            ));
+            return Ok(None);
+        }
         let image = match self.textures.get(&file) {
             Some(image) => image.clone(),
             None => {
@@ -392,6 +428,6 @@ impl Checker<'_> {
         };
         let mut image = image;
         image.scale = scale;
-        Ok(image)
+        Ok(Some(image))
     }
 }
