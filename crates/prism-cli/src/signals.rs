@@ -1,12 +1,22 @@
 //! How the process meets signals. Ctrl-C (SIGINT) and SIGTERM, which `timeout`, systemd
 //! and batch schedulers send, both stop a render after the tiles in flight so that the
 //! finished part is still written; the exit code then says which one came (130 or 143).
-//! A second one stops at once. A closed standard output (`prism info … | head -1`) ends
+//! The first says at once that the render is stopping. A second one stops at once, but only
+//! once the first has been answered (`SECOND_SIGNAL_AFTER` later): `timeout -s INT` and a
+//! terminal's Ctrl-C signal the process and its group, so one keypress can arrive twice a
+//! few microseconds apart, and that must not discard the work. A closed standard output (`prism info … | head -1`) ends
 //! the program quietly, as it does other Unix tools, and a file-size limit turns into a
 //! write error instead of killing the process.
 
 use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// How long after the first signal a second one counts as the user's second Ctrl-C.
+const SECOND_SIGNAL_AFTER: Duration = Duration::from_millis(500);
+
+/// What the first signal says at once.
+const STOPPING: &str = "\nprism: stopping: finishing the tiles in flight; Ctrl-C again discards";
 
 /// Set by the first SIGINT or SIGTERM; a render polls it between tiles.
 #[derive(Clone)]
@@ -76,14 +86,25 @@ fn install(interrupt: &Interrupt) {
     };
     let interrupt = interrupt.clone();
     std::thread::spawn(move || {
+        let mut first: Option<Instant> = None;
         for signal in signals.forever() {
             let code = 128 + signal as u8;
-            if interrupt.cancel.swap(true, Ordering::SeqCst) {
-                // A second signal: the user does not want to wait for the tiles in flight.
-                eprintln!("\nprism: stopped at once on a second signal; nothing written");
-                std::process::exit(code as i32);
+            match first {
+                None => {
+                    first = Some(Instant::now());
+                    interrupt.exit_code.store(code, Ordering::SeqCst);
+                    interrupt.cancel.store(true, Ordering::SeqCst);
+                    eprintln!("{STOPPING}");
+                }
+                // A second signal once the first was answered: the user does not want to
+                // wait for the tiles in flight.
+                Some(at) if at.elapsed() >= SECOND_SIGNAL_AFTER => {
+                    eprintln!("\nprism: stopped at once on a second signal; nothing written");
+                    std::process::exit(code as i32);
+                }
+                // The same signal delivered twice (to the process and to its group).
+                Some(_) => {}
             }
-            interrupt.exit_code.store(code, Ordering::SeqCst);
         }
     });
 }
@@ -91,10 +112,20 @@ fn install(interrupt: &Interrupt) {
 #[cfg(not(unix))]
 fn install(interrupt: &Interrupt) {
     let interrupt = interrupt.clone();
+    let first = std::sync::Mutex::new(None::<Instant>);
     let _ = ctrlc::set_handler(move || {
-        if interrupt.cancel.swap(true, Ordering::SeqCst) {
-            eprintln!("\nprism: stopped at once on a second Ctrl-C; nothing written");
-            std::process::exit(130);
+        let mut first = first.lock().unwrap_or_else(|e| e.into_inner());
+        match *first {
+            None => {
+                *first = Some(Instant::now());
+                interrupt.cancel.store(true, Ordering::SeqCst);
+                eprintln!("{STOPPING}");
+            }
+            Some(at) if at.elapsed() >= SECOND_SIGNAL_AFTER => {
+                eprintln!("\nprism: stopped at once on a second Ctrl-C; nothing written");
+                std::process::exit(130);
+            }
+            Some(_) => {}
         }
     });
 }
