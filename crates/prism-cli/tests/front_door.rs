@@ -590,3 +590,22 @@ fn info_takes_a_built_in_scene_as_render_does() {
     let err = expect_exit(&out, 2, "info without a scene");
     assert!(err.contains("<SCENE>"), "{err}");
 }
+
+#[test]
+fn a_busy_port_is_reported_with_its_cause_once() {
+    let dir = work_dir("busy-port");
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = taken.local_addr().unwrap().port().to_string();
+    let out = prism(&dir, &["serve", "--port", &port]);
+    let err = expect_exit(&out, 1, "serve on a busy port");
+    assert!(
+        err.contains(&format!("cannot listen on 127.0.0.1:{port}")),
+        "{err}"
+    );
+    assert_eq!(
+        err.matches("(os error").count(),
+        1,
+        "the cause once:\n{err}"
+    );
+    drop(taken);
+}

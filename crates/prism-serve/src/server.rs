@@ -40,12 +40,14 @@ impl Default for ServerConfig {
 #[derive(Debug, thiserror::Error)]
 pub enum ServeError {
     /// The address could not be bound (in use, not this machine's, no permission).
-    #[error("cannot listen on {addr}: {source} (--port 0 takes any free port)")]
+    // The system's words are in the message, so the field is no `source`: a chain printer
+    // (anyhow's `{:#}`) would print them a second time.
+    #[error("cannot listen on {addr}: {cause} (--port 0 takes any free port)")]
     Bind {
         /// The address asked for.
         addr: SocketAddr,
         /// What the system said.
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// A thread or the network runtime could not be started.
     #[error("cannot start the viewer: {0}")]
@@ -75,8 +77,7 @@ impl Server {
     ) -> Result<Server, ServeError> {
         options.validate().map_err(ServeError::Options)?;
         let addr = SocketAddr::new(config.bind, config.port);
-        let listener =
-            TcpListener::bind(addr).map_err(|source| ServeError::Bind { addr, source })?;
+        let listener = TcpListener::bind(addr).map_err(|cause| ServeError::Bind { addr, cause })?;
         listener.set_nonblocking(true)?;
         let addr = listener.local_addr()?;
         let (link, render) = engine::start(scene, name, options)?;
