@@ -39,11 +39,13 @@ pub(crate) fn run(args: &CompareArgs) -> Result<ExitCode> {
     }
     let reference = read_image(&args.reference)?;
     let test = read_image(&args.test)?;
+    // The reference first, as the arguments and the size check (reference × test) take
+    // them.
     let c = metrics::compare(&reference, &test, None, args.ppd).with_context(|| {
         format!(
-            "cannot compare {} with {}",
-            args.test.display(),
-            args.reference.display()
+            "cannot compare {} (the reference) with {} (the test)",
+            args.reference.display(),
+            args.test.display()
         )
     })?;
     if args.json {

@@ -609,3 +609,26 @@ fn a_busy_port_is_reported_with_its_cause_once() {
     );
     drop(taken);
 }
+
+#[test]
+fn compare_names_images_and_sizes_in_the_same_order() {
+    let dir = work_dir("compare-order");
+    for (name, w, h) in [("big.pfm", "16", "12"), ("small.pfm", "8", "6")] {
+        let out = prism(
+            &dir,
+            &[
+                "render", "-b", "cornell", "-W", w, "-H", h, "-q", "-o", name,
+            ],
+        );
+        expect_exit(&out, 0, name);
+    }
+    let out = prism(&dir, &["compare", "big.pfm", "small.pfm"]);
+    let err = expect_exit(&out, 1, "compare of two sizes");
+    assert!(
+        err.contains(
+            "cannot compare big.pfm (the reference) with small.pfm (the test): the images \
+             differ in size: 16×12 and 8×6"
+        ),
+        "{err}"
+    );
+}
