@@ -16,11 +16,40 @@ use std::path::PathBuf;
     version,
     about = "A Whitted ray tracer with switchable, measurable acceleration methods",
     long_about = "A Whitted ray tracer with switchable, measurable acceleration methods.\n\n\
-                  Run `prism render` to render the built-in Whitted scene to prism.png."
+                  Run `prism render` to render the built-in Whitted scene to prism.png. \
+                  `render` is the default command: its arguments work without its name \
+                  (`prism -W 320 -H 240 scene.toml`).",
+    args_conflicts_with_subcommands = true
 )]
 pub(crate) struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
+
+    /// `render`'s arguments, for `prism` without a command.
+    #[command(flatten)]
+    pub render: RenderArgs,
+}
+
+impl Cli {
+    /// The command to run: the one named, or `render` with the arguments given without
+    /// one. A first word that is no command, no file and no scene name (`prism
+    /// frobnicate`) is bad usage, as clap reports an unknown command, not a missing file.
+    pub(crate) fn into_command(self) -> Result<Command, clap::Error> {
+        if let Some(command) = self.command {
+            return Ok(command);
+        }
+        if let Some(word) = self.render.scene.as_deref() {
+            let named = word.to_str().is_some_and(|w| w.starts_with("builtin:"));
+            if !named && word.extension().is_none() && !word.exists() {
+                use clap::CommandFactory;
+                return Err(Cli::command().error(
+                    clap::error::ErrorKind::InvalidSubcommand,
+                    format!("unrecognized subcommand or scene file '{}'", word.display()),
+                ));
+            }
+        }
+        Ok(Command::Render(self.render))
+    }
 }
 
 #[derive(Subcommand, Debug)]
@@ -31,6 +60,8 @@ pub(crate) enum Command {
     List,
     /// Describe a scene without rendering it: shapes, materials, lights, bounds, memory
     /// and the acceleration structure built for it.
+    #[command(override_usage = "prism info [OPTIONS] <SCENE>\n       \
+                                prism info [OPTIONS] --builtin <NAME>")]
     Info(InfoArgs),
     /// Measure acceleration methods on scenes: build time, memory, node visits and
     /// primitive tests per ray, primary and shadow rays per second; a table, CSV, JSON and
@@ -53,8 +84,8 @@ pub(crate) enum Command {
 #[derive(Args, Debug)]
 pub(crate) struct InfoArgs {
     /// Scene file (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply), or builtin:NAME for
-    /// a built-in scene.
-    #[arg(required_unless_present = "builtin")]
+    /// a built-in scene. Required unless --builtin is given.
+    #[arg(required_unless_present = "builtin", value_name = "SCENE")]
     pub scene: Option<String>,
 
     /// Built-in scene to describe instead of a file, as `render --builtin` takes it.
@@ -86,8 +117,8 @@ pub(crate) enum Preset {
 #[derive(Args, Debug, Default)]
 pub(crate) struct RenderArgs {
     /// Scene file to render (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply: framed by a
-    /// default camera and light). Without it (and without --builtin), the built-in
-    /// `whitted` scene is rendered.
+    /// default camera and light), or builtin:NAME for a built-in scene (as --builtin NAME).
+    /// Without it (and without --builtin), the built-in `whitted` scene is rendered.
     pub scene: Option<PathBuf>,
 
     /// Built-in scene to render instead of a file (see `prism list`).
@@ -111,10 +142,11 @@ pub(crate) struct RenderArgs {
     #[arg(short, long, value_name = "N", conflicts_with = "spp", help = setting_help("samples"))]
     pub samples: Option<u32>,
 
-    /// Samples per pixel, a square number (1, 4, 9, 16, …) for every pattern, so that
-    /// patterns compare at equal counts.
-    #[arg(long, value_name = "N")]
-    pub spp: Option<u32>,
+    /// Samples per pixel, a square number (1, 4, 9, 16, …, 4096) for every pattern, so
+    /// that patterns compare at equal counts.
+    // Signed, so that a negative count gets the range rather than clap's `-- -4` hint.
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub spp: Option<i64>,
 
     #[arg(long, value_name = "NAME", help = setting_help("sampler"))]
     pub sampler: Option<SamplerKind>,
@@ -245,6 +277,19 @@ pub(crate) fn setting_help(key: &str) -> String {
     format!("{}{accepts} [default: {default}]", s.help)
 }
 
+/// An options error of the engine, which names a setting by its key (`max_depth must be
+/// …`), with the key written as the command line's flag (`--depth must be …`).
+pub(crate) fn in_flags(message: &str) -> String {
+    let named = prism::options::SETTINGS.iter().find_map(|s| {
+        let rest = message.strip_prefix(s.key)?.strip_prefix(' ')?;
+        Some((s.flag?, rest))
+    });
+    match named {
+        Some((flag, rest)) => format!("--{flag} {rest}"),
+        None => message.to_string(),
+    }
+}
+
 /// A built-in scene by name, or an error listing the names there are.
 pub(crate) fn find_builtin(name: &str) -> Result<Scene> {
     match builtin::find(name) {
@@ -260,6 +305,10 @@ impl RenderArgs {
     /// The scene to render and a name for reports.
     pub(crate) fn load_scene(&self) -> Result<(Scene, String)> {
         if let Some(path) = &self.scene {
+            // `builtin:NAME` in the file's place, as `prism info` takes it.
+            if let Some(name) = path.to_str().and_then(|p| p.strip_prefix("builtin:")) {
+                return Ok((find_builtin(name)?, format!("builtin:{name}")));
+            }
             let scene = prism_io::scene::load(path)?;
             return Ok((scene, path.display().to_string()));
         }
@@ -359,19 +408,27 @@ impl RenderArgs {
     }
 }
 
-/// Samples per axis for `spp` samples per pixel, which must be a square of at most
+/// Samples per axis for `spp` samples per pixel, which must be a square from 1 to
 /// 64 × 64. Errors echo the value as the user typed it.
-pub(crate) fn per_axis(spp: u32) -> Result<u32> {
+pub(crate) fn per_axis(spp: i64) -> Result<u32> {
     let max = prism::options::MAX_SAMPLES_PER_AXIS;
-    if spp > max * max {
+    let most = i64::from(max * max);
+    if spp < 1 {
         bail!(
-            "--spp {spp} is too many: at most {} ({max}×{max}) samples per pixel",
-            max * max
+            "--spp takes a square number from 1 to {most}, got {spp}{}",
+            if spp == 0 {
+                ": a pixel takes at least 1 sample"
+            } else {
+                ""
+            }
         );
     }
-    let n = (spp as f64).sqrt().round() as u32;
-    if n == 0 || n * n != spp {
-        let below = (spp as f64).sqrt().floor().max(1.0) as u32;
+    if spp > most {
+        bail!("--spp {spp} is too many: at most {most} ({max}×{max}) samples per pixel");
+    }
+    let n = (spp as f64).sqrt().round() as i64;
+    if n * n != spp {
+        let below = (spp as f64).sqrt().floor().max(1.0) as i64;
         bail!(
             "--spp {spp} is not a square number: every pattern takes n×n samples per pixel; \
              try {} or {}",
@@ -379,7 +436,7 @@ pub(crate) fn per_axis(spp: u32) -> Result<u32> {
             (below + 1) * (below + 1)
         );
     }
-    Ok(n)
+    Ok(n as u32)
 }
 
 #[cfg(test)]
@@ -394,6 +451,22 @@ mod tests {
             Some(Command::Render(r)) => r.options(&RenderOptions::default()).unwrap(),
             other => panic!("expected render, got {other:?}"),
         }
+    }
+
+    #[test]
+    fn options_errors_name_the_flag() {
+        assert_eq!(
+            in_flags("max_depth must be between 1 (the eye ray alone) and 256, got 0"),
+            "--depth must be between 1 (the eye ray alone) and 256, got 0"
+        );
+        assert_eq!(
+            in_flags("tile_size must be at least 1"),
+            "--tile-size must be at least 1"
+        );
+        assert_eq!(
+            in_flags("image size must be at least 1×1"),
+            "image size must be at least 1×1"
+        );
     }
 
     #[test]

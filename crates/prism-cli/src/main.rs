@@ -36,14 +36,8 @@ static ALLOCATOR: huge_pages::HugePages = huge_pages::HugePages;
 fn main() -> ExitCode {
     huge_pages::enable_if_asked();
     signals::restore_unix_defaults();
-    let cli = Cli::parse();
-    // No command means `render` with its defaults, exactly as if it had been typed.
-    let command = match cli.command {
-        Some(command) => command,
-        None => Cli::parse_from(["prism", "render"])
-            .command
-            .expect("`render` is a command"),
-    };
+    // No command means `render`, with the arguments given without its name.
+    let command = Cli::parse().into_command().unwrap_or_else(|e| e.exit());
     let result = match command {
         Command::Render(args) => render(&args),
         Command::Info(args) => info(&args),
@@ -98,18 +92,29 @@ fn list() {
 fn render(args: &RenderArgs) -> Result<ExitCode> {
     // Every output is checked before anything else, so a typo in a folder name costs
     // nothing and a bad extra output means nothing is written.
+    // An output named by a symbolic link is written where the link points.
     let mut outputs = outputs::Outputs::default();
-    outputs.add(&args.output, &[])?;
+    let image_file = outputs::through_links(&args.output);
+    outputs.add(&image_file, &[])?;
     let format = prism_io::output::ImageFormat::from_path(&args.output)?;
-    if let Some(path) = &args.density {
+    let density_file = args.density.as_deref().map(outputs::through_links);
+    if let Some(path) = &density_file {
         density::check(path)?;
         outputs.add(path, &[])?;
     }
-    if let Some(path) = &args.cost {
+    let cost_file = args.cost.as_deref().map(outputs::through_links);
+    if let Some(path) = &cost_file {
         cost::check(path)?;
         outputs.add(path, &[])?;
     }
-    if let Some(path) = args.stats_json.as_ref().filter(|p| *p != Path::new("-")) {
+    let stats_file = (args.stats_json.as_deref()).map(|p| {
+        if p == Path::new("-") {
+            p.to_path_buf()
+        } else {
+            outputs::through_links(p)
+        }
+    });
+    if let Some(path) = stats_file.as_ref().filter(|p| *p != Path::new("-")) {
         outputs.add(path, &[])?;
     }
     let mut warnings = warnings::Warnings::new(args.strict);
@@ -146,7 +151,7 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     options.per_pixel_rays = args.density.is_some() || args.cost.is_some();
     options
         .validate()
-        .map_err(|e| anyhow::anyhow!("invalid option: {e}"))?;
+        .map_err(|e| anyhow::anyhow!("invalid option: {}", args::in_flags(&e)))?;
     warnings.report()?;
     note_threads(&options);
     memory::check(&scene, &options, args)?;
@@ -163,12 +168,12 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     bar.finish();
 
     let mut written = vec![args.output.clone()];
-    prism_io::output::write_image_as(&args.output, &result.film, format)?;
-    if let Some(path) = &args.density {
+    prism_io::output::write_image_as(&image_file, &result.film, format)?;
+    if let (Some(path), Some(name)) = (&density_file, &args.density) {
         density::write(path, &result.rays, args.density_rays)?;
-        written.push(path.clone());
+        written.push(name.clone());
     }
-    if let Some(path) = &args.cost {
+    if let (Some(path), Some(name)) = (&cost_file, &args.cost) {
         let accel = options.accel_to_build();
         let method = match args.cost_rays {
             cost::CostRays::All => accel.to_string(),
@@ -180,7 +185,7 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
             (args.cost_metric, args.cost_rays),
             &method,
         )?;
-        written.push(path.clone());
+        written.push(name.clone());
     }
     let report = report::Report::new(
         &scene_name,
@@ -193,10 +198,10 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     if args.stats {
         report.print_table();
     }
-    if let Some(path) = &args.stats_json {
+    if let (Some(path), Some(name)) = (&stats_file, &args.stats_json) {
         report.write_json(path)?;
         if path != Path::new("-") {
-            written.push(path.clone());
+            written.push(name.clone());
         }
     }
     if !result.complete {

@@ -42,6 +42,26 @@ impl Outputs {
     }
 }
 
+/// The file writing `path` should replace: a symbolic link's target (followed through
+/// chains of links), so that an output named by a link is written where the link points
+/// and the link stays, rather than the atomic rename replacing the link itself. A path
+/// that is no link is itself.
+pub(crate) fn through_links(path: &Path) -> PathBuf {
+    let mut path = path.to_path_buf();
+    // As many links as the system follows; a loop of links is left for the write to report.
+    for _ in 0..40 {
+        let is_link = std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink());
+        let Some(target) = is_link.then(|| std::fs::read_link(&path).ok()).flatten() else {
+            break;
+        };
+        path = match path.parent() {
+            Some(parent) if target.is_relative() => parent.join(target),
+            _ => target,
+        };
+    }
+    path
+}
+
 /// Whether two output names point at the same file (spelled alike, or the same existing
 /// file under two spellings).
 fn same_file(a: &Path, b: &Path) -> bool {

@@ -21,12 +21,21 @@ pub(crate) struct PatternsArgs {
     pub output: PathBuf,
 
     /// Samples per pixel of the patterns that take a count (a square).
-    #[arg(long, value_name = "N", default_value_t = 16)]
-    pub spp: u32,
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 16,
+        allow_negative_numbers = true
+    )]
+    pub spp: i64,
 
     /// Seed of the random patterns.
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub seed: u64,
+
+    /// No closing message naming the file written (errors still show).
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Pixels per panel side, and drawing units per pixel.
@@ -92,7 +101,15 @@ pub(crate) fn run(args: &PatternsArgs) -> Result<ExitCode> {
         draw(&mut s, p, x0, y0);
     }
     s.push_str("</svg>\n");
-    prism_io::output::write_atomic(&args.output, s.as_bytes())?;
+    let output = crate::outputs::through_links(&args.output);
+    prism_io::output::write_atomic(&output, s.as_bytes())?;
+    if !args.quiet {
+        eprintln!(
+            "prism: wrote {} ({} panels)",
+            args.output.display(),
+            panels.len()
+        );
+    }
     Ok(ExitCode::SUCCESS)
 }
 

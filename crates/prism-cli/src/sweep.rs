@@ -242,7 +242,7 @@ pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
     base.validate()
         .map_err(|e| anyhow::anyhow!("invalid option: {e}"))?;
     for &spp in &args.spp {
-        per_axis(spp)?;
+        per_axis(spp.into())?;
     }
     let runs = plan(args)?;
     std::fs::create_dir_all(&args.out)
@@ -276,7 +276,7 @@ pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
                 (r.film, Some(far), note)
             }
             _ => {
-                let n = per_axis(args.reference_spp)?;
+                let n = per_axis(args.reference_spp.into())?;
                 say(format!(
                     "sweep: rendering the reference, jittered {} spp…",
                     args.reference_spp
@@ -299,7 +299,11 @@ pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
     for run in runs {
         let options = RenderOptions {
             sampler: run.sampler,
-            samples: if run.spp > 0 { per_axis(run.spp)? } else { 1 },
+            samples: if run.spp > 0 {
+                per_axis(run.spp.into())?
+            } else {
+                1
+            },
             adaptive: prism::sampling::AdaptiveSpec {
                 threshold: run.threshold,
                 depth: run.depth,

@@ -632,3 +632,173 @@ fn compare_names_images_and_sizes_in_the_same_order() {
         "{err}"
     );
 }
+
+/// A PNG's width and height, from its header.
+fn png_size(path: &Path) -> (u32, u32) {
+    let bytes = fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let word = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap());
+    (word(16), word(20))
+}
+
+#[test]
+fn render_arguments_work_without_the_command_name() {
+    let dir = work_dir("bare-flags");
+    let out = prism(&dir, &["-W", "20", "-H", "14", "-q", "-o", "bare.png"]);
+    expect_exit(&out, 0, "prism -W 20 -H 14");
+    let out = prism(
+        &dir,
+        &["render", "-W", "20", "-H", "14", "-q", "-o", "typed.png"],
+    );
+    expect_exit(&out, 0, "prism render -W 20 -H 14");
+    assert_eq!(png_size(&dir.join("bare.png")), (20, 14));
+    assert!(fs::read(dir.join("bare.png")).unwrap() == fs::read(dir.join("typed.png")).unwrap());
+    // A scene in the command's place too.
+    let out = prism(
+        &dir,
+        &["builtin:cornell", "-W", "8", "-H", "6", "-q", "-o", "c.png"],
+    );
+    expect_exit(&out, 0, "prism builtin:cornell");
+    assert_eq!(png_size(&dir.join("c.png")), (8, 6));
+}
+
+#[test]
+fn render_takes_a_built_in_scene_in_the_files_place() {
+    let dir = work_dir("render-builtin");
+    let size = ["-W", "16", "-H", "12", "-q"];
+    let out = prism(
+        &dir,
+        &[&["render", "builtin:cornell", "-o", "a.png"], &size[..]].concat(),
+    );
+    expect_exit(&out, 0, "render builtin:cornell");
+    let out = prism(
+        &dir,
+        &[
+            &["render", "--builtin", "cornell", "-o", "b.png"],
+            &size[..],
+        ]
+        .concat(),
+    );
+    expect_exit(&out, 0, "render --builtin cornell");
+    assert!(fs::read(dir.join("a.png")).unwrap() == fs::read(dir.join("b.png")).unwrap());
+    let out = prism(&dir, &["render", "builtin:nope", "-q", "-o", "n.png"]);
+    let err = expect_exit(&out, 1, "render builtin:nope");
+    assert!(err.contains("no built-in scene named 'nope'"), "{err}");
+}
+
+#[test]
+fn info_help_says_the_scene_is_required_unless_builtin_is_given() {
+    let dir = work_dir("info-help");
+    let out = prism(&dir, &["info", "--help"]);
+    expect_exit(&out, 0, "info --help");
+    let help = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        help.contains("Required unless --builtin is given"),
+        "{help}"
+    );
+    assert!(help.contains("prism info [OPTIONS] <SCENE>"), "{help}");
+    assert!(
+        help.contains("prism info [OPTIONS] --builtin <NAME>"),
+        "{help}"
+    );
+}
+
+#[test]
+fn spp_below_one_gets_the_range_not_a_parser_hint() {
+    let dir = work_dir("spp-below-one");
+    for command in ["render", "patterns"] {
+        let out = prism(&dir, &[command, "--spp", "-4", "-q"]);
+        let err = expect_exit(&out, 1, "--spp -4");
+        assert!(
+            err.contains("--spp takes a square number from 1 to 4096, got -4"),
+            "{command}: {err}"
+        );
+        assert!(!err.contains("'-- -4'"), "{command}: {err}");
+    }
+    let out = prism(&dir, &["render", "--spp", "0", "-q"]);
+    let err = expect_exit(&out, 1, "--spp 0");
+    assert!(err.contains("at least 1"), "{err}");
+    assert!(!err.contains("not a square number"), "{err}");
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
+}
+
+#[test]
+fn a_bad_depth_names_the_flag_not_the_setting_key() {
+    let dir = work_dir("depth-flag");
+    let out = prism(&dir, &["render", "-d", "0", "-q"]);
+    let err = expect_exit(&out, 1, "-d 0");
+    assert!(err.contains("--depth must be between 1"), "{err}");
+    assert!(!err.contains("max_depth"), "{err}");
+    let out = prism(&dir, &["render", "--tile-size", "0", "-q"]);
+    let err = expect_exit(&out, 1, "--tile-size 0");
+    assert!(err.contains("--tile-size must be at least 1"), "{err}");
+}
+
+#[test]
+fn patterns_says_what_it_wrote_unless_quiet() {
+    let dir = work_dir("patterns-says");
+    let out = prism(&dir, &["patterns", "-o", "p.svg"]);
+    let err = expect_exit(&out, 0, "patterns");
+    assert!(err.contains("prism: wrote p.svg"), "{err}");
+    let out = prism(&dir, &["patterns", "-o", "q.svg", "--quiet"]);
+    let err = expect_exit(&out, 0, "patterns --quiet");
+    assert!(err.is_empty(), "{err}");
+    assert!(dir.join("q.svg").is_file());
+}
+
+#[cfg(unix)]
+#[test]
+fn an_output_named_by_a_symbolic_link_is_written_to_its_target() {
+    let dir = work_dir("output-link");
+    fs::create_dir(dir.join("renders")).unwrap();
+    std::os::unix::fs::symlink("renders/latest.png", dir.join("latest.png")).unwrap();
+    std::os::unix::fs::symlink("renders/stats.json", dir.join("stats.json")).unwrap();
+    let out = prism(
+        &dir,
+        &[
+            "-b",
+            "cornell",
+            "-W",
+            "8",
+            "-H",
+            "6",
+            "-q",
+            "-o",
+            "latest.png",
+            "--stats-json",
+            "stats.json",
+        ],
+    );
+    expect_exit(&out, 0, "-o onto a link");
+    for link in ["latest.png", "stats.json"] {
+        let meta = fs::symlink_metadata(dir.join(link)).unwrap();
+        assert!(meta.file_type().is_symlink(), "{link} is still a link");
+    }
+    assert_eq!(png_size(&dir.join("renders/latest.png")), (8, 6));
+    assert!(fs::read_to_string(dir.join("renders/stats.json"))
+        .unwrap()
+        .contains('{'));
+    // Written again through the link, the target is replaced and the link stays.
+    let out = prism(
+        &dir,
+        &[
+            "-b",
+            "cornell",
+            "-W",
+            "10",
+            "-H",
+            "6",
+            "-q",
+            "-o",
+            "latest.png",
+        ],
+    );
+    expect_exit(&out, 0, "-o onto a link, again");
+    assert!(fs::symlink_metadata(dir.join("latest.png"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert_eq!(png_size(&dir.join("renders/latest.png")), (10, 6));
+    let mut names = listing(&dir.join("renders"));
+    names.sort();
+    assert_eq!(names, ["latest.png", "stats.json"]);
+}
