@@ -98,6 +98,10 @@ pub(crate) fn run(args: &ServeArgs) -> Result<ExitCode> {
         samples: 1,
         ..options
     };
+    // Checked here too, so that a refused option names its flag (`--depth`).
+    options
+        .validate()
+        .map_err(|e| anyhow::anyhow!("invalid option: {}", crate::args::in_flags(&e)))?;
     let config = prism_serve::ServerConfig {
         bind: args.bind,
         port: args.port,

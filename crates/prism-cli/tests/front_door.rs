@@ -728,6 +728,10 @@ fn a_bad_depth_names_the_flag_not_the_setting_key() {
     let err = expect_exit(&out, 1, "-d 0");
     assert!(err.contains("--depth must be between 1"), "{err}");
     assert!(!err.contains("max_depth"), "{err}");
+    let out = prism(&dir, &["serve", "-d", "0", "--port", "0"]);
+    let err = expect_exit(&out, 1, "serve -d 0");
+    assert!(err.contains("--depth must be between 1"), "{err}");
+    assert!(!err.contains("max_depth"), "{err}");
     let out = prism(&dir, &["render", "--tile-size", "0", "-q"]);
     let err = expect_exit(&out, 1, "--tile-size 0");
     assert!(err.contains("--tile-size must be at least 1"), "{err}");
