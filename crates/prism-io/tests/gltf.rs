@@ -914,7 +914,7 @@ fn features_not_rendered_are_named_in_one_warning() {
     assert!(plain.warnings.is_empty(), "{:?}", plain.warnings);
     doc["textures"] = json!([{ "source": 0 }]);
     doc["images"] = json!([{ "uri": "card.png" }]);
-    doc["materials"][0]["occlusionTexture"] = json!({ "index": 0 });
+    doc["materials"][0]["emissiveTexture"] = json!({ "index": 0 });
     doc["materials"][0]["alphaMode"] = json!("BLEND");
     doc["animations"] = json!([]);
     let scene = load(&write(&dir, "dropped.gltf", &pretty(&doc))).unwrap();
@@ -924,7 +924,10 @@ fn features_not_rendered_are_named_in_one_warning() {
         w.contains("dropped.gltf: read but not rendered as authored"),
         "{w}"
     );
-    assert!(w.contains("occlusionTexture, not applied (1)"), "{w}");
+    assert!(
+        w.contains("emissiveTexture, averaged to one colour per material (1)"),
+        "{w}"
+    );
     assert!(
         w.contains("alphaMode MASK or BLEND, drawn opaque (1)"),
         "{w}"
@@ -932,5 +935,42 @@ fn features_not_rendered_are_named_in_one_warning() {
     assert!(
         !w.contains("animations"),
         "an empty list is nothing dropped: {w}"
+    );
+}
+
+/// occlusionTexture scales the ambient term per texel: its red channel with the strength
+/// applied, 1 + s·(r − 1), read as data; a strength outside 0..=1 is an error.
+#[test]
+fn an_occlusion_texture_scales_the_ambient_term() {
+    let dir = temp_dir("occlusion");
+    write_texture(&dir);
+    image::RgbImage::from_pixel(2, 2, image::Rgb([64, 200, 200]))
+        .save(dir.join("occlusion.png"))
+        .unwrap();
+    let mut doc = quad_document(Some(&quad_buffer_uri()));
+    doc["textures"] = json!([{ "source": 0 }, { "source": 1 }]);
+    doc["images"] = json!([{ "uri": "card.png" }, { "uri": "occlusion.png" }]);
+    let plain = load(&write(&dir, "plain.gltf", &pretty(&doc))).unwrap();
+    doc["materials"][0]["occlusionTexture"] = json!({ "index": 1, "strength": 0.5 });
+    let occluded = load(&write(&dir, "occluded.gltf", &pretty(&doc))).unwrap();
+    let m = &occluded.materials[0];
+    let expected = 1.0 + 0.5 * (64.0 / 255.0 - 1.0);
+    let got = m.ambient_occlusion(prism::math::Vec2::new(0.5, 0.5));
+    assert!((got - expected).abs() < 1e-6, "{got} against {expected}");
+    assert_eq!(
+        plain.materials[0].ambient_occlusion(prism::math::Vec2::ZERO),
+        1.0
+    );
+    let (a, b) = (render_at(&plain, 48, 32), render_at(&occluded, 48, 32));
+    let sum = |f: &prism::render::Film| f.pixels.iter().map(|p| p.x as f64).sum::<f64>();
+    assert!(
+        sum(&b) < sum(&a),
+        "less ambient light reaches the occluded quad"
+    );
+    doc["materials"][0]["occlusionTexture"] = json!({ "index": 1, "strength": 2.0 });
+    let err = load(&write(&dir, "bad.gltf", &pretty(&doc))).unwrap_err();
+    assert!(
+        err.to_string().contains("expected a number from 0 to 1"),
+        "{err}"
     );
 }

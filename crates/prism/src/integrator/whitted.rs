@@ -486,7 +486,8 @@ impl<'a> Whitted<'a> {
     /// directly; its light on other surfaces comes by the area lights' shadow rays).
     fn own_radiance(&self, surface: &Surface) -> Color {
         let material = surface.material;
-        let mut radiance = material.ambient * surface.color * self.scene.scene.ambient;
+        let ambient = material.ambient * material.ambient_occlusion(surface.sp.uv);
+        let mut radiance = ambient * surface.color * self.scene.scene.ambient;
         if surface.entering && material.is_emissive() {
             radiance += material.emission;
         }

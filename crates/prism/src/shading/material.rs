@@ -56,6 +56,9 @@ pub struct Material {
     /// A normal map turning the shading normal per texel (triangles with uvs); None for
     /// the interpolated normal alone.
     pub normal_map: Option<super::NormalMap>,
+    /// How much of the ambient light reaches each texel (glTF's `occlusionTexture`, its
+    /// strength applied; the red channel counts): it scales the ambient term. None: all.
+    pub occlusion: Option<super::ImageTexture>,
 }
 
 impl Default for Material {
@@ -74,6 +77,7 @@ impl Default for Material {
             fresnel: FresnelMode::Off,
             emission: Color::ZERO,
             normal_map: None,
+            occlusion: None,
         }
     }
 }
@@ -196,11 +200,18 @@ impl Material {
 
     /// Whether `color_at` reads the surface's uv (see `geometry::Uv`).
     pub fn uv_need(&self) -> Uv {
-        if self.color.reads_uv() || self.normal_map.is_some() {
+        if self.color.reads_uv() || self.normal_map.is_some() || self.occlusion.is_some() {
             Uv::Compute
         } else {
             Uv::Skip
         }
+    }
+
+    /// The share of the ambient light that reaches the surface at `uv` (1 without an
+    /// occlusion texture).
+    #[inline]
+    pub fn ambient_occlusion(&self, uv: Vec2) -> f32 {
+        self.occlusion.as_ref().map_or(1.0, |t| t.eval(uv).x)
     }
 
     /// The diffuse colour at a surface point, from its texture.

@@ -17,10 +17,6 @@ pub(super) fn warning(root: &Root) -> Option<String> {
     let materials = &root.materials;
     let pbr = |f: fn(&gltf::json::Material) -> bool| materials.iter().filter(|m| f(m)).count();
     count(
-        "occlusionTexture, not applied",
-        pbr(|m| m.occlusion_texture.is_some()),
-    );
-    count(
         "metallicRoughnessTexture, averaged to one value per material",
         pbr(|m| {
             m.pbr_metallic_roughness

@@ -91,6 +91,7 @@ pub(super) fn whitted(name: String, pbr: &Pbr, color: Texture) -> Material {
         },
         emission: pbr.emission,
         normal_map: None,
+        occlusion: None,
     }
 }
 
@@ -207,6 +208,26 @@ pub(super) fn material(
             texture: crate::texture::from_linear(&img),
             scale: info.scale,
         });
+    }
+    // Occlusion is data too: the red channel, its strength applied (1 + s·(r − 1)).
+    if let Some(info) = &json.occlusion_texture {
+        let strength = info.strength.0;
+        if !(0.0..=1.0).contains(&strength) {
+            return Err(context(format!(
+                "occlusionTexture.strength is {strength}; expected a number from 0 to 1"
+            )));
+        }
+        let img = images.texture(info.index.value()).map_err(context)?;
+        let rgb = img.to_rgb8();
+        let texels = rgb
+            .pixels()
+            .map(|p| Color::splat(1.0 + strength * (p[0] as f32 / 255.0 - 1.0)))
+            .collect();
+        material.occlusion = Some(prism::shading::ImageTexture::from_texels(
+            rgb.width() as usize,
+            rgb.height() as usize,
+            texels,
+        ));
     }
     Ok(material)
 }

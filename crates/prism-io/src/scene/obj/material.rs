@@ -82,6 +82,7 @@ pub(super) fn whitted(m: &tobj::Material, extras: &Extras) -> Material {
         fresnel,
         emission: extras.ke.unwrap_or(Color::ZERO),
         normal_map: None,
+        occlusion: None,
     }
 }
 
