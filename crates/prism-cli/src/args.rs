@@ -224,7 +224,8 @@ pub(crate) struct RenderArgs {
 
     /// Also write the cost view: node visits (or primitive tests, see --cost-metric) per
     /// camera ray of each pixel, counting every ray the pixel spawned, as a heat map with a
-    /// colour bar (PNG).
+    /// colour bar (PNG). For it every ray is traced alone, not in packets, so each pixel
+    /// shows its own work (the image is the same; the render takes longer).
     #[arg(long, value_name = "FILE")]
     pub cost: Option<PathBuf>,
 

@@ -149,6 +149,12 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     }
     // Per-pixel ray counts only for the views made of them.
     options.per_pixel_rays = args.density.is_some() || args.cost.is_some();
+    // A packet's traversal is shared evenly among its pixels, which would paint the cost
+    // view in 8 × 8 blocks: for it every ray is traced alone, so each pixel shows its own
+    // work (the image is the same either way).
+    if args.cost.is_some() {
+        options.packets = false;
+    }
     options
         .validate()
         .map_err(|e| anyhow::anyhow!("invalid option: {}", args::in_flags(&e)))?;

@@ -278,3 +278,33 @@ fn the_shadow_cost_view_shows_the_shadow_rays_work_only() {
         "the light buffer and the BVH do different work"
     );
 }
+
+/// The cost view shows each pixel's own work: its rays are traced alone, so it is the same
+/// with and without `--no-packets` (with packets on, a packet's work would be shared evenly
+/// among its 8 × 8 pixels and paint blocks).
+#[test]
+fn the_cost_view_shows_each_pixels_own_work() {
+    let dir = work_dir("cost-own-work");
+    let render = |extra: &[&str], out: &str| {
+        let mut args = vec![
+            "render",
+            "-b",
+            "sphereflake:2",
+            "-q",
+            "-W",
+            "24",
+            "-H",
+            "16",
+            "-o",
+            "img.png",
+            "--cost",
+            out,
+        ];
+        args.extend(extra);
+        run(&dir, &args, 0);
+        fs::read(dir.join(out)).unwrap()
+    };
+    let default = render(&[], "default.png");
+    let alone = render(&["--no-packets"], "alone.png");
+    assert!(default == alone, "the cost view depends on packets");
+}
