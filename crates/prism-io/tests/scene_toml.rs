@@ -341,8 +341,8 @@ const MALFORMED: &[(&str, &str, usize, &str)] = &[
         "missing key `b`",
     ),
     (
-        "missing image file",
-        "[materials.m]\n\ntexture = { type = \"image\", path = \"textures/no-such.png\" }\n",
+        "unreadable image file",
+        "[materials.m]\n\ntexture = { type = \"image\", path = \".\" }\n",
         3,
         "expected a readable PNG or JPEG image",
     ),
@@ -983,4 +983,20 @@ fn a_load_lists_the_files_it_read() {
     let (scene, files) = load_listing_files(&root.join("no-such-scene.toml"));
     assert!(scene.is_err());
     assert_eq!(files, [root.join("no-such-scene.toml")]);
+}
+
+/// A texture image that is not there is a warning naming the file, line and column (as a
+/// missing MTL library or map_Kd image is): the material keeps the default colour.
+#[test]
+fn a_missing_texture_image_is_a_warning() {
+    let text = "[materials.m]\n\ntexture = { type = \"image\", path = \"textures/no-such.png\" }\n";
+    let scene = parse(text).unwrap();
+    assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
+    let w = &scene.warnings[0];
+    assert!(w.contains("test.toml:3:"), "{w}");
+    assert!(w.contains("no-such.png is missing"), "{w}");
+    assert_eq!(
+        scene.materials[0].color,
+        prism::shading::Material::default().color
+    );
 }

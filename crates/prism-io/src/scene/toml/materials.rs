@@ -15,6 +15,7 @@ pub(super) fn material(
     def: MaterialDef,
     base_dir: &Path,
     reader: &mut Reader,
+    notes: &mut super::Notes,
 ) -> Result<Material, Problem> {
     let d = Material::default();
     let color = match (def.color, def.texture) {
@@ -25,7 +26,7 @@ pub(super) fn material(
             ))
         }
         (Some(c), None) => Texture::Solid(c.0),
-        (None, Some(t)) => texture(t, base_dir, reader)?,
+        (None, Some(t)) => texture(t, base_dir, reader, notes)?,
         (None, None) => d.color,
     };
     Ok(Material {
@@ -50,6 +51,7 @@ fn texture(
     def: Spanned<TextureDef>,
     base_dir: &Path,
     reader: &mut Reader,
+    notes: &mut super::Notes,
 ) -> Result<Texture, Problem> {
     Ok(match def.into_inner() {
         TextureDef::Solid(s) => Texture::Solid(s.color.0),
@@ -64,6 +66,18 @@ fn texture(
         }),
         TextureDef::Image(i) => {
             let file = base_dir.join(i.path.get_ref());
+            if !file.exists() {
+                // As a missing MTL library or map_Kd image: render without it, and say so.
+                notes.push((
+                    i.path.span(),
+                    format!(
+                        "the texture image {} is missing; the material keeps the default \
+                         colour",
+                        file.display()
+                    ),
+                ));
+                return Ok(Material::default().color);
+            }
             let mut image = crate::texture::load(&file, reader).map_err(|e| {
                 Problem::at(
                     i.path.span(),

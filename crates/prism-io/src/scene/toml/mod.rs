@@ -57,10 +57,21 @@ pub fn parse(text: &str, path: &Path) -> Result<Scene, LoadError> {
 /// Parses scene text as `parse` does, reading the files it names through `reader`.
 fn parse_with(text: &str, path: &Path, reader: &mut Reader) -> Result<Scene, LoadError> {
     let base_dir = path.parent().unwrap_or(Path::new(""));
-    parse_def(text)
-        .and_then(|def| build(def, base_dir, reader))
-        .map_err(|p| p.into_load_error(path, text))
+    let mut notes = Notes::new();
+    let mut scene = parse_def(text)
+        .and_then(|def| build(def, base_dir, reader, &mut notes))
+        .map_err(|p| p.into_load_error(path, text))?;
+    for (span, message) in notes {
+        let (line, column) = diagnostics::line_column(text, span.start);
+        scene
+            .warnings
+            .push(format!("{}:{line}:{column}: {message}", path.display()));
+    }
+    Ok(scene)
 }
+
+/// Warnings found while building, each at a span of the text, located once it is done.
+type Notes = Vec<(std::ops::Range<usize>, String)>;
 
 fn parse_def(text: &str) -> Result<SceneDef, Problem> {
     let mut root = toml::de::DeTable::parse(text).map_err(|e| Problem::from_toml(&e))?;
@@ -68,7 +79,12 @@ fn parse_def(text: &str) -> Result<SceneDef, Problem> {
     SceneDef::deserialize(toml::de::Deserializer::from(root)).map_err(|e| Problem::from_toml(&e))
 }
 
-fn build(def: SceneDef, base_dir: &Path, reader: &mut Reader) -> Result<Scene, Problem> {
+fn build(
+    def: SceneDef,
+    base_dir: &Path,
+    reader: &mut Reader,
+    notes: &mut Notes,
+) -> Result<Scene, Problem> {
     let mut scene = Scene::default();
     if let Some(render) = def.render {
         let span = render.span();
@@ -90,7 +106,7 @@ fn build(def: SceneDef, base_dir: &Path, reader: &mut Reader) -> Result<Scene, P
 
     let mut material_index = HashMap::new();
     for (name, m) in def.materials {
-        let m = materials::material(&name, m.into_inner(), base_dir, reader)?;
+        let m = materials::material(&name, m.into_inner(), base_dir, reader, notes)?;
         material_index.insert(name, scene.add_material(m));
     }
     let mut default_material = None;
