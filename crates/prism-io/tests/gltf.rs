@@ -974,3 +974,32 @@ fn an_occlusion_texture_scales_the_ambient_term() {
         "{err}"
     );
 }
+
+/// A base colour texture whose image file is not there is a warning (the model loads with
+/// its baseColorFactor), as a missing MTL image is; a broken image stays an error.
+#[test]
+fn a_missing_base_colour_image_is_a_warning() {
+    let dir = temp_dir("missing-image");
+    let mut doc = quad_document(Some(&quad_buffer_uri()));
+    let pbr = &mut doc["materials"][0]["pbrMetallicRoughness"];
+    pbr["baseColorFactor"] = json!([0.25, 0.5, 0.75, 1.0]);
+    pbr["baseColorTexture"] = json!({ "index": 0 });
+    doc["textures"] = json!([{ "source": 0 }]);
+    doc["images"] = json!([{ "uri": "not-here.png" }]);
+    let scene = load(&write(&dir, "quad.gltf", &pretty(&doc))).unwrap();
+    let w = scene.warnings.join("\n");
+    assert!(
+        w.contains("quad.gltf: material 0: its baseColorTexture's image"),
+        "{w}"
+    );
+    assert!(w.contains("not-here.png is missing"), "{w}");
+    assert_eq!(
+        scene.materials[0].color,
+        prism::shading::Texture::Solid(prism::math::Color::new(0.25, 0.5, 0.75))
+    );
+    write(&dir, "not-here.png", b"not a png");
+    assert!(
+        load(&dir.join("quad.gltf")).is_err(),
+        "a broken image is an error"
+    );
+}

@@ -56,6 +56,18 @@ impl<'a> Images<'a> {
         Ok(img)
     }
 
+    /// The file texture `texture`'s image names, where it names one that is not there (a
+    /// model downloaded without its textures): its colour texture is then left out with a
+    /// warning rather than failing the load.
+    pub(super) fn missing_file(&self, texture: usize) -> Option<std::path::PathBuf> {
+        let t = self.root.textures.get(texture)?;
+        let uri = self.root.images.get(t.source.value())?.uri.as_ref()?;
+        match super::uri::resolve(uri, self.base_dir) {
+            Ok(super::uri::Source::File(path)) if !path.exists() => Some(path),
+            _ => None,
+        }
+    }
+
     fn decode(&mut self, index: usize) -> Result<DynamicImage, String> {
         let image = self.root.images.get(index).ok_or_else(|| {
             format!(

@@ -100,6 +100,7 @@ pub(super) fn material(
     root: &Root,
     images: &mut Images,
     index: Option<usize>,
+    warnings: &mut Vec<String>,
 ) -> Result<Material, String> {
     let Some(index) = index else {
         return Ok(whitted(
@@ -183,7 +184,18 @@ pub(super) fn material(
             (sum[2] / n) as f32,
         );
     }
+    let missing = (pbr_json.base_color_texture.as_ref())
+        .and_then(|info| images.missing_file(info.index.value()));
     let color = match &pbr_json.base_color_texture {
+        Some(_) if missing.is_some() => {
+            let path = missing.unwrap_or_default();
+            warnings.push(format!(
+                "material {index}: its baseColorTexture's image {} is missing; the material \
+                 keeps its baseColorFactor",
+                path.display()
+            ));
+            Texture::Solid(pbr.base)
+        }
         Some(info) => {
             let img = images.texture(info.index.value()).map_err(context)?;
             Texture::Image(crate::texture::from_srgb(&img).tinted(pbr.base))

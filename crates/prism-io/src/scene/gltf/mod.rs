@@ -130,7 +130,12 @@ fn build(
             let material = match material_ids.get(&primitive.material) {
                 Some(&id) => id,
                 None => {
-                    let m = materials::material(root, &mut images, primitive.material)?;
+                    let m = materials::material(
+                        root,
+                        &mut images,
+                        primitive.material,
+                        &mut scene.warnings,
+                    )?;
                     let id = scene.add_material(m);
                     material_ids.insert(primitive.material, id);
                     id
