@@ -828,6 +828,10 @@ mod x86 {
         /// rays enters by its own box test, and a child it says every ray enters is entered
         /// by every ray's own test.
         #[test]
+        #[cfg_attr(
+            not(prism_host_avx2),
+            ignore = "this CPU lacks AVX2: the 8-wide kernels never run here"
+        )]
         fn packet_test_bounds_every_rays_own_test() {
             use crate::accel::bvh::packet::{Packet4, PacketBounds};
             use crate::math::hash::uniform;
@@ -917,6 +921,10 @@ mod x86 {
         /// enters it later, and where no slab distance can be NaN (no zero direction
         /// component) gives exactly its answer.
         #[test]
+        #[cfg_attr(
+            not(prism_host_avx2),
+            ignore = "this CPU lacks AVX2: the 8-wide kernels never run here"
+        )]
         fn avx2_test_is_the_box_test_or_more_conservative() {
             if super::super::skipped_without_avx2() {
                 return;
@@ -939,6 +947,10 @@ mod x86 {
         /// rays in face planes, from inside, axis-parallel of both signs); the unused lanes
         /// are never hit.
         #[test]
+        #[cfg_attr(
+            not(prism_host_avx2),
+            ignore = "this CPU lacks AVX2: the 8-wide kernels never run here"
+        )]
         fn avx2_test_matches_the_box_test() {
             if super::super::skipped_without_avx2() {
                 return;

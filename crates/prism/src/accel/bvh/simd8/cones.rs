@@ -290,6 +290,10 @@ mod tests {
     /// test's linear branch) and along a cylinder's axis (no side hit at all): the lanes
     /// agree with the scalar test there too, and the linear branch does find hits.
     #[test]
+    #[cfg_attr(
+        not(prism_host_avx2),
+        ignore = "this CPU lacks AVX2: the 8-wide kernels never run here"
+    )]
     fn lanes_take_the_linear_branch_as_the_scalar_test() {
         if super::super::skipped_without_avx2() {
             return;
@@ -346,6 +350,10 @@ mod tests {
     /// Every lane is `Cone::intersect` bit for bit: one cone against four rays, at three
     /// scales and several bounds.
     #[test]
+    #[cfg_attr(
+        not(prism_host_avx2),
+        ignore = "this CPU lacks AVX2: the 8-wide kernels never run here"
+    )]
     fn lanes_are_the_scalar_test() {
         if super::super::skipped_without_avx2() {
             return;

@@ -344,6 +344,10 @@ mod tests {
     /// triangles, fans, grid and degenerate triangles, rays through vertices and edges and
     /// axis-parallel rays, at three scales and several bounds (around the hits too).
     #[test]
+    #[cfg_attr(
+        not(prism_host_avx2),
+        ignore = "this CPU lacks AVX2: the 8-wide kernels never run here"
+    )]
     fn the_pair_pass_is_two_four_wide_passes() {
         if super::super::skipped_without_avx2() {
             return;
@@ -402,6 +406,10 @@ mod tests {
     /// triangles with a lower or higher id (the tie rule); duplicate triangles across the
     /// packs make ties inside the leaf too.
     #[test]
+    #[cfg_attr(
+        not(prism_host_avx2),
+        ignore = "this CPU lacks AVX2: the 8-wide kernels never run here"
+    )]
     fn the_pair_leaf_test_is_the_four_wide_leaf_test() {
         if super::super::skipped_without_avx2() {
             return;

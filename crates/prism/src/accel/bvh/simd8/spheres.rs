@@ -220,6 +220,10 @@ mod tests {
     /// than `MIN_SPHERES` spheres must be declined), both query modes, with no prior hit, a
     /// far one, and one tying a sphere's hit with a lower or a higher id; at three scales.
     #[test]
+    #[cfg_attr(
+        not(prism_host_avx2),
+        ignore = "this CPU lacks AVX2: the 8-wide kernels never run here"
+    )]
     fn the_sphere_leaf_pass_is_the_scalar_loop() {
         if super::super::skipped_without_avx2() {
             return;
@@ -321,6 +325,10 @@ mod tests {
     /// A leaf with fewer than `MIN_SPHERES` spheres is left to the scalar loop, untested
     /// and uncounted; one with enough is taken, a plane among them included.
     #[test]
+    #[cfg_attr(
+        not(prism_host_avx2),
+        ignore = "this CPU lacks AVX2: the 8-wide kernels never run here"
+    )]
     fn leaves_of_few_spheres_are_left_alone() {
         if super::super::skipped_without_avx2() {
             return;
