@@ -1,8 +1,8 @@
 //! Where a pixel's camera rays go: the sampler's name (`--sampler`, the scene file's
-//! `sampler`) and the adaptive sampler's settings, one table of keys (`adaptive`). The
-//! patterns themselves live in `sampling`, the passes that trace them in `render`.
+//! `sampler`) and the adaptive sampler's five settings as one value (their keys, ranges
+//! and help are rows of the settings table, `options::settings`). The patterns themselves
+//! live in `sampling`, the passes that trace them in `render`.
 
-use super::keys::{Accepts, Key, Keyed, Value};
 use serde::{Deserialize, Serialize};
 
 /// Largest accepted adaptive depth: 64×64 squares per pixel.
@@ -83,8 +83,8 @@ named_kinds! {
     aliases { "neighborhood" => "neighbourhood" }
 }
 
-/// The adaptive sampler's settings: one table of keys, as `--adaptive` and the scene
-/// file's `adaptive_*` keys set them.
+/// The adaptive sampler's settings, as the scene file's `adaptive_*` keys and the
+/// command line's `--adaptive-*` flags set them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AdaptiveSpec {
     /// A square splits when, in some channel, its corners' display-encoded (sRGB) values
@@ -115,54 +115,6 @@ impl Default for AdaptiveSpec {
             texture_spp: DEFAULT_ADAPTIVE_TEXTURE_SPP,
         }
     }
-}
-
-impl Keyed for AdaptiveSpec {
-    const NAME: &'static str = "adaptive";
-    const SUMMARY: &'static str = "corner rays refined where they differ";
-    const KEYS: &'static [Key<Self>] = &[
-        Key {
-            name: "threshold",
-            help: "split where corners differ by more than this (display values)",
-            accepts: Accepts::Number { lo: 0.0, hi: 1.0 },
-            get: |o| Value::Number(o.threshold),
-            set: |o, v| o.threshold = v.number(),
-        },
-        Key {
-            name: "depth",
-            help: "levels of splitting below the pixel",
-            accepts: Accepts::Int {
-                lo: 0,
-                hi: MAX_DEPTH as usize,
-            },
-            get: |o| Value::Int(o.depth as usize),
-            set: |o, v| o.depth = v.int() as u32,
-        },
-        Key {
-            name: "rule",
-            help: "who decides a split: the pixel's corners or its neighbourhood's",
-            accepts: Accepts::Choice(&AdaptiveRule::NAMES),
-            get: |o| Value::Choice(o.rule.index()),
-            set: |o, v| o.rule = AdaptiveRule::ALL[v.choice()],
-        },
-        Key {
-            name: "jitter",
-            help: "0 on the lattice, 1 anywhere in the lattice cell",
-            accepts: Accepts::Number { lo: 0.0, hi: 1.0 },
-            get: |o| Value::Number(o.jitter),
-            set: |o, v| o.jitter = v.number(),
-        },
-        Key {
-            name: "texture-spp",
-            help: "samples (a square) of a textured pixel's stratified pass; 0 subdivides it",
-            accepts: Accepts::Int {
-                lo: 0,
-                hi: (MAX_TEXTURE_N * MAX_TEXTURE_N) as usize,
-            },
-            get: |o| Value::Int(o.texture_spp as usize),
-            set: |o, v| o.texture_spp = v.int() as u32,
-        },
-    ];
 }
 
 impl AdaptiveSpec {
@@ -209,31 +161,5 @@ impl AdaptiveSpec {
             "threshold {}, depth {}, {} rule, jitter {}, texture {} spp",
             self.threshold, self.depth, self.rule, self.jitter, self.texture_spp
         )
-    }
-}
-
-serde_as_text!(AdaptiveSpec);
-
-impl std::fmt::Display for AdaptiveSpec {
-    /// `adaptive` and the keys that differ from the defaults: `adaptive:depth=4`.
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        super::keys::write_spec(f, Self::NAME, &self.non_default_params())
-    }
-}
-
-impl std::str::FromStr for AdaptiveSpec {
-    type Err = String;
-
-    /// `adaptive[:KEY=VALUE,…]`, or the keys alone.
-    fn from_str(s: &str) -> Result<Self, String> {
-        let params = match s.split_once(':') {
-            Some((name, params)) if name.trim() == Self::NAME => Some(params),
-            None if s.trim() == Self::NAME => None,
-            _ => Some(s),
-        };
-        let mut spec = AdaptiveSpec::default();
-        super::keys::parse_params(s, params, |key, value| spec.set_param(key, value))?;
-        spec.validate()?;
-        Ok(spec)
     }
 }

@@ -35,8 +35,11 @@ impl AreaLights {
     /// The area lights of `scene`, `samples` points per shading point; None when nothing
     /// emits that light samples can aim at, or `samples` is 0.
     pub(super) fn new(scene: &Scene, samples: u32, seed: u64) -> Option<AreaLights> {
+        if samples == 0 {
+            return None;
+        }
         let emitters = Emitters::new(scene);
-        (!emitters.is_empty() && samples > 0).then_some(AreaLights {
+        (!emitters.is_empty()).then_some(AreaLights {
             emitters,
             samples,
             seed,
