@@ -1,7 +1,7 @@
 //! `prism`: the command-line front end. Parses arguments, loads or builds a scene, renders
 //! it with a progress bar, writes the image and reports statistics. Exit codes: 0 success,
 //! 1 bad input or failed output, 2 bad usage (from clap), 130 interrupted by Ctrl-C and 143
-//! by SIGTERM (the image still written with the finished tiles).
+//! by SIGTERM (the image still written: the rows its finished tiles reached).
 
 mod args;
 mod bench;
@@ -165,7 +165,7 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
 
     let interrupt = signals::listen();
     let bar = progress::RenderProgress::new(&options, args.quiet);
-    let result = prism::render::render(
+    let mut result = prism::render::render(
         &prepared,
         &options,
         &|t| bar.tile_done(t),
@@ -174,7 +174,33 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     bar.finish();
 
     let mut written = vec![args.output.clone()];
-    prism_io::output::write_image_as(&image_file, &result.film, format)?;
+    // An interrupted render writes only the rows its finished tiles reached (those below
+    // are black): at once at any size, rather than encoding a mostly black full image.
+    let rows = result.rows_reached.unwrap_or(options.height);
+    if !result.complete {
+        let what = match rows {
+            0 => "no tile was finished: the image is not written".to_string(),
+            n if n < options.height => format!(
+                "writing the {n} rows of {} that finished tiles reached (an image {}×{n}) \
+                 to {}",
+                options.height,
+                options.width,
+                args.output.display()
+            ),
+            _ => format!("writing the finished tiles to {}", args.output.display()),
+        };
+        eprintln!(
+            "prism: {} at {:.0} %; {what}",
+            interrupt.cause(),
+            bar.fraction_done() * 100.0
+        );
+    }
+    if rows == 0 {
+        written.clear();
+    } else {
+        keep_top_rows(&mut result.film, rows);
+        prism_io::output::write_image_as(&image_file, &result.film, format)?;
+    }
     if let (Some(path), Some(name)) = (&density_file, &args.density) {
         density::write(path, &result.rays, args.density_rays)?;
         written.push(name.clone());
@@ -211,12 +237,9 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
         }
     }
     if !result.complete {
-        eprintln!(
-            "prism: {} at {:.0} %; wrote the finished tiles to {}",
-            interrupt.cause(),
-            bar.fraction_done() * 100.0,
-            names(&written)
-        );
+        if !written.is_empty() {
+            eprintln!("prism: wrote {}", names(&written));
+        }
         return Ok(ExitCode::from(interrupt.exit_code()));
     }
     if !args.quiet {
@@ -229,6 +252,13 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Cuts the film to its first `rows` rows.
+fn keep_top_rows(film: &mut prism::render::Film, rows: u32) {
+    film.height = film.height.min(rows);
+    film.pixels
+        .truncate(film.height as usize * film.width as usize);
 }
 
 /// A note (not a warning: harmless, and machine-dependent) when more threads are asked for

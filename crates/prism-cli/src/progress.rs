@@ -30,7 +30,11 @@ impl RenderProgress {
         let bar = if quiet || !std::io::stderr().is_terminal() {
             ProgressBar::hidden()
         } else {
-            ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr())
+            let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+            // Drawn at once and kept turning: the first tiles of a large render can take
+            // a while, and a bar that is not there yet looks like a hang.
+            bar.enable_steady_tick(Duration::from_millis(250));
+            bar
         };
         bar.set_style(
             ProgressStyle::with_template(

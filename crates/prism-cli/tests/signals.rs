@@ -1,6 +1,8 @@
 //! Ctrl-C as `timeout -s INT` and a terminal deliver it: to the process and its group, so
 //! one keypress can arrive twice within microseconds. The render says at once that it is
-//! stopping, counts the pair as one, and still writes the finished tiles.
+//! stopping, counts the pair as one, and still writes the rows its finished tiles reached.
+//! A Ctrl-C answers within a tile, at any size: it stops the tiles in flight and writes
+//! only what was reached, rather than a full-size image of black.
 
 #![cfg(unix)]
 
@@ -45,11 +47,184 @@ fn two_signals_at_once_are_one_ctrl_c_and_the_work_is_written() {
     let code = child.wait().unwrap().code();
     assert_eq!(code, Some(130), "{first}{rest}");
     assert!(!rest.contains("stopped at once"), "{rest}");
-    assert!(
-        rest.contains("wrote the finished tiles to out.pfm"),
-        "{rest}"
-    );
+    assert!(rest.contains("prism: wrote out.pfm"), "{rest}");
     let bytes = fs::read(dir.join("out.pfm")).unwrap();
-    assert!(bytes.starts_with(b"PF\n1200 1200\n"), "a whole-size image");
+    assert!(bytes.starts_with(b"PF\n1200 "), "the image's full width");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// A render whose standard error is a terminal (so that it draws its progress bar),
+/// started in `dir`; the bar's output arrives on the returned channel.
+struct OnTerminal {
+    child: std::process::Child,
+    output: std::sync::mpsc::Receiver<String>,
+    seen: String,
+}
+
+impl OnTerminal {
+    #[allow(unsafe_code)]
+    fn spawn(dir: &std::path::Path, args: &[&str]) -> OnTerminal {
+        use std::os::fd::{FromRawFd, OwnedFd};
+        let (mut leader, mut follower) = (0, 0);
+        let size = libc::winsize {
+            ws_row: 24,
+            ws_col: 100,
+            ws_xpixel: 0,
+            ws_ypixel: 0,
+        };
+        // SAFETY: openpty writes two new descriptors into the integers it is given, which
+        // become owned here and nowhere else.
+        let opened = unsafe {
+            libc::openpty(
+                &mut leader,
+                &mut follower,
+                std::ptr::null_mut(),
+                std::ptr::null(),
+                &size,
+            )
+        };
+        assert_eq!(opened, 0, "openpty");
+        let (leader, follower) =
+            unsafe { (OwnedFd::from_raw_fd(leader), OwnedFd::from_raw_fd(follower)) };
+        let child = Command::new(common::bin())
+            .args(args)
+            .current_dir(dir)
+            .stdout(Stdio::null())
+            .stderr(Stdio::from(follower))
+            .spawn()
+            .unwrap();
+        let (send, output) = std::sync::mpsc::channel();
+        let mut leader = fs::File::from(leader);
+        std::thread::spawn(move || {
+            let mut buffer = [0u8; 4096];
+            // Ends with an error once the child has exited and the terminal is closed.
+            while let Ok(n @ 1..) = leader.read(&mut buffer) {
+                if send
+                    .send(String::from_utf8_lossy(&buffer[..n]).into_owned())
+                    .is_err()
+                {
+                    break;
+                }
+            }
+        });
+        OnTerminal {
+            child,
+            output,
+            seen: String::new(),
+        }
+    }
+
+    /// Waits until the terminal has shown `text`; false if the program ended first.
+    fn wait_for(&mut self, text: &str) -> bool {
+        while !self.seen.contains(text) {
+            match self.output.recv() {
+                Ok(more) => self.seen.push_str(&more),
+                Err(_) => return false,
+            }
+        }
+        true
+    }
+
+    fn signal(&self, name: &str) {
+        let ok = Command::new("kill")
+            .args([&format!("-{name}"), &self.child.id().to_string()])
+            .status()
+            .unwrap()
+            .success();
+        assert!(ok, "kill -{name}");
+    }
+
+    /// The exit code and everything the terminal showed.
+    fn finish(mut self) -> (Option<i32>, String) {
+        let code = self.child.wait().unwrap().code();
+        while let Ok(more) = self.output.recv() {
+            self.seen.push_str(&more);
+        }
+        (code, self.seen)
+    }
+}
+
+#[test]
+fn ctrl_c_stops_inside_a_large_tile() {
+    // One tile of the whole image on one thread, with packets and without: the tile takes
+    // far longer than a Ctrl-C may wait, so the render stops inside it, with no tile
+    // finished and nothing written.
+    for (name, packets) in [("packets", None), ("single-rays", Some("--no-packets"))] {
+        let dir = common::work_dir("signals", &format!("large-tile-{name}"));
+        let mut args = vec![
+            "render",
+            "-b",
+            "sphereflake",
+            "-W",
+            "2048",
+            "-H",
+            "2048",
+            "--spp",
+            "64",
+            "--tile-size",
+            "2048",
+            "--threads",
+            "1",
+            "-o",
+            "out.png",
+        ];
+        args.extend(packets);
+        let mut render = OnTerminal::spawn(&dir, &args);
+        assert!(render.wait_for("%"), "no progress bar: {}", render.seen);
+        render.signal("INT");
+        let (code, seen) = render.finish();
+        assert_eq!(code, Some(130), "{seen}");
+        assert!(
+            seen.contains("stopping: finishing the tiles in flight"),
+            "{seen}"
+        );
+        assert!(
+            seen.contains("no tile was finished: the image is not written"),
+            "{seen}"
+        );
+        assert!(!dir.join("out.png").exists(), "{seen}");
+        let _ = fs::remove_dir_all(&dir);
+    }
+}
+
+#[test]
+fn ctrl_c_at_the_start_of_a_huge_render_writes_only_the_rows_reached() {
+    let dir = common::work_dir("signals", "huge");
+    let mut render = OnTerminal::spawn(
+        &dir,
+        &[
+            "render",
+            "-W",
+            "20000",
+            "-H",
+            "20000",
+            "--threads",
+            "2",
+            "-o",
+            "out.png",
+        ],
+    );
+    assert!(render.wait_for("%"), "no progress bar: {}", render.seen);
+    render.signal("INT");
+    let (code, seen) = render.finish();
+    assert_eq!(code, Some(130), "{seen}");
+    assert!(
+        seen.contains("stopping: finishing the tiles in flight"),
+        "{seen}"
+    );
+    // What is written is said before it is written, and is a band from the top.
+    match seen.find("writing the ") {
+        Some(at) => {
+            assert!(seen[at..].contains("rows of 20000"), "{seen}");
+            let (width, height) = image::image_dimensions(dir.join("out.png")).unwrap();
+            assert_eq!(width, 20000);
+            assert!(height < 20000, "only the rows reached, not {height}");
+            assert!(seen.contains("prism: wrote out.png"), "{seen}");
+        }
+        None => {
+            assert!(seen.contains("no tile was finished"), "{seen}");
+            assert!(!dir.join("out.png").exists());
+        }
+    }
     let _ = fs::remove_dir_all(&dir);
 }

@@ -11,8 +11,10 @@
 mod encode;
 mod glyphs;
 pub mod heatmap;
+mod levels;
 mod read;
 
+pub use levels::Levels;
 pub use read::{parse_pfm, read_image, ReadError};
 
 use prism::render::Film;
@@ -152,9 +154,9 @@ fn write_all_synced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 /// The film as 8-bit display values through its transfer (the sRGB curve, or the values
 /// as they are), row-major RGB from the top-left: what PNG output contains.
 pub fn to_rgb8(film: &Film) -> Vec<u8> {
-    let t = film.transfer;
+    let levels = Levels::new(film.transfer);
     film.pixels
         .iter()
-        .flat_map(|c| [c.x, c.y, c.z].map(|v| t.encode8(v)))
+        .flat_map(|c| [c.x, c.y, c.z].map(|v| levels.encode8(v)))
         .collect()
 }

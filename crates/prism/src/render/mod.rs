@@ -171,6 +171,10 @@ pub struct RenderResult {
     pub stats: Stats,
     /// False when the render was cancelled; unrendered pixels are black.
     pub complete: bool,
+    /// The rows from the top of the image that finished work wrote into: every row of a
+    /// complete render; of a cancelled one, the rows above which every pixel is black
+    /// because no finished tile reached it. None where the sampler does not tell.
+    pub rows_reached: Option<u32>,
     /// Wall-clock time of the render, without the accelerator's build.
     pub render_time: Duration,
     /// Rays per pixel and their work, for the density and cost views; without counts
@@ -266,6 +270,8 @@ pub struct Traced {
     film: Film,
     stats: Stats,
     complete: bool,
+    /// See `RenderResult::rows_reached`.
+    rows_reached: Option<u32>,
     rays: RayCounts,
 }
 
@@ -277,6 +283,7 @@ impl Traced {
             film,
             stats: Stats::default(),
             complete: true,
+            rows_reached: None,
             rays: ray_counts(job.per_pixel_rays, width, height)?,
         })
     }
@@ -407,6 +414,10 @@ pub fn render_tiled<'a>(
         film,
         stats: traced.stats,
         complete: traced.complete,
+        rows_reached: match traced.complete {
+            true => Some(region.height()),
+            false => traced.rows_reached,
+        },
         render_time,
         rays: traced.rays,
         light_buffers,

@@ -18,7 +18,7 @@ use crate::accel::PACKET_MAX;
 use crate::math::{Color, Vec2};
 use crate::options::PACKET_EDGE;
 use crate::stats::Stats;
-use rayon::prelude::*;
+use rayon::iter::{ParallelBridge, ParallelIterator};
 use std::sync::Mutex;
 
 pub(super) fn render(
@@ -62,9 +62,14 @@ pub(super) fn render(
     // cost a page fault each (about 1.6 µs per 4 KiB on a virtual machine).
     let merged = Mutex::new(&mut out);
     let merge = || merged.lock().unwrap_or_else(|e| e.into_inner());
-    tile_list.par_iter().for_each(|tile| {
+    let unfinished = || merge().complete = false;
+    // The bottom of the lowest finished tile: rows below it hold no work.
+    let reached = std::sync::atomic::AtomicU32::new(0);
+    // Tiles are handed out in row-major order (not split in halves as a parallel slice
+    // is), so that a cancelled render has finished a band of rows from the top.
+    tile_list.iter().par_bridge().for_each(|tile| {
         if job.cancelled() {
-            merge().complete = false;
+            unfinished();
             return;
         }
         crate::integrator::begin_piece();
@@ -83,7 +88,10 @@ pub(super) fn render(
         });
         let mut offsets: Vec<Vec2> = Vec::with_capacity(count as usize);
         if job.packets {
-            let (m, r) = trace_packets(job, pattern, tile, &mut buffer, &mut stats);
+            let Some((m, r)) = trace_packets(job, pattern, tile, &mut buffer, &mut stats) else {
+                unfinished();
+                return;
+            };
             (means, rays) = (m, r);
             if !local {
                 means.clear();
@@ -93,6 +101,11 @@ pub(super) fn render(
             }
         } else {
             for y in tile.y0..tile.y1 {
+                // A row at a time, so that a cancel answers at once even in large tiles.
+                if job.cancelled() {
+                    unfinished();
+                    return;
+                }
                 for x in tile.x0..tile.x1 {
                     let before = stats;
                     offsets.clear();
@@ -115,6 +128,7 @@ pub(super) fn render(
         if let (Some(b), Some(sums)) = (&buffer, &sums) {
             sums.lock().unwrap_or_else(|e| e.into_inner()).merge(b);
         }
+        reached.fetch_max(tile.y1, std::sync::atomic::Ordering::Relaxed);
         (job.on_tile)(TileDone {
             pixels: tile.pixel_count(),
             rays: stats.total_rays(),
@@ -141,6 +155,7 @@ pub(super) fn render(
             }
         }
     });
+    out.rows_reached = Some(rows_reached(job, area, reached.into_inner()));
     if let Some(sums) = sums {
         out.film = sums
             .into_inner()
@@ -150,16 +165,31 @@ pub(super) fn render(
     Ok(out)
 }
 
+/// The rows of `area`, from its top, that finished tiles reaching down to image row
+/// `bottom` wrote into: theirs and those the filter spreads their samples over.
+fn rows_reached(job: &Job, area: Tile, bottom: u32) -> u32 {
+    if bottom == 0 {
+        return 0;
+    }
+    let reach = if job.filter.is_pixel_box() {
+        0
+    } else {
+        job.filter.radius.ceil() as u32
+    };
+    (bottom + reach).saturating_sub(area.y0).min(area.height())
+}
+
 /// Traces `tile` block by block with packets of camera rays; returns per pixel (row-major
 /// in the tile) the sum of its samples in sample order (unused when `buffer` takes the
 /// samples) and its rays, the packets' shared traversal split evenly among their pixels.
+/// None when the render was cancelled before the tile was done.
 fn trace_packets(
     job: &Job,
     pattern: &dyn PixelSamples,
     tile: &Tile,
     buffer: &mut Option<SplatBuffer>,
     stats: &mut Stats,
-) -> (Vec<Color>, Vec<PixelRays>) {
+) -> Option<(Vec<Color>, Vec<PixelRays>)> {
     let width = (tile.x1 - tile.x0) as usize;
     let pixels = tile.pixel_count() as usize;
     let mut sums = vec![Color::ZERO; pixels];
@@ -172,6 +202,10 @@ fn trace_packets(
     let mut block_offsets: Vec<Vec2> = Vec::with_capacity(PACKET_MAX * count);
     let mut colors: Vec<Color> = vec![Color::ZERO; PACKET_MAX * count];
     for by in (tile.y0..tile.y1).step_by(edge) {
+        // A row of blocks at a time, so that a cancel answers at once even in large tiles.
+        if job.cancelled() {
+            return None;
+        }
         for bx in (tile.x0..tile.x1).step_by(edge) {
             block.clear();
             block_offsets.clear();
@@ -220,5 +254,5 @@ fn trace_packets(
             }
         }
     }
-    (sums, rays)
+    Some((sums, rays))
 }

@@ -45,6 +45,7 @@ impl IntegratorMethod for BeamMethod {
             film: beam.film,
             stats: beam.stats,
             complete: beam.complete,
+            rows_reached: beam.complete.then_some(options.height),
             render_time: beam.render_time,
             rays: ray_counts(options.per_pixel_rays, options.width, options.height)?,
             light_buffers: Vec::new(),
