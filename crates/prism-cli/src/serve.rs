@@ -1,5 +1,6 @@
 //! `prism serve`: the live viewer (crate prism-serve). Loads the scene as `render` does,
-//! starts the server, prints the page's address and serves until Ctrl-C.
+//! starts the server, prints the page's address and serves until Ctrl-C or SIGTERM (also
+//! when a script started it in the background), then says so and stops the server.
 
 use crate::args::RenderArgs;
 use anyhow::{Context, Result};
@@ -118,6 +119,16 @@ pub(crate) fn run(args: &ServeArgs) -> Result<ExitCode> {
     }
     use std::io::Write;
     std::io::stdout().flush()?;
-    server.wait();
-    Ok(ExitCode::SUCCESS)
+    let Some(code) = crate::signals::wait_for_stop() else {
+        server.wait();
+        return Ok(ExitCode::SUCCESS);
+    };
+    let cause = if code == 143 {
+        "terminated (SIGTERM)"
+    } else {
+        "interrupted"
+    };
+    eprintln!("prism: {cause}: stopping the viewer");
+    server.stop();
+    Ok(ExitCode::from(code))
 }

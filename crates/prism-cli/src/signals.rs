@@ -109,6 +109,29 @@ fn install(interrupt: &Interrupt) {
     });
 }
 
+/// Blocks until SIGINT or SIGTERM comes and returns the exit code it calls for (130 or
+/// 143): how a command that runs until stopped (the viewer) ends. A process started in
+/// the background by a script begins with SIGINT ignored; listening here takes it back,
+/// so that `kill -INT` stops it as Ctrl-C does. None if the signals cannot be listened to
+/// (they then keep their default action, ending the process).
+#[cfg(unix)]
+pub(crate) fn wait_for_stop() -> Option<u8> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]).ok()?;
+    let signal = signals.forever().next()?;
+    Some(128 + signal as u8)
+}
+
+#[cfg(not(unix))]
+pub(crate) fn wait_for_stop() -> Option<u8> {
+    let (send, receive) = std::sync::mpsc::channel();
+    ctrlc::set_handler(move || {
+        let _ = send.send(());
+    })
+    .ok()?;
+    receive.recv().ok().map(|()| 130)
+}
+
 #[cfg(not(unix))]
 fn install(interrupt: &Interrupt) {
     let interrupt = interrupt.clone();

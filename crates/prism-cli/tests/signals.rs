@@ -228,3 +228,59 @@ fn ctrl_c_at_the_start_of_a_huge_render_writes_only_the_rows_reached() {
     }
     let _ = fs::remove_dir_all(&dir);
 }
+
+/// `prism serve` started as a script starts it, in the background of a shell without job
+/// control (which starts it with SIGINT ignored), ends on SIGINT and on SIGTERM, saying so.
+#[test]
+fn serve_started_in_the_background_stops_on_sigint_and_sigterm() {
+    for (signal, code, said) in [
+        ("INT", 130, "prism: interrupted: stopping the viewer"),
+        (
+            "TERM",
+            143,
+            "prism: terminated (SIGTERM): stopping the viewer",
+        ),
+    ] {
+        let dir = common::work_dir("signals", &format!("serve-{signal}"));
+        // The shell prints the server's process id, waits for it and prints its exit code.
+        let script = "\"$0\" serve -b cornell --port 0 -W 64 -H 36 2>err.txt & \
+                      echo \"pid $!\"; wait $!; echo \"exit $?\"";
+        let mut shell = Command::new("sh")
+            .args(["-c", script])
+            .arg(common::bin())
+            .current_dir(&dir)
+            .stdout(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut stdout = BufReader::new(shell.stdout.take().unwrap());
+        let mut lines = Vec::new();
+        // Wait for the pid, then for the address the server prints once it listens.
+        while !lines
+            .iter()
+            .any(|l: &String| l.starts_with("prism: viewing"))
+        {
+            let mut line = String::new();
+            assert!(stdout.read_line(&mut line).unwrap() > 0, "{lines:?}");
+            lines.push(line);
+        }
+        let pid = lines
+            .iter()
+            .find_map(|l| l.strip_prefix("pid "))
+            .unwrap()
+            .trim()
+            .to_string();
+        let ok = Command::new("kill")
+            .args([&format!("-{signal}"), &pid])
+            .status()
+            .unwrap()
+            .success();
+        assert!(ok, "kill -{signal} {pid}");
+        let mut rest = String::new();
+        stdout.read_to_string(&mut rest).unwrap();
+        shell.wait().unwrap();
+        assert_eq!(rest.trim(), format!("exit {code}"), "{lines:?}");
+        let err = fs::read_to_string(dir.join("err.txt")).unwrap();
+        assert!(err.contains(said), "{err}");
+        let _ = fs::remove_dir_all(&dir);
+    }
+}
