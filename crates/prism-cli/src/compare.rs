@@ -34,7 +34,9 @@ pub(crate) fn run(args: &CompareArgs) -> Result<ExitCode> {
     if !(args.ppd > 0.0 && args.ppd.is_finite()) {
         anyhow::bail!("--ppd must be a positive number, got {}", args.ppd);
     }
-    if let Some(path) = &args.flip_map {
+    // An output named by a symbolic link is written where the link points.
+    let flip_map = args.flip_map.as_deref().map(crate::outputs::through_links);
+    if let Some(path) = &flip_map {
         crate::outputs::Outputs::default().add(path, &["png"])?;
     }
     let reference = read_image(&args.reference)?;
@@ -73,7 +75,7 @@ pub(crate) fn run(args: &CompareArgs) -> Result<ExitCode> {
             c.flip, c.flip_max, args.ppd
         );
     }
-    if let Some(path) = &args.flip_map {
+    if let Some(path) = &flip_map {
         let map = metrics::flip_map(&reference, &test, args.ppd)?;
         let caption = format!("FLIP ERROR: MEAN {:.4}, MAX {:.3}", c.flip, c.flip_max);
         let image = heatmap(

@@ -67,7 +67,9 @@ pub(crate) fn run(args: &ReferenceArgs) -> Result<ExitCode> {
         .validate()
         .map_err(|e| anyhow::anyhow!("invalid option: {e}"))?;
     prism_io::output::ImageFormat::from_path(&args.output)?;
-    crate::outputs::check_writable(&args.output)?;
+    // An output named by a symbolic link is written where the link points.
+    let output = crate::outputs::through_links(&args.output);
+    crate::outputs::check_writable(&output)?;
     let start = std::time::Instant::now();
     // The closed form where the scene is the checkerboard, else the beam tracer.
     let analytic = if args.beam {
@@ -88,7 +90,11 @@ pub(crate) fn run(args: &ReferenceArgs) -> Result<ExitCode> {
         Err(e) => return Err(e.into()),
     };
     film.transfer = options.transfer;
-    prism_io::output::write_image(&args.output, &film)?;
+    prism_io::output::write_image_as(
+        &output,
+        &film,
+        prism_io::output::ImageFormat::from_path(&args.output)?,
+    )?;
     if !args.quiet {
         eprintln!(
             "prism: wrote {} ({name}, {width}×{height}, {how}, exact to {:.1e} per pixel, \

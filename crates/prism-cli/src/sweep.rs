@@ -248,7 +248,7 @@ pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     // Learn now, not after the renders, that the folder cannot take the files.
-    crate::outputs::check_writable(&args.out.join("summary.txt"))?;
+    crate::outputs::check_writable(&output(&args.out, "summary.txt"))?;
     let prepared = scene.prepare_for(&base);
     let say = |msg: String| {
         if !args.quiet {
@@ -332,7 +332,7 @@ pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
             None => None,
         };
         if args.keep_images {
-            prism_io::output::write_image(&args.out.join(run.file_name()), &film)?;
+            prism_io::output::write_image(&output(&args.out, run.file_name()), &film)?;
         }
         let m = Measured {
             camera_per_pixel: stats.primary_rays as f64 / pixels,
@@ -360,17 +360,17 @@ pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
         results.push(m);
     }
 
-    write_csv(&args.out.join("sweep.csv"), &name, &results)?;
+    write_csv(&output(&args.out, "sweep.csv"), &name, &results)?;
     let title = format!("{name}, {}×{}", base.width, base.height);
     write_plot(
-        &args.out.join("sweep-rmse.svg"),
+        &output(&args.out, "sweep-rmse.svg"),
         &format!("RMSE against the reference: {title}"),
         "RMSE (linear)",
         &results,
         |m| m.all.rmse,
     )?;
     write_plot(
-        &args.out.join("sweep-flip.svg"),
+        &output(&args.out, "sweep-flip.svg"),
         &format!("Mean FLIP against the reference: {title}"),
         "mean FLIP",
         &results,
@@ -378,7 +378,7 @@ pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
     )?;
     if far.is_some() {
         write_plot(
-            &args.out.join("sweep-far-rmse.svg"),
+            &output(&args.out, "sweep-far-rmse.svg"),
             &format!("RMSE in the far field (squares < ½ pixel): {title}"),
             "far-field RMSE (linear)",
             &results,
@@ -386,8 +386,13 @@ pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
         )?;
     }
     let summary = summary(&name, &base, &reference_note, &results);
-    prism_io::output::write_atomic(&args.out.join("summary.txt"), summary.as_bytes())
-        .with_context(|| format!("cannot write {}", args.out.join("summary.txt").display()))?;
+    prism_io::output::write_atomic(&output(&args.out, "summary.txt"), summary.as_bytes())
+        .with_context(|| {
+            format!(
+                "cannot write {}",
+                output(&args.out, "summary.txt").display()
+            )
+        })?;
     print!("{summary}");
     Ok(ExitCode::SUCCESS)
 }
@@ -442,6 +447,12 @@ fn render_film(
 ) -> Result<(Film, prism::Stats, prism::render::RayCounts)> {
     let r = render(prepared, options, &|_| {}, &AtomicBool::new(false))?;
     Ok((r.film, r.stats, r.rays))
+}
+
+/// The file `name` of the output folder; one that is a symbolic link is written where the
+/// link points.
+fn output(folder: &Path, name: impl AsRef<Path>) -> PathBuf {
+    crate::outputs::through_links(&folder.join(name))
 }
 
 fn write_csv(path: &Path, scene: &str, results: &[Measured]) -> Result<()> {

@@ -252,6 +252,71 @@ fn sweep_writes_a_table_plots_and_a_summary() {
     assert!(err.contains("not a square"), "{err}");
 }
 
+/// `reference -o`, `compare --flip-map` and the files of `sweep -o` named by symbolic
+/// links are written where the links point, and the links stay.
+#[cfg(unix)]
+#[test]
+fn outputs_named_by_symbolic_links_are_written_to_their_targets() {
+    let dir = work_dir("output-links");
+    fs::create_dir_all(dir.join("kept/out")).unwrap();
+    fs::create_dir(dir.join("out")).unwrap();
+    let links = [
+        ("ref.pfm", "kept/ref.pfm"),
+        ("flip.png", "kept/flip.png"),
+        ("out/summary.txt", "../kept/out/summary.txt"),
+        ("out/sweep.csv", "../kept/out/sweep.csv"),
+    ];
+    for (link, target) in links {
+        std::os::unix::fs::symlink(target, dir.join(link)).unwrap();
+    }
+    run(
+        &dir,
+        &["reference", "-q", "-W", "16", "-H", "8", "-o", "ref.pfm"],
+        0,
+    );
+    let one = [
+        "render",
+        "-b",
+        "checkerboard",
+        "-q",
+        "-W",
+        "16",
+        "-H",
+        "8",
+        "-o",
+        "one.pfm",
+    ];
+    run(&dir, &one, 0);
+    run(
+        &dir,
+        &["compare", "ref.pfm", "one.pfm", "--flip-map", "flip.png"],
+        0,
+    );
+    let sweep = [
+        "sweep",
+        "-q",
+        "-W",
+        "12",
+        "-H",
+        "8",
+        "--samplers",
+        "grid",
+        "--spp",
+        "1",
+        "-o",
+        "out",
+    ];
+    run(&dir, &sweep, 0);
+    for (link, target) in links {
+        let meta = fs::symlink_metadata(dir.join(link)).unwrap();
+        assert!(meta.file_type().is_symlink(), "{link} is still a link");
+        let written = dir.join(link).parent().unwrap().join(target);
+        assert!(fs::metadata(&written).unwrap().len() > 0, "{target}");
+    }
+    let reference = prism_io::output::read_image(&dir.join("kept/ref.pfm")).unwrap();
+    assert_eq!((reference.width, reference.height), (16, 8));
+}
+
 #[test]
 fn patterns_draws_every_sampler() {
     let dir = work_dir("patterns");
