@@ -1,5 +1,8 @@
-//! The README's "Using it" examples run as written, from a copy of the repository's
-//! scenes, and the first screen's two commands are still the ones a newcomer needs.
+//! Every shell block of README.md and docs/*.md runs as written, from a copy of the
+//! repository's scenes (one work folder per file, the blocks in order), except the blocks
+//! marked `<!-- not run: REASON -->` on the line before the fence (servers, builds,
+//! benchmarks, minutes of work); and the first screen's two commands are still the ones
+//! a newcomer needs. The Python blocks are run by python/tests/test_docs.py.
 
 mod common;
 
@@ -89,28 +92,130 @@ fn the_first_screen_gives_the_render_and_test_commands() {
     );
 }
 
-#[test]
-fn every_using_it_example_runs_as_written() {
-    let dir = common::work_dir("readme", "examples");
-    copy_dir(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes"),
-        &dir.join("scenes"),
-    );
-    let lines = examples(&readme(), "## Using it");
-    assert!(lines.len() >= 10, "the block has the examples: {lines:?}");
-    for line in &lines {
-        let w = words(line);
-        assert_eq!(w[0], "prism", "an example runs prism: {line}");
-        let args: Vec<&str> = w[1..].iter().map(String::as_str).collect();
-        let out = common::prism(&dir, &args);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(
-            out.status.success(),
-            "README example `{line}` failed ({:?}):\n{err}",
-            out.status
-        );
-        assert!(!err.contains("warning"), "`{line}` warns:\n{err}");
+/// A fenced shell block of a Markdown file: where it starts, its command lines (comments
+/// and blank lines removed), and the reason it is not run, if it is marked so.
+struct ShellBlock {
+    line: usize,
+    commands: Vec<String>,
+    not_run: Option<String>,
+}
+
+const NOT_RUN: &str = "<!-- not run:";
+
+/// The ```sh (or bash, shell) blocks of `text`. A block without a language that starts
+/// with a prism command is reported as an error, so that no example escapes the test.
+fn shell_blocks(text: &str) -> Result<Vec<ShellBlock>, String> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut blocks = Vec::new();
+    let mut i = 0;
+    while i < lines.len() {
+        let Some(lang) = lines[i].trim_start().strip_prefix("```") else {
+            i += 1;
+            continue;
+        };
+        let start = i;
+        let end = (i + 1..lines.len())
+            .find(|&j| lines[j].trim_start().starts_with("```"))
+            .ok_or(format!("line {}: the block does not end", start + 1))?;
+        let commands: Vec<String> = lines[start + 1..end]
+            .iter()
+            .map(|l| l.split("  #").next().unwrap_or("").trim().to_string())
+            .filter(|l| !l.is_empty() && !l.starts_with('#'))
+            .collect();
+        let shell = matches!(lang.trim(), "sh" | "bash" | "shell");
+        if lang.trim().is_empty() && commands.iter().any(|c| c.starts_with("prism ")) {
+            return Err(format!(
+                "line {}: a block of prism commands without a language; mark it ```sh",
+                start + 1
+            ));
+        }
+        if shell {
+            let not_run = start
+                .checked_sub(1)
+                .and_then(|p| lines[p].trim().strip_prefix(NOT_RUN))
+                .map(|r| r.trim_end_matches("-->").trim().to_string());
+            if not_run.as_deref() == Some("") {
+                return Err(format!("line {}: `not run` needs a reason", start + 1));
+            }
+            blocks.push(ShellBlock {
+                line: start + 1,
+                commands,
+                not_run,
+            });
+        }
+        i = end + 1;
     }
+    Ok(blocks)
+}
+
+/// README.md and every docs/*.md (not the journal), by name.
+fn documents() -> Vec<(String, String)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut files = vec![("README.md".to_string(), readme())];
+    let mut docs: Vec<_> = fs::read_dir(root.join("docs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .collect();
+    docs.sort();
+    for path in docs {
+        let name = format!("docs/{}", path.file_name().unwrap().to_string_lossy());
+        files.push((name, fs::read_to_string(&path).unwrap()));
+    }
+    files
+}
+
+#[test]
+fn every_shell_block_of_the_docs_runs_as_written() {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let using_it = examples(&readme(), "## Using it");
+    assert!(using_it.len() >= 10, "the README's examples: {using_it:?}");
+    let mut ran = 0;
+    for (name, text) in documents() {
+        let blocks = shell_blocks(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let dir = common::work_dir("readme", &name.replace(['/', '.'], "-"));
+        copy_dir(&scenes, &dir.join("scenes"));
+        for block in blocks.iter().filter(|b| b.not_run.is_none()) {
+            for line in &block.commands {
+                let w = words(line);
+                assert_eq!(
+                    w[0], "prism",
+                    "{name}:{}: `{line}` is not a prism command: mark the block \
+                     `{NOT_RUN} REASON -->` or run it elsewhere",
+                    block.line
+                );
+                let args: Vec<&str> = w[1..].iter().map(String::as_str).collect();
+                let out = common::prism(&dir, &args);
+                let err = String::from_utf8_lossy(&out.stderr);
+                assert!(
+                    out.status.success(),
+                    "{name}:{}: `{line}` failed ({:?}):\n{err}",
+                    block.line,
+                    out.status
+                );
+                assert!(!err.contains("warning"), "`{line}` warns:\n{err}");
+                ran += 1;
+            }
+        }
+        let _ = fs::remove_dir_all(&dir);
+    }
+    assert!(ran > using_it.len(), "the docs' blocks ran too: {ran}");
+}
+
+#[test]
+fn blocks_are_found_and_marks_need_a_reason() {
+    let text = "a\n```sh\nprism list  # all\n\n```\n<!-- not run: a server -->\n```sh\n\
+                prism serve\n```\n```toml\nx = 1\n```\n";
+    let blocks = shell_blocks(text).unwrap();
+    assert_eq!(blocks.len(), 2);
+    assert_eq!(
+        (blocks[0].line, &blocks[0].commands[..]),
+        (2, &["prism list".to_string()][..])
+    );
+    assert_eq!(blocks[1].not_run.as_deref(), Some("a server"));
+    assert!(shell_blocks("<!-- not run: -->\n```sh\nprism\n```\n").is_err());
+    assert!(shell_blocks("```\nprism render\n```\n").is_err());
+    assert!(shell_blocks("```sh\nprism render\n").is_err());
 }
 
 #[test]

@@ -41,7 +41,7 @@ pub(crate) struct BenchArgs {
     #[arg(long = "method", value_name = "SPEC")]
     pub method: Vec<String>,
 
-    /// Also run every .nff file in DIR (e.g. ../shared/scenes/spd).
+    /// Also run every .nff file in DIR (e.g. a folder of Haines' SPD scenes).
     #[arg(long, value_name = "DIR")]
     pub spd: Option<PathBuf>,
 
