@@ -2,7 +2,9 @@
 //! job): a parallel build is the serial one node for node, leaves and depth stay within
 //! their limits, reinsertion never raises the SAH cost and lowers it where the input tree
 //! is poor, empty or one-primitive inputs work, and a tree built for rays from inside the
-//! scene spares such rays the big leaves a closed room's walls make.
+//! scene spares such rays the big leaves a closed room's walls make. PLOC's trees cost
+//! little more than the binned SAH's; SBVH's spatial splits lower the cost where long
+//! triangles cross a scene, within their duplication budget.
 
 mod common;
 
@@ -278,4 +280,120 @@ fn a_tree_for_rays_from_inside_spares_them_the_rooms_big_leaves() {
         3 * tests_inside < tests_outside,
         "triangle tests: {tests_inside} built for rays from inside, {tests_outside} from outside"
     );
+}
+
+/// The primitives a BVH takes: all but the unbounded planes of a built-in scene.
+fn bounded(g: &Geometry) -> Vec<u32> {
+    all_prims(g)
+        .into_iter()
+        .filter(|&p| g.bounds(p).is_some())
+        .collect()
+}
+
+fn sah_cost(g: &Geometry, options: &BvhOptions) -> f64 {
+    Bvh::build(g, bounded(g), options).info().sah_cost.unwrap()
+}
+
+/// PLOC's clustering by surface area makes trees near the binned SAH's, far better than
+/// LBVH's splits on the same Morton order; a wider search radius never costs much more.
+#[test]
+fn ploc_trees_are_close_to_binned_sah_trees() {
+    let knot = prism::scene::builtin::find("sphereflake").unwrap().geometry;
+    for (name, g) in [("skewed", skewed_scene(50_000)), ("sphereflake", knot)] {
+        let binned = sah_cost(&g, &options(BvhBuilder::Binned, false));
+        let lbvh = sah_cost(&g, &options(BvhBuilder::Lbvh, false));
+        let ploc = sah_cost(&g, &options(BvhBuilder::Ploc, false));
+        assert!(
+            ploc <= 1.15 * binned && ploc < lbvh,
+            "{name}: PLOC {ploc}, binned {binned}, LBVH {lbvh}"
+        );
+        let narrow = sah_cost(
+            &g,
+            &BvhOptions {
+                radius: 1,
+                ..options(BvhBuilder::Ploc, false)
+            },
+        );
+        assert!(
+            ploc <= 1.02 * narrow,
+            "{name}: radius 16 {ploc}, radius 1 {narrow}"
+        );
+    }
+}
+
+/// A knot crossed by long diagonal slivers: their boxes span the scene, so object splits
+/// leave them near the root, where every ray meets them.
+fn knot_crossed_by_slivers() -> Geometry {
+    let mut g = Geometry::default();
+    g.add_mesh(generate::torus_knot(20_000), 0);
+    let (mut positions, mut indices) = (Vec::new(), Vec::new());
+    for i in 0..40u32 {
+        let t = i as f32 / 40.0;
+        let a = Vec3::new(-3.0, -3.0 + 6.0 * t, -3.0);
+        let b = Vec3::new(3.0, 3.0 - 6.0 * t, 3.0);
+        let k = positions.len() as u32;
+        positions.extend([a, b, b + Vec3::new(0.0, 0.05, 0.0)]);
+        indices.push([k, k + 1, k + 2]);
+    }
+    g.add_mesh(
+        prism::geometry::TriangleMesh::new(positions, indices, None, None).unwrap(),
+        0,
+    );
+    g
+}
+
+/// Spatial splits cut the slivers into pieces with small boxes: a much lower SAH cost
+/// for few duplicates, within the budget; with no budget, or no overlap worth splitting,
+/// the tree is the binned SAH's. (On the built-in soups `slivers` and `shards` the greedy
+/// SAH finds no spatial split worth its duplicates: docs/acceleration.md.)
+#[test]
+fn sbvh_splits_space_where_objects_overlap_within_its_budget() {
+    let g = knot_crossed_by_slivers();
+    let n = g.primitives.len();
+    let binned = Bvh::build(&g, all_prims(&g), &options(BvhBuilder::Binned, false)).info();
+    for budget in [0.05, 0.3] {
+        let o = BvhOptions {
+            budget,
+            ..options(BvhBuilder::Sbvh, false)
+        };
+        let tree = Bvh::build(&g, all_prims(&g), &o);
+        let sbvh = tree.info();
+        assert!(
+            sbvh.sah_cost.unwrap() <= 0.7 * binned.sah_cost.unwrap(),
+            "budget {budget}: SBVH {:?}, binned {:?}",
+            sbvh.sah_cost,
+            binned.sah_cost
+        );
+        assert_eq!(sbvh.primitives, n, "every primitive listed");
+        let references = tree.primitive_count();
+        assert!(
+            references > n && references as f64 <= (1.0 + budget) as f64 * n as f64,
+            "budget {budget}: {references} references for {n} primitives"
+        );
+    }
+    for name in ["slivers", "shards"] {
+        let g = prism::scene::builtin::find(name).unwrap().geometry;
+        let binned = Bvh::build(&g, bounded(&g), &options(BvhBuilder::Binned, false)).info();
+        for no_spatial in [
+            BvhOptions {
+                budget: 0.0,
+                ..options(BvhBuilder::Sbvh, false)
+            },
+            BvhOptions {
+                alpha: 1.0,
+                ..options(BvhBuilder::Sbvh, false)
+            },
+        ] {
+            let tree = Bvh::build(&g, bounded(&g), &no_spatial);
+            let info = tree.info();
+            assert_eq!(tree.primitive_count(), bounded(&g).len(), "{name}");
+            assert_eq!(
+                (info.nodes, info.leaves, info.depth, info.sah_cost),
+                (binned.nodes, binned.leaves, binned.depth, binned.sah_cost),
+                "{name}: budget {}, alpha {}",
+                no_spatial.budget,
+                no_spatial.alpha
+            );
+        }
+    }
 }

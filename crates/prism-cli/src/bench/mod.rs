@@ -4,6 +4,7 @@
 
 mod chart;
 mod csv;
+mod frontier;
 mod json;
 mod results;
 mod scenes;
@@ -76,6 +77,11 @@ pub(crate) struct BenchArgs {
     /// Write a bar chart of primary-ray throughput (SVG).
     #[arg(long, value_name = "FILE")]
     pub chart: Option<PathBuf>,
+
+    /// Write a chart of build time against trace time per scene, the Pareto front of the
+    /// methods marked (SVG); e.g. with every BVH builder as the methods.
+    #[arg(long, value_name = "FILE")]
+    pub frontier: Option<PathBuf>,
 
     /// Also time shadow methods (as `render --shadows` takes them, separated by ';') on
     /// each scene's shadow rays with the default BVH, in turns, e.g.
@@ -154,6 +160,7 @@ pub(crate) fn run(args: &BenchArgs) -> Result<ExitCode> {
         (&args.csv, &[][..]),
         (&args.json, &[][..]),
         (&args.chart, &["svg"][..]),
+        (&args.frontier, &["svg"][..]),
     ] {
         if let Some(p) = path {
             outputs.add(p, ext)?;
@@ -243,6 +250,16 @@ pub(crate) fn run(args: &BenchArgs) -> Result<ExitCode> {
             if threads == 1 { "" } else { "s" }
         );
         outputs.push((p, chart::svg(&results, &method_names, &title).into_bytes()));
+    }
+    if let Some(p) = &args.frontier {
+        let title = format!(
+            "Build time against trace time by scene and method ({size} px, {threads} thread{})",
+            if threads == 1 { "" } else { "s" }
+        );
+        outputs.push((
+            p,
+            frontier::svg(&results, &method_names, &title).into_bytes(),
+        ));
     }
     for (path, bytes) in outputs {
         prism_io::output::write_atomic(path, &bytes)?;

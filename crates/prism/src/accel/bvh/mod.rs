@@ -97,9 +97,10 @@ pub struct Bvh {
     prims: Vec<u32>,
     builder: BvhBuilder,
     reinserted: bool,
-    /// Whether triangles were split into several references before the build (so `prims`
-    /// may hold an id more than once).
+    /// Whether triangles were split into several references before the build.
     presplit: bool,
+    /// Whether `prims` may hold an id more than once (pre-split or spatial splits).
+    duplicates: bool,
     /// Whether the binned SAH expected rays from inside the scene (`RayOrigins::Inside`).
     inside: bool,
 }
@@ -128,6 +129,7 @@ impl Bvh {
             builder: options.builder,
             reinserted: options.reinsert,
             presplit: options.presplit > 0.0,
+            duplicates: options.presplit > 0.0 || options.builder.clips_triangles(),
             inside: options.for_rays_from_inside(),
         }
     }
@@ -143,7 +145,7 @@ impl Bvh {
     }
 
     fn distinct_primitives(&self) -> usize {
-        if !self.presplit {
+        if !self.duplicates {
             return self.prims.len();
         }
         let mut ids = self.prims.clone();

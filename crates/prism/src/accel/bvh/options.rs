@@ -20,6 +20,13 @@ pub enum BvhBuilder {
     Sweep,
     /// Linear BVH from sorted 63-bit Morton codes of the centroids (Lauterbach et al. 2009).
     Lbvh,
+    /// Parallel locally-ordered clustering (Meister & Bittner 2018): Morton-ordered
+    /// clusters merged bottom up with their nearest neighbours within `radius`.
+    Ploc,
+    /// Spatial-split BVH (Stich, Friedrich & Dietrich 2009): binned SAH choosing between
+    /// object splits and splits of space that clip triangles, within a duplication
+    /// `budget`.
+    Sbvh,
 }
 
 impl BvhBuilder {
@@ -27,6 +34,11 @@ impl BvhBuilder {
     /// never by build position.
     pub(super) fn moves_references_only(self) -> bool {
         matches!(self, BvhBuilder::Median | BvhBuilder::Binned)
+    }
+
+    /// Whether the builder clips triangles (and so may list a primitive more than once).
+    pub(super) fn clips_triangles(self) -> bool {
+        self == BvhBuilder::Sbvh
     }
 }
 
@@ -36,6 +48,8 @@ named_kinds! {
         Binned => "binned",
         Sweep => "sweep",
         Lbvh => "lbvh",
+        Ploc => "ploc",
+        Sbvh => "sbvh",
     }
 }
 
@@ -47,6 +61,8 @@ impl BvhBuilder {
             BvhBuilder::Binned => "binned SAH",
             BvhBuilder::Sweep => "full-sweep SAH",
             BvhBuilder::Lbvh => "LBVH, 63-bit Morton",
+            BvhBuilder::Ploc => "PLOC",
+            BvhBuilder::Sbvh => "SBVH, spatial splits",
         }
     }
 }
@@ -120,6 +136,13 @@ pub struct BvhOptions {
     pub builder: BvhBuilder,
     /// Bins per axis for the binned SAH sweep.
     pub bins: usize,
+    /// How many clusters each way PLOC searches for a cluster's nearest neighbour.
+    pub radius: usize,
+    /// SBVH's duplicated references at most, per primitive.
+    pub budget: f32,
+    /// SBVH costs a spatial split where an object split's children overlap by more than
+    /// this share of the root's surface area.
+    pub alpha: f32,
     /// Leaves never hold more primitives than this (unless they cannot be split).
     pub max_leaf_size: usize,
     /// Cost of a binary node relative to one primitive test, for rays from outside; a
@@ -153,6 +176,9 @@ impl Default for BvhOptions {
         BvhOptions {
             builder: BvhBuilder::Binned,
             bins: 16,
+            radius: 16,
+            budget: 0.3,
+            alpha: 1e-5,
             max_leaf_size: 8,
             traversal_cost: 1.0,
             reinsert: false,
@@ -212,6 +238,27 @@ impl Keyed for BvhOptions {
             accepts: Accepts::Int { lo: 2, hi: 256 },
             get: |o| Value::Int(o.bins),
             set: |o, v| o.bins = v.int(),
+        },
+        Key {
+            name: "radius",
+            help: "clusters searched each way for a nearest neighbour by PLOC",
+            accepts: Accepts::Int { lo: 1, hi: 256 },
+            get: |o| Value::Int(o.radius),
+            set: |o, v| o.radius = v.int(),
+        },
+        Key {
+            name: "budget",
+            help: "references SBVH's spatial splits may add, per primitive",
+            accepts: Accepts::Number { lo: 0.0, hi: 4.0 },
+            get: |o| Value::Number(o.budget),
+            set: |o, v| o.budget = v.number(),
+        },
+        Key {
+            name: "alpha",
+            help: "overlap of an object split's children, as a share of the root's area, above which SBVH tries spatial splits",
+            accepts: Accepts::Number { lo: 0.0, hi: 1.0 },
+            get: |o| Value::Number(o.alpha),
+            set: |o, v| o.alpha = v.number(),
         },
         Key {
             name: "leaf",

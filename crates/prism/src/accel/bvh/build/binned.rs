@@ -644,6 +644,7 @@ mod tests {
                         let prims = BuildPrims {
                             bounds: Vec::new(),
                             test_block,
+                            triangles: Vec::new(),
                         };
                         for inside in [false, true] {
                             let rule = BinnedSah {

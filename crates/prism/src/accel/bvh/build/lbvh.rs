@@ -21,7 +21,24 @@ pub(super) fn build(
     traversal_cost: f32,
     parallel_threshold: usize,
 ) -> Vec<Node> {
-    let centroids: Vec<Vec3> = prims.bounds.par_iter().map(Aabb::center).collect();
+    let codes = morton_order(prims, order);
+    let hierarchy = Hierarchy {
+        prims,
+        order,
+        codes: &codes,
+        max_leaf_size: max_leaf_size.max(1),
+        traversal_cost,
+        parallel_threshold: parallel_threshold.max(max_leaf_size),
+    };
+    hierarchy.block(0, codes.len(), 1).into_nodes()
+}
+
+/// Sorts `order` (build positions, `prims.bounds[order[i]]` the box of the i-th) by the
+/// Morton codes of their centroids in the centroids' bounds, and returns the sorted codes.
+pub(super) fn morton_order(prims: &BuildPrims, order: &mut [u32]) -> Vec<u64> {
+    let centroids: Vec<Vec3> = (order.par_iter())
+        .map(|&i| prims.bounds[i as usize].center())
+        .collect();
     let centroid_bounds = centroids
         .par_iter()
         .fold(|| Aabb::EMPTY, |b, &c| b.union_point(c))
@@ -33,19 +50,8 @@ pub(super) fn build(
         .collect();
     // (code, position) pairs are unique, so the sorted order does not depend on threads.
     keyed.par_sort_unstable();
-    let codes: Vec<u64> = keyed.iter().map(|k| k.0).collect();
-    for (slot, k) in order.iter_mut().zip(&keyed) {
-        *slot = k.1;
-    }
-    let hierarchy = Hierarchy {
-        prims,
-        order,
-        codes: &codes,
-        max_leaf_size: max_leaf_size.max(1),
-        traversal_cost,
-        parallel_threshold: parallel_threshold.max(max_leaf_size),
-    };
-    hierarchy.block(0, codes.len(), 1).into_nodes()
+    (order.par_iter_mut().zip(keyed.par_iter())).for_each(|(slot, k)| *slot = k.1);
+    keyed.into_par_iter().map(|k| k.0).collect()
 }
 
 /// The Morton code of `p`'s cell in a 2²¹-per-axis grid over `bounds`.

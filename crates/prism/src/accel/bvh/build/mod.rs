@@ -4,15 +4,17 @@
 mod binned;
 mod lbvh;
 mod median;
+mod ploc;
 mod presplit;
 mod prim_ref;
+mod sbvh;
 mod stitch;
 mod sweep;
 mod topdown;
 
 use super::{reinsert, Bvh, BvhBuilder, BvhOptions, Node};
 use crate::geometry::Geometry;
-use crate::math::Aabb;
+use crate::math::{Aabb, Vec3};
 use prim_ref::PrimRef;
 use rayon::prelude::*;
 
@@ -32,9 +34,18 @@ pub(super) struct BuildPrims {
     /// How many primitives a leaf tests in one step: 4 when every primitive is a triangle
     /// (the leaves become `TrianglePack`s, `leaves.rs`), else 1.
     pub test_block: usize,
+    /// The corners of the triangles by build position, for the builders that clip them
+    /// (SBVH); empty for the others.
+    pub triangles: Vec<Option<[Vec3; 3]>>,
 }
 
 impl BuildPrims {
+    /// The corners of the primitive at build position `index`, if it is a triangle that
+    /// the build may clip.
+    pub(super) fn triangle(&self, index: u32) -> Option<[Vec3; 3]> {
+        self.triangles.get(index as usize).copied().flatten()
+    }
+
     /// The SAH cost of testing `n` primitives in a leaf, in units of one test step: packs
     /// of triangles cost a step per four, so leaves of up to four triangles are as cheap
     /// as leaves of one (what makes the binned builder fill the packs).
@@ -92,7 +103,15 @@ impl Bvh {
             };
             (prims, Boxes::Bounds(bounds))
         };
-        let mut bvh = Bvh::build_blocks(prims, boxes, options, test_block);
+        let triangles = if options.builder.clips_triangles() {
+            prims
+                .par_iter()
+                .map(|&p| presplit::triangle(geometry, p))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let mut bvh = Bvh::build_blocks(prims, boxes, options, test_block, triangles);
         bvh.pack(geometry);
         bvh
     }
@@ -117,17 +136,27 @@ impl Bvh {
         bounds: Vec<Aabb>,
         options: &BvhOptions,
     ) -> Bvh {
-        Bvh::build_blocks(prims, Boxes::Bounds(bounds), options, 1)
+        Bvh::build_blocks(prims, Boxes::Bounds(bounds), options, 1, Vec::new())
     }
 
     /// `build_over_bounds` for leaves that test `test_block` primitives in one step (the
     /// binned builder's SAH counts steps; the other builders ignore it).
-    fn build_blocks(prims: Vec<u32>, boxes: Boxes, options: &BvhOptions, test_block: usize) -> Bvh {
+    fn build_blocks(
+        prims: Vec<u32>,
+        boxes: Boxes,
+        options: &BvhOptions,
+        test_block: usize,
+        triangles: Vec<Option<[Vec3; 3]>>,
+    ) -> Bvh {
         let (bounds, mut refs) = match boxes {
             Boxes::Bounds(bounds) => (bounds, None),
             Boxes::References(refs) => (Vec::new(), Some(refs)),
         };
-        let input = BuildPrims { bounds, test_block };
+        let input = BuildPrims {
+            bounds,
+            test_block,
+            triangles,
+        };
         let threshold = options.parallel_threshold.max(1);
         let max_leaf_size = options.max_leaf_size.max(1);
         // The builders work on build positions 0..n; `ids` maps leaf order back to
@@ -140,6 +169,13 @@ impl Bvh {
             });
             let nodes = rule(&mut refs);
             let ids = refs.par_iter().map(|r| prims[r.index() as usize]).collect();
+            (nodes, ids)
+        };
+        // The Morton-ordered builders read boxes by build position and order positions.
+        let bottom_up = |rule: &dyn Fn(&mut [u32]) -> Vec<Node>| {
+            let mut order: Vec<u32> = (0..prims.len() as u32).collect();
+            let nodes = rule(&mut order);
+            let ids = order.par_iter().map(|&i| prims[i as usize]).collect();
             (nodes, ids)
         };
         let (mut nodes, ids): (Vec<Node>, Vec<u32>) = if prims.is_empty() {
@@ -162,19 +198,33 @@ impl Bvh {
                     };
                     top_down(&|refs| topdown::build(&rule, &input, refs, threshold))
                 }
-                BvhBuilder::Lbvh => {
-                    let mut order: Vec<u32> = (0..prims.len() as u32).collect();
-                    let nodes = lbvh::build(
-                        &input,
-                        &mut order,
+                BvhBuilder::Lbvh => bottom_up(&|order| {
+                    lbvh::build(&input, order, max_leaf_size, options.node_cost(), threshold)
+                }),
+                BvhBuilder::Ploc => {
+                    let ploc = ploc::Ploc {
+                        radius: options.radius,
                         max_leaf_size,
-                        options.node_cost(),
-                        threshold,
-                    );
-                    (
-                        nodes,
-                        order.par_iter().map(|&i| prims[i as usize]).collect(),
-                    )
+                        traversal_cost: options.node_cost(),
+                        parallel_threshold: threshold,
+                    };
+                    bottom_up(&|order| ploc.build(&input, order))
+                }
+                BvhBuilder::Sbvh => {
+                    let rule = sbvh::Sbvh {
+                        object: binned::BinnedSah::new(options),
+                        bins: options.bins,
+                        traversal_cost: options.node_cost(),
+                        alpha: options.alpha,
+                        parallel_threshold: threshold,
+                    };
+                    let refs: Vec<PrimRef> = (input.bounds.par_iter().enumerate())
+                        .map(|(i, b)| PrimRef::new(i as u32, b))
+                        .collect();
+                    let budget = (options.budget as f64 * prims.len() as f64) as usize;
+                    let (nodes, refs) = rule.build(&input, refs, budget);
+                    let ids = refs.par_iter().map(|r| prims[r.index() as usize]).collect();
+                    (nodes, ids)
                 }
             }
         };

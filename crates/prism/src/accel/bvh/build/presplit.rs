@@ -13,6 +13,11 @@
 use crate::geometry::{Geometry, Shape};
 use crate::math::robust::gamma;
 use crate::math::{Aabb, Vec3};
+use arrayvec::ArrayVec;
+
+/// A triangle clipped by a few planes: each plane adds at most one vertex, and no caller
+/// clips by more than seven.
+pub(super) type Polygon = ArrayVec<Vec3, 10>;
 
 /// At most this many references per triangle (four levels of halving).
 const MAX_PIECES: usize = 16;
@@ -53,8 +58,7 @@ pub(super) fn presplit(
         .min(MAX_PIECES);
         match triangles[i] {
             Some(tri) if pieces > 1 => {
-                let polygon = tri.to_vec();
-                split(&polygon, *b, &scene, pieces, &mut |piece| {
+                split(&tri, *b, &scene, pieces, &mut |piece| {
                     out_prims.push(prim);
                     out_bounds.push(piece);
                 });
@@ -68,7 +72,8 @@ pub(super) fn presplit(
     (out_prims, out_bounds)
 }
 
-fn triangle(geometry: &Geometry, prim: u32) -> Option<[Vec3; 3]> {
+/// The corners of `prim` if it is a triangle.
+pub(super) fn triangle(geometry: &Geometry, prim: u32) -> Option<[Vec3; 3]> {
     match geometry.primitives[prim as usize].shape {
         Shape::Triangle { mesh, index } => Some(geometry.meshes[mesh as usize].vertices(index)),
         _ => None,
@@ -133,7 +138,7 @@ fn grid_plane(lo: f32, hi: f32, a: f32, b: f32) -> f32 {
 /// The box of a clipped piece: its vertices' box grown by a margin relative to the
 /// coordinates (the clipping rounds), kept within the half it belongs to, whose split face
 /// stays exact so that the two halves' boxes meet without a crack.
-fn piece_bounds(piece: &[Vec3], half: Aabb) -> Option<Aabb> {
+pub(super) fn piece_bounds(piece: &[Vec3], half: Aabb) -> Option<Aabb> {
     if piece.len() < 3 {
         return None;
     }
@@ -146,7 +151,7 @@ fn piece_bounds(piece: &[Vec3], half: Aabb) -> Option<Aabb> {
 
 /// Sutherland–Hodgman clip of a convex polygon to `p[axis] ≥ at` (`keep_above`) or
 /// `p[axis] ≤ at`. Points on the plane belong to both sides.
-fn clip(polygon: &[Vec3], axis: usize, at: f32, keep_above: bool) -> Vec<Vec3> {
+pub(super) fn clip(polygon: &[Vec3], axis: usize, at: f32, keep_above: bool) -> Polygon {
     let inside = |p: Vec3| {
         if keep_above {
             p[axis] >= at
@@ -154,7 +159,7 @@ fn clip(polygon: &[Vec3], axis: usize, at: f32, keep_above: bool) -> Vec<Vec3> {
             p[axis] <= at
         }
     };
-    let mut out = Vec::with_capacity(polygon.len() + 1);
+    let mut out = Polygon::new();
     for (i, &a) in polygon.iter().enumerate() {
         let b = polygon[(i + 1) % polygon.len()];
         if inside(a) {

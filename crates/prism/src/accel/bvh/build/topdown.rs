@@ -142,7 +142,7 @@ impl<R: SplitRule> TopDown<'_, R> {
 
 /// The bounds and centroid bounds of `refs`, in one pass (in parallel chunks for big
 /// nodes: unions are exact, so the chunks' order of merging cannot change the result).
-fn extent_of(refs: &[PrimRef]) -> Extent {
+pub(super) fn extent_of(refs: &[PrimRef]) -> Extent {
     let fold = |chunk: &[PrimRef]| {
         let (mut b, mut c) = (SimdBox::EMPTY, SimdBox::EMPTY);
         for r in chunk {

@@ -1,0 +1,552 @@
+//! Spatial-split BVH (Stich, Friedrich & Dietrich 2009): top down, each node takes the
+//! binned SAH's object split unless its two children overlap by more than `alpha` of the
+//! root's area; then a spatial split is also costed — the node's box cut into slabs on
+//! each axis, every triangle clipped into the slabs it crosses (chopped binning), so that
+//! a plane between slabs sends each reference left, right, or, clipped, to both — and the
+//! cheaper one wins. Duplicated references are bounded by a budget, shared out among the
+//! children by their reference counts (so the tree does not depend on which side was built
+//! first or on which thread). Only triangles are clipped; other primitives go whole to the
+//! side of their centroid.
+//!
+//! A clipped reference's box is the box of the triangle's part within the slab, grown by
+//! the clipping's rounding and kept within the reference's box and the slab, whose face
+//! on the plane stays exact (`presplit.rs`), so the pieces of a triangle cover it: no hit
+//! is lost, and a ray meeting two pieces finds the same primitive twice.
+
+use super::binned::BinnedSah;
+use super::presplit::{clip, piece_bounds};
+use super::prim_ref::{PrimRef, SimdBox};
+use super::stitch::NodeBlock;
+use super::topdown::{extent_of, SplitRule, PARALLEL_PASS};
+use super::BuildPrims;
+use crate::accel::bvh::{Node, MAX_DEPTH};
+use crate::math::{Aabb, Vec3};
+use rayon::prelude::*;
+
+pub(super) struct Sbvh {
+    pub object: BinnedSah,
+    pub bins: usize,
+    pub traversal_cost: f32,
+    /// The overlap of an object split's children, as a share of the root's area, above
+    /// which a spatial split is costed too.
+    pub alpha: f32,
+    pub parallel_threshold: usize,
+}
+
+/// Where a node's references go.
+enum Decision {
+    Leaf(Aabb, Vec<PrimRef>),
+    Split {
+        bounds: Aabb,
+        sides: [(Vec<PrimRef>, usize); 2],
+    },
+}
+
+/// A spatial split: the plane between slab `k - 1` and slab `k` on `axis`.
+#[derive(Clone, Copy)]
+struct SpatialSplit {
+    axis: usize,
+    k: usize,
+    cost: f32,
+}
+
+/// The slabs of one node on the three axes: where slab borders lie, and which slab a
+/// coordinate falls in (the one rule both binning and partitioning follow).
+#[derive(Clone, Copy)]
+struct Slabs {
+    lo: Vec3,
+    width: Vec3,
+    count: usize,
+}
+
+impl Slabs {
+    fn of(&self, axis: usize, x: f32) -> usize {
+        // Also 0 for a NaN width.
+        if self.width[axis].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return 0;
+        }
+        let t = (x - self.lo[axis]) / self.width[axis];
+        // Saturating cast: NaN and negatives to 0.
+        (t as usize).min(self.count - 1)
+    }
+
+    /// The border below slab `k`.
+    fn plane(&self, axis: usize, k: usize) -> f32 {
+        self.lo[axis] + k as f32 * self.width[axis]
+    }
+}
+
+/// The spatial bins of one node: per axis and slab, the box of the pieces in it and how
+/// many references start and end there.
+#[derive(Clone)]
+struct SlabBins {
+    boxes: Vec<SimdBox>,
+    entries: Vec<u32>,
+    exits: Vec<u32>,
+}
+
+impl SlabBins {
+    fn new(slabs: usize) -> SlabBins {
+        SlabBins {
+            boxes: vec![SimdBox::EMPTY; 3 * slabs],
+            entries: vec![0; 3 * slabs],
+            exits: vec![0; 3 * slabs],
+        }
+    }
+
+    /// Unions and counts are exact, so chunks merge into the same bins in any order.
+    fn merge(mut self, other: SlabBins) -> SlabBins {
+        for (a, b) in self.boxes.iter_mut().zip(&other.boxes) {
+            *a = a.union(b);
+        }
+        for (a, b) in self.entries.iter_mut().zip(&other.entries) {
+            *a += b;
+        }
+        for (a, b) in self.exits.iter_mut().zip(&other.exits) {
+            *a += b;
+        }
+        self
+    }
+}
+
+/// A reference's box as an `Aabb`.
+fn box_of(r: &PrimRef) -> Aabb {
+    Aabb::new(r.min().into(), r.max().into())
+}
+
+fn simd(b: &Aabb) -> SimdBox {
+    SimdBox {
+        min: b.min.into(),
+        max: b.max.into(),
+    }
+}
+
+/// The part of triangle `tri` within `within` (a reference's box) between `lo` and `hi`
+/// on `axis`: its box, or `None` where the part is empty or too thin to bound.
+fn piece(tri: &[Vec3; 3], within: &Aabb, axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
+    let mut half = *within;
+    half.min[axis] = half.min[axis].max(lo);
+    half.max[axis] = half.max[axis].min(hi);
+    if half.min[axis]
+        .partial_cmp(&half.max[axis])
+        .is_none_or(|o| o.is_gt())
+    {
+        return None;
+    }
+    let above = clip(tri, axis, half.min[axis], true);
+    let slab = clip(&above, axis, half.max[axis], false);
+    piece_bounds(&slab, half)
+}
+
+impl Sbvh {
+    /// Builds over `refs` with at most `budget` duplicates; returns the nodes and the
+    /// references in leaf order.
+    pub(super) fn build(
+        &self,
+        prims: &BuildPrims,
+        refs: Vec<PrimRef>,
+        budget: usize,
+    ) -> (Vec<Node>, Vec<PrimRef>) {
+        let root_area = extent_of(&refs).0.surface_area();
+        let builder = Builder {
+            sbvh: self,
+            prims,
+            min_overlap: self.alpha * root_area,
+        };
+        let (block, leaf_order) = builder.block(refs, budget, 1);
+        let mut nodes = block.into_nodes();
+        number_leaves(&mut nodes);
+        (nodes, leaf_order)
+    }
+}
+
+/// Sets every leaf's `first` to its place in the leaf order: leaves left to right, each
+/// after the references of the ones before it (the order the builder collects them in).
+fn number_leaves(nodes: &mut [Node]) {
+    if nodes.is_empty() {
+        return;
+    }
+    let mut next = 0;
+    let mut stack = vec![0usize];
+    while let Some(i) = stack.pop() {
+        if nodes[i].is_leaf() {
+            nodes[i].first = next;
+            next += nodes[i].count;
+        } else {
+            let first = nodes[i].first as usize;
+            stack.extend([first + 1, first]);
+        }
+    }
+}
+
+struct Builder<'a> {
+    sbvh: &'a Sbvh,
+    prims: &'a BuildPrims,
+    /// `alpha` times the root's area.
+    min_overlap: f32,
+}
+
+impl Builder<'_> {
+    /// The subtree over `refs` (leaves numbered in its own leaf order) and that order.
+    fn block(&self, refs: Vec<PrimRef>, budget: usize, depth: usize) -> (NodeBlock, Vec<PrimRef>) {
+        if refs.len() <= self.sbvh.parallel_threshold {
+            let mut nodes = Vec::with_capacity(refs.len() / 2 + 1);
+            nodes.push(Node::leaf(Aabb::EMPTY, 0, 0));
+            let mut order = Vec::with_capacity(refs.len());
+            let mut scratch = self.sbvh.object.scratch();
+            self.subdivide(&mut nodes, 0, refs, budget, depth, &mut order, &mut scratch);
+            return (NodeBlock::Serial(nodes), order);
+        }
+        match self.decide(refs, budget, depth, &mut self.sbvh.object.scratch()) {
+            Decision::Leaf(bounds, refs) => {
+                (NodeBlock::leaf(Node::leaf(bounds, 0, refs.len())), refs)
+            }
+            Decision::Split {
+                bounds,
+                sides: [(lo, lo_budget), (hi, hi_budget)],
+            } => {
+                let ((left, mut order), (right, hi_order)) = rayon::join(
+                    || self.block(lo, lo_budget, depth + 1),
+                    || self.block(hi, hi_budget, depth + 1),
+                );
+                order.extend(hi_order);
+                (
+                    NodeBlock::split(Node::interior(bounds, 0), left, right),
+                    order,
+                )
+            }
+        }
+    }
+
+    /// Builds the subtree over `refs` at `nodes[index]`, its references appended to
+    /// `order`.
+    #[allow(clippy::too_many_arguments)]
+    fn subdivide(
+        &self,
+        nodes: &mut Vec<Node>,
+        index: usize,
+        refs: Vec<PrimRef>,
+        budget: usize,
+        depth: usize,
+        order: &mut Vec<PrimRef>,
+        scratch: &mut <BinnedSah as SplitRule>::Scratch,
+    ) {
+        match self.decide(refs, budget, depth, scratch) {
+            Decision::Leaf(bounds, refs) => {
+                nodes[index] = Node::leaf(bounds, order.len() as u32, refs.len());
+                order.extend(refs);
+            }
+            Decision::Split {
+                bounds,
+                sides: [(lo, lo_budget), (hi, hi_budget)],
+            } => {
+                let left = nodes.len();
+                nodes[index] = Node::interior(bounds, left as u32);
+                let placeholder = Node::leaf(Aabb::EMPTY, 0, 0);
+                nodes.extend([placeholder, placeholder]);
+                self.subdivide(nodes, left, lo, lo_budget, depth + 1, order, scratch);
+                self.subdivide(nodes, left + 1, hi, hi_budget, depth + 1, order, scratch);
+            }
+        }
+    }
+
+    fn decide(
+        &self,
+        mut refs: Vec<PrimRef>,
+        budget: usize,
+        depth: usize,
+        scratch: &mut <BinnedSah as SplitRule>::Scratch,
+    ) -> Decision {
+        let (bounds, centroid_bounds) = extent_of(&refs);
+        let n = refs.len();
+        if n == 1 || depth >= MAX_DEPTH - 1 {
+            return Decision::Leaf(bounds, refs);
+        }
+        let object =
+            self.sbvh
+                .object
+                .split(self.prims, scratch, &mut refs, &bounds, &centroid_bounds);
+        let Some(object) = object else {
+            return Decision::Leaf(bounds, refs);
+        };
+        let mid = object.mid;
+        let [(lo_box, _), (hi_box, _)] = object
+            .sides
+            .unwrap_or_else(|| [extent_of(&refs[..mid]), extent_of(&refs[mid..])]);
+        let parent_area = bounds.surface_area().max(f32::MIN_POSITIVE);
+        let leaf_cost = |count: usize| self.prims.leaf_cost(count);
+        let object_cost = self.sbvh.traversal_cost
+            + (lo_box.surface_area() * leaf_cost(mid) + hi_box.surface_area() * leaf_cost(n - mid))
+                / parent_area;
+        if budget > 0 && overlap_area(&lo_box, &hi_box) > self.min_overlap {
+            if let Some(spatial) = self.spatial_split(&refs, &bounds, budget) {
+                if spatial.cost < object_cost {
+                    if let Some(sides) = self.spatial_partition(&refs, &bounds, spatial) {
+                        let extra = sides[0].len() + sides[1].len() - n;
+                        let left_share = share(budget - extra, sides[0].len(), sides[1].len());
+                        let [lo, hi] = sides;
+                        return Decision::Split {
+                            bounds,
+                            sides: [(lo, left_share), (hi, budget - extra - left_share)],
+                        };
+                    }
+                }
+            }
+        }
+        let hi = refs.split_off(mid);
+        let left_share = share(budget, mid, n - mid);
+        Decision::Split {
+            bounds,
+            sides: [(refs, left_share), (hi, budget - left_share)],
+        }
+    }
+
+    fn slabs(&self, bounds: &Aabb, n: usize) -> Slabs {
+        let count = self.sbvh.bins.min((n / 8).max(4));
+        Slabs {
+            lo: bounds.min,
+            width: bounds.extent() / count as f32,
+            count,
+        }
+    }
+
+    /// The cheapest spatial split whose duplicates fit in `budget`, if any.
+    fn spatial_split(
+        &self,
+        refs: &[PrimRef],
+        bounds: &Aabb,
+        budget: usize,
+    ) -> Option<SpatialSplit> {
+        let slabs = self.slabs(bounds, refs.len());
+        let fill = |chunk: &[PrimRef]| {
+            let mut bins = SlabBins::new(slabs.count);
+            for r in chunk {
+                self.bin(r, &slabs, &mut bins);
+            }
+            bins
+        };
+        let bins = if refs.len() < PARALLEL_PASS {
+            fill(refs)
+        } else {
+            (refs.par_chunks(PARALLEL_PASS / 2).map(fill))
+                .reduce(|| SlabBins::new(slabs.count), SlabBins::merge)
+        };
+        let n = refs.len();
+        let parent_area = bounds.surface_area().max(f32::MIN_POSITIVE);
+        let mut best: Option<SpatialSplit> = None;
+        let m = slabs.count;
+        for axis in 0..3 {
+            if slabs.width[axis].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                continue;
+            }
+            let boxes = &bins.boxes[axis * m..][..m];
+            let (entries, exits) = (&bins.entries[axis * m..][..m], &bins.exits[axis * m..][..m]);
+            let mut right_area = vec![0.0f32; m];
+            let mut right_count = vec![0usize; m];
+            let (mut acc, mut count) = (SimdBox::EMPTY, 0);
+            for k in (1..m).rev() {
+                acc = acc.union(&boxes[k]);
+                count += exits[k] as usize;
+                right_area[k] = acc.surface_area();
+                right_count[k] = count;
+            }
+            let (mut acc, mut count) = (SimdBox::EMPTY, 0);
+            for k in 1..m {
+                acc = acc.union(&boxes[k - 1]);
+                count += entries[k - 1] as usize;
+                let right = right_count[k];
+                if count == 0 || right == 0 || count + right - n > budget {
+                    continue;
+                }
+                let cost = self.sbvh.traversal_cost
+                    + (acc.surface_area() * self.prims.leaf_cost(count)
+                        + right_area[k] * self.prims.leaf_cost(right))
+                        / parent_area;
+                if best.is_none_or(|b| cost < b.cost) {
+                    best = Some(SpatialSplit { axis, k, cost });
+                }
+            }
+        }
+        best
+    }
+
+    /// Adds reference `r` to the slabs it crosses on every axis: a triangle as its
+    /// clipped pieces, anything else whole in the slab of its centroid.
+    fn bin(&self, r: &PrimRef, slabs: &Slabs, bins: &mut SlabBins) {
+        let m = slabs.count;
+        let bounds = box_of(r);
+        let triangle = self.prims.triangle(r.index());
+        for axis in 0..3 {
+            let (first, last) = match triangle {
+                Some(_) => (
+                    slabs.of(axis, bounds.min[axis]),
+                    slabs.of(axis, bounds.max[axis]),
+                ),
+                None => {
+                    let c = slabs.of(axis, bounds.center()[axis]);
+                    (c, c)
+                }
+            };
+            bins.entries[axis * m + first] += 1;
+            bins.exits[axis * m + last] += 1;
+            match triangle {
+                Some(tri) if first < last => {
+                    for k in first..=last {
+                        let lo = if k == first {
+                            f32::NEG_INFINITY
+                        } else {
+                            slabs.plane(axis, k)
+                        };
+                        let hi = if k == last {
+                            f32::INFINITY
+                        } else {
+                            slabs.plane(axis, k + 1)
+                        };
+                        if let Some(p) = piece(&tri, &bounds, axis, lo, hi) {
+                            let b = &mut bins.boxes[axis * m + k];
+                            *b = b.union(&simd(&p));
+                        }
+                    }
+                }
+                _ => {
+                    let b = &mut bins.boxes[axis * m + first];
+                    b.grow(r.min(), r.max());
+                }
+            }
+        }
+    }
+
+    /// The two sides of `split`, or `None` where clipping left one side empty (the
+    /// object split is taken instead).
+    fn spatial_partition(
+        &self,
+        refs: &[PrimRef],
+        bounds: &Aabb,
+        split: SpatialSplit,
+    ) -> Option<[Vec<PrimRef>; 2]> {
+        let slabs = self.slabs(bounds, refs.len());
+        let SpatialSplit { axis, k, .. } = split;
+        let plane = slabs.plane(axis, k);
+        let (mut left, mut right) = (Vec::new(), Vec::new());
+        for r in refs {
+            let b = box_of(r);
+            let Some(tri) = self.prims.triangle(r.index()) else {
+                if slabs.of(axis, b.center()[axis]) < k {
+                    left.push(*r);
+                } else {
+                    right.push(*r);
+                }
+                continue;
+            };
+            if slabs.of(axis, b.max[axis]) < k {
+                left.push(*r);
+            } else if slabs.of(axis, b.min[axis]) >= k {
+                right.push(*r);
+            } else {
+                let below = piece(&tri, &b, axis, f32::NEG_INFINITY, plane);
+                let above = piece(&tri, &b, axis, plane, f32::INFINITY);
+                match (below, above) {
+                    (Some(lo), Some(hi)) => {
+                        left.push(PrimRef::new(r.index(), &lo));
+                        right.push(PrimRef::new(r.index(), &hi));
+                    }
+                    // One side holds the triangle's part but a sliver on the plane, which
+                    // the other side's box keeps (points on the plane belong to both).
+                    (_, None) => left.push(*r),
+                    (None, Some(_)) => right.push(*r),
+                }
+            }
+        }
+        (!left.is_empty() && !right.is_empty()).then_some([left, right])
+    }
+}
+
+/// The left child's part of `budget`, in proportion to its references.
+fn share(budget: usize, left: usize, right: usize) -> usize {
+    (budget as u128 * left as u128 / (left + right).max(1) as u128) as usize
+}
+
+/// The surface area of the intersection of two boxes (0 when they are disjoint).
+fn overlap_area(a: &Aabb, b: &Aabb) -> f32 {
+    let lo = a.min.max(b.min);
+    let hi = a.max.min(b.max);
+    if lo.cmple(hi).all() {
+        Aabb::new(lo, hi).surface_area()
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The pieces of a long diagonal triangle in the slabs it crosses cover it, and are
+    /// much smaller than its box.
+    #[test]
+    fn slab_pieces_cover_the_triangle() {
+        let tri = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(8.0, 8.0, 8.0),
+            Vec3::new(8.1, 8.0, 8.0),
+        ];
+        let bounds = tri.iter().fold(Aabb::EMPTY, |b, &p| b.union_point(p));
+        let slabs = Slabs {
+            lo: bounds.min,
+            width: bounds.extent() / 8.0,
+            count: 8,
+        };
+        let mut pieces = Vec::new();
+        for k in 0..8 {
+            let lo = if k == 0 {
+                f32::NEG_INFINITY
+            } else {
+                slabs.plane(0, k)
+            };
+            let hi = if k == 7 {
+                f32::INFINITY
+            } else {
+                slabs.plane(0, k + 1)
+            };
+            pieces.extend(piece(&tri, &bounds, 0, lo, hi));
+        }
+        assert_eq!(pieces.len(), 8);
+        let area: f32 = pieces.iter().map(Aabb::surface_area).sum();
+        assert!(area < 0.3 * bounds.surface_area());
+        for i in 0..=40 {
+            for j in 0..=40 - i {
+                let (u, v) = (i as f32 / 40.0, j as f32 / 40.0);
+                let p = tri[0] + u * (tri[1] - tri[0]) + v * (tri[2] - tri[0]);
+                let slack = 1e-5 * 8.0;
+                assert!(
+                    pieces
+                        .iter()
+                        .any(|b| p.cmpge(b.min - slack).all() && p.cmple(b.max + slack).all()),
+                    "{p} is in no piece"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn budgets_are_shared_by_reference_counts() {
+        assert_eq!(share(10, 1, 1), 5);
+        assert_eq!(share(10, 3, 1), 7);
+        assert_eq!(share(0, 3, 1), 0);
+        assert_eq!(share(usize::MAX, 1, 1), usize::MAX / 2);
+    }
+
+    #[test]
+    fn leaves_are_numbered_left_to_right() {
+        let b = Aabb::new(Vec3::ZERO, Vec3::ONE);
+        let mut nodes = vec![
+            Node::interior(b, 1),
+            Node::interior(b, 3),
+            Node::leaf(b, 99, 2),
+            Node::leaf(b, 99, 3),
+            Node::leaf(b, 99, 1),
+        ];
+        number_leaves(&mut nodes);
+        assert_eq!([nodes[3].first, nodes[4].first, nodes[2].first], [0, 3, 4]);
+    }
+}
