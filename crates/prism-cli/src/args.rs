@@ -197,6 +197,9 @@ pub(crate) struct RenderArgs {
     #[arg(long, help = setting_help("packets"))]
     pub no_packets: bool,
 
+    #[arg(long, value_name = "BOOL", help = setting_help("wavefront"))]
+    pub wavefront: Option<bool>,
+
     #[arg(long, value_name = "PIXELS", help = setting_help("tile_size"))]
     pub tile_size: Option<u32>,
 
@@ -395,6 +398,9 @@ impl RenderArgs {
         }
         if self.no_packets {
             o.packets = false;
+        }
+        if let Some(v) = self.wavefront {
+            o.wavefront = v;
         }
         if let Some(v) = self.tile_size {
             o.tile_size = v;

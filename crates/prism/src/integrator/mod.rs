@@ -1,6 +1,7 @@
 //! Integrators turn a camera ray into radiance. Whitted's recursive ray tracer is the one
 //! prism is built around; the path tracer (`path.rs`) solves the rendering equation with
-//! area lights (`emitters.rs`) and the lobes of `shading::Bsdf`; the beam tracer (`beam/`)
+//! area lights (`emitters.rs`) and the lobes of `shading::Bsdf`, one path at a time or as a
+//! wavefront of thousands (`wavefront.rs`); the beam tracer (`beam/`)
 //! traces whole beams of planar polygons instead of rays.
 
 mod area_lights;
@@ -9,6 +10,7 @@ mod emitters;
 mod light_buffer;
 mod path;
 mod shadow;
+mod wavefront;
 mod whitted;
 
 pub use crate::choices::Strategy;
@@ -16,9 +18,11 @@ pub use emitters::{EmitterSample, Emitters};
 pub use light_buffer::{BufferParams, LightBuffer, LightBufferInfo};
 pub use path::{PathTracer, RR_DEPTH};
 pub use shadow::{begin_piece, ShadowMethod, ShadowSpec, Shadows};
+pub use wavefront::WavefrontPathTracer;
 pub use whitted::Whitted;
 
 use crate::accel::PACKET_MAX;
+use arrayvec::ArrayVec;
 use crate::math::hash::Stream;
 use crate::math::{Color, Ray};
 use crate::stats::Stats;
@@ -46,6 +50,37 @@ pub trait CameraTracer: Sync {
             let before = stats.total_rays();
             colors[i] = self.trace_camera_ray(ray, stream, stats);
             rays_of[i] = (stats.total_rays() - before).saturating_sub(1) as u32;
+        }
+    }
+
+    /// Whether `trace_camera_batch` keeps many paths in flight (a wavefront), so that a
+    /// sampler should hand it a whole tile's samples at once rather than packets.
+    fn traces_batches(&self) -> bool {
+        false
+    }
+
+    /// Radiance of `count` camera samples. Sample i's ray and random numbers come from
+    /// `sample(i)`, asked once each in order of i when the tracer has room for it; its
+    /// radiance and the rays it spawned after its camera ray go to `done(i, color, rays)`,
+    /// in any order. Every value is the one `trace_camera_ray` gives. By default packets
+    /// of `PACKET_MAX` consecutive samples.
+    fn trace_camera_batch(
+        &self,
+        count: usize,
+        sample: &mut dyn FnMut(usize) -> (Ray, Stream),
+        done: &mut dyn FnMut(usize, Color, u32),
+        stats: &mut Stats,
+    ) {
+        let mut colors = [Color::ZERO; PACKET_MAX];
+        for first in (0..count).step_by(PACKET_MAX) {
+            let n = PACKET_MAX.min(count - first);
+            let (rays, streams): (ArrayVec<Ray, PACKET_MAX>, ArrayVec<Stream, PACKET_MAX>) =
+                (first..first + n).map(&mut *sample).unzip();
+            let mut rays_of = [0u32; PACKET_MAX];
+            self.trace_camera_packet(&rays, &streams, &mut colors[..n], &mut rays_of, stats);
+            for i in 0..n {
+                done(first + i, colors[i], rays_of[i]);
+            }
         }
     }
 

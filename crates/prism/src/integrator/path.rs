@@ -52,9 +52,9 @@ const DIMS_PER_VERTEX: u32 = 7;
 
 /// A path tracer over one prepared scene.
 pub struct PathTracer<'a> {
-    scene: &'a PreparedScene<'a>,
+    pub(super) scene: &'a PreparedScene<'a>,
     emitters: Emitters,
-    max_depth: u32,
+    pub(super) max_depth: u32,
     strategy: Strategy,
 }
 
@@ -204,7 +204,7 @@ impl<'a> PathTracer<'a> {
     /// Whether the shadow ray of `q` is blocked; counted as a shadow ray with its tests
     /// and visits.
     #[inline(always)]
-    fn blocked(&self, q: &LightQuery, stats: &mut Stats) -> bool {
+    pub(super) fn blocked(&self, q: &LightQuery, stats: &mut Stats) -> bool {
         let s = self.scene;
         let ray = Ray::new(q.origin, q.dir);
         stats.shadow_query(1, |stats| {
@@ -215,7 +215,7 @@ impl<'a> PathTracer<'a> {
     /// A path's ray at `depth` arrives at `hit`: the background on a miss, the emission
     /// it sees, and the vertex it scatters from (None when the path ends here).
     #[inline(always)]
-    fn arrive(
+    pub(super) fn arrive(
         &self,
         path: &mut Path,
         hit: Option<Hit>,
@@ -269,7 +269,7 @@ impl<'a> PathTracer<'a> {
     /// adds unblocked: every delta light, and one point on an area light (none at a
     /// vertex of delta lobes only).
     #[inline(always)]
-    fn light_queries(&self, v: &Vertex, depth: u32, stream: &Stream, out: &mut Vec<LightQuery>) {
+    pub(super) fn light_queries(&self, v: &Vertex, depth: u32, stream: &Stream, out: &mut Vec<LightQuery>) {
         if !v.bsdf.has_smooth_lobe() {
             return;
         }
@@ -347,7 +347,7 @@ impl<'a> PathTracer<'a> {
     /// (`lights`, answered) add, then a direction drawn from its BSDF and Russian
     /// roulette. False when the path ends here.
     #[inline(always)]
-    fn leave(
+    pub(super) fn leave(
         &self,
         path: &mut Path,
         v: &Vertex,
@@ -404,9 +404,9 @@ thread_local! {
 }
 
 /// One path's state between its vertices.
-struct Path {
+pub(super) struct Path {
     /// The ray to follow next.
-    ray: Ray,
+    pub(super) ray: Ray,
     radiance: Color,
     throughput: Color,
     /// The last scattering was a delta lobe (the camera ray counts as one): what it sees
@@ -417,7 +417,7 @@ struct Path {
 }
 
 impl Path {
-    fn new(ray: Ray) -> Path {
+    pub(super) fn new(ray: Ray) -> Path {
         Path {
             ray,
             radiance: Color::ZERO,
@@ -429,7 +429,7 @@ impl Path {
 
     /// The path's radiance; a NaN would poison a pixel's mean for ever in a progressive
     /// render, so a path that made one gives nothing.
-    fn finish(&self) -> Color {
+    pub(super) fn finish(&self) -> Color {
         if self.radiance.is_finite() {
             self.radiance
         } else {
@@ -440,7 +440,7 @@ impl Path {
 
 /// Where a path scatters: the surface, its geometric normal on the incoming side, and the
 /// BSDF there.
-struct Vertex {
+pub(super) struct Vertex {
     sp: SurfacePoint,
     ng: Vec3,
     bsdf: Bsdf,
@@ -449,10 +449,10 @@ struct Vertex {
 /// A light sample's shadow ray, the light it adds if nothing blocks it, and whether
 /// something does (once asked).
 #[derive(Clone, Copy)]
-struct LightQuery {
-    origin: Vec3,
-    dir: Vec3,
-    t_max: f32,
+pub(super) struct LightQuery {
+    pub(super) origin: Vec3,
+    pub(super) dir: Vec3,
+    pub(super) t_max: f32,
     value: Color,
-    blocked: bool,
+    pub(super) blocked: bool,
 }

@@ -102,6 +102,11 @@ pub struct RenderOptions {
     /// rays, go as packets at every depth. The node visits and tests of a packet are
     /// shared evenly among its rays' pixels in the cost view.
     pub packets: bool,
+    /// The path tracer keeps a wavefront of paths per thread (`integrator::WavefrontPathTracer`),
+    /// advanced a bounce at a time over the whole queue, where packets are on; off, it
+    /// follows a packet's paths breadth first. Every sample's value, and so the image, is
+    /// the same either way.
+    pub wavefront: bool,
     /// Which integrator renders: `whitted` (the default), `path` (docs/path-tracing.md) or
     /// `beam` (docs/beam-tracing.md).
     pub integrator: IntegratorKind,
@@ -140,6 +145,7 @@ impl Default for RenderOptions {
             shadows: Default::default(),
             tile_size: 16,
             packets: true,
+            wavefront: false,
             integrator: IntegratorKind::Whitted,
             path_strategy: Strategy::Mis,
             per_pixel_rays: true,

@@ -461,6 +461,19 @@ pub const SETTINGS: &[Setting] = &[
             Ok(())
         },
     },
+    Setting {
+        key: "wavefront",
+        flag: Some("wavefront"),
+        kind: SettingKind::Boolean,
+        help: "The path tracer advances a queue of paths per thread a bounce at a time (a \
+               wavefront) where packets are on; false follows a packet's paths breadth \
+               first. The image is the same either way",
+        get: |o| o.wavefront.to_string(),
+        put: |o, t| {
+            o.wavefront = parse(t);
+            Ok(())
+        },
+    },
 ];
 
 /// The setting with key `key`.

@@ -37,6 +37,7 @@ pub(super) struct RenderTable {
     shadows: ShadowSpec,
     tile_size: u32,
     packets: bool,
+    wavefront: bool,
     integrator: IntegratorKind,
 }
 
@@ -71,6 +72,7 @@ impl From<RenderOptions> for RenderTable {
             shadows: o.shadows,
             tile_size: o.tile_size,
             packets: o.packets,
+            wavefront: o.wavefront,
             integrator: o.integrator,
         }
     }
@@ -103,6 +105,7 @@ impl From<RenderTable> for RenderOptions {
             shadows: t.shadows,
             tile_size: t.tile_size,
             packets: t.packets,
+            wavefront: t.wavefront,
             integrator: t.integrator,
             ..RenderOptions::default()
         }

@@ -11,7 +11,7 @@
 //! statistics, do not depend on the tile size.
 
 use super::packet::trace_packet;
-use super::rays::PixelRays;
+use super::rays::{PixelRays, RayMark};
 use super::splat::{FilmSums, SplatBuffer};
 use super::{tiles, Film, Job, PixelSamples, RenderError, Tile, TileDone, Traced};
 use crate::accel::PACKET_MAX;
@@ -88,7 +88,12 @@ pub(super) fn render(
         });
         let mut offsets: Vec<Vec2> = Vec::with_capacity(count as usize);
         if job.packets {
-            let Some((m, r)) = trace_packets(job, pattern, tile, &mut buffer, &mut stats) else {
+            let traced = if job.tracer.traces_batches() {
+                trace_batch(job, pattern, tile, &mut buffer, &mut stats)
+            } else {
+                trace_packets(job, pattern, tile, &mut buffer, &mut stats)
+            };
+            let Some((m, r)) = traced else {
                 unfinished();
                 return;
             };
@@ -249,6 +254,105 @@ fn trace_packets(
                             sum += c;
                         }
                         sums[local(x, y)] = sum;
+                    }
+                }
+            }
+        }
+    }
+    Some((sums, rays))
+}
+
+/// Traces all of `tile`'s samples as one batch (`CameraTracer::trace_camera_batch`) in
+/// the packets' order: block by block, sample index by sample index, so that the camera
+/// rays the batch takes together are a packet's. Returns what `trace_packets` returns;
+/// the batch's traversal work is shared evenly among its samples.
+fn trace_batch(
+    job: &Job,
+    pattern: &dyn PixelSamples,
+    tile: &Tile,
+    buffer: &mut Option<SplatBuffer>,
+    stats: &mut Stats,
+) -> Option<(Vec<Color>, Vec<PixelRays>)> {
+    let width = (tile.x1 - tile.x0) as usize;
+    let pixels = tile.pixel_count() as usize;
+    let count = pattern.count() as usize;
+    let edge = PACKET_EDGE as usize;
+    // Per pixel (row-major in the tile), its samples' offsets; per sample of the batch,
+    // its pixel and its index in the pixel.
+    let mut offsets: Vec<Vec2> = Vec::with_capacity(pixels * count);
+    let mut one: Vec<Vec2> = Vec::with_capacity(count);
+    for y in tile.y0..tile.y1 {
+        for x in tile.x0..tile.x1 {
+            one.clear();
+            pattern.offsets(x, y, &mut one);
+            offsets.extend_from_slice(&one);
+        }
+    }
+    let local = |x: u32, y: u32| (y - tile.y0) as usize * width + (x - tile.x0) as usize;
+    let mut order: Vec<(u32, u32)> = Vec::with_capacity(pixels * count);
+    for by in (tile.y0..tile.y1).step_by(edge) {
+        for bx in (tile.x0..tile.x1).step_by(edge) {
+            for s in 0..count as u32 {
+                for y in by..(by + PACKET_EDGE).min(tile.y1) {
+                    for x in bx..(bx + PACKET_EDGE).min(tile.x1) {
+                        order.push((local(x, y) as u32, s));
+                    }
+                }
+            }
+        }
+    }
+    let position = |i: usize| {
+        let (p, s) = order[i];
+        let (x, y) = (p % width as u32, p / width as u32);
+        let o = offsets[p as usize * count + s as usize];
+        Vec2::new((tile.x0 + x) as f32 + o.x, (tile.y0 + y) as f32 + o.y)
+    };
+    let mut colors = vec![Color::ZERO; pixels * count];
+    let mut rays = vec![PixelRays::default(); pixels];
+    let before = RayMark::of(stats);
+    job.tracer.trace_camera_batch(
+        order.len(),
+        &mut |i| {
+            let at = position(i);
+            (job.camera.ray(at.x, at.y), job.stream(at.x, at.y))
+        },
+        &mut |i, color, spawned| {
+            let (p, s) = order[i];
+            colors[p as usize * count + s as usize] = color;
+            let r = &mut rays[p as usize];
+            r.camera += 1;
+            r.total += 1 + spawned;
+        },
+        stats,
+    );
+    let shared = PixelRays::since(before, stats);
+    let n = order.len();
+    for (i, &(p, _)) in order.iter().enumerate() {
+        let mut work = shared.share(i, n);
+        (work.camera, work.total) = (0, 0);
+        rays[p as usize] += work;
+    }
+    // Each pixel's samples in sample order, as the single-ray path sums them; into the
+    // splat buffer pixel by pixel in the packets' order of blocks, as `trace_packets`
+    // adds them, so that a wide filter's sums are the same too.
+    let mut sums = vec![Color::ZERO; pixels];
+    for by in (tile.y0..tile.y1).step_by(edge) {
+        for bx in (tile.x0..tile.x1).step_by(edge) {
+            for y in by..(by + PACKET_EDGE).min(tile.y1) {
+                for x in bx..(bx + PACKET_EDGE).min(tile.x1) {
+                    let p = local(x, y);
+                    let samples = &colors[p * count..(p + 1) * count];
+                    match buffer {
+                        Some(b) => {
+                            for (s, &c) in samples.iter().enumerate() {
+                                b.add(&job.filter, x, y, offsets[p * count + s], 1.0, c);
+                            }
+                        }
+                        None => {
+                            for &c in samples {
+                                sums[p] += c;
+                            }
+                        }
                     }
                 }
             }

@@ -1,7 +1,8 @@
-//! The path tracer, rendered in tiles by the sampler.
+//! The path tracer, rendered in tiles by the sampler: as a wavefront of paths (the
+//! default) or one path, or one packet of paths, at a time (`wavefront` off).
 
 use super::IntegratorMethod;
-use crate::integrator::{CameraTracer, PathTracer};
+use crate::integrator::{CameraTracer, PathTracer, WavefrontPathTracer};
 use crate::options::RenderOptions;
 use crate::scene::PreparedScene;
 
@@ -14,6 +15,10 @@ impl IntegratorMethod for PathMethod {
         scene: &'a PreparedScene<'a>,
         options: &RenderOptions,
     ) -> Box<dyn CameraTracer + 'a> {
-        Box::new(PathTracer::new(scene, options))
+        if options.wavefront {
+            Box::new(WavefrontPathTracer::new(scene, options))
+        } else {
+            Box::new(PathTracer::new(scene, options))
+        }
     }
 }

@@ -1,0 +1,233 @@
+//! The path tracer as a wavefront (Laine, Karras & Aila 2013, "Megakernels considered
+//! harmful"; pbrt-v4's wavefront integrator; Mitsuba 3's vectorised variants): a queue of
+//! thousands of paths per thread, each bounce a sequence of stages over the whole queue
+//! rather than one path carried through all of its bounces.
+//!
+//! A round of the queue: refill it with new camera samples (so that it stays full while
+//! paths die), find every path's next hit, let each arrive (emission, the BSDF), draw the
+//! light samples, answer all their shadow rays, let each leave (unblocked light, the BSDF's
+//! direction, Russian roulette), then retire the ended paths and close the gaps, keeping
+//! the living in order. The ray queries of a stage go to the accelerator in runs of
+//! `PACKET_MAX` in queue order: new camera rays arrive together, so they walk as packets.
+//!
+//! Each path goes through exactly the operations `PathTracer::trace_camera_ray` performs,
+//! in the same order, with its own random numbers: every sample's value is the one-path
+//! tracer's bit for bit, whatever the queue's size, and the image with it.
+
+use super::path::{LightQuery, Path, Vertex};
+use super::{CameraTracer, PathTracer};
+use crate::accel::{Hit, PACKET_MAX};
+use crate::math::hash::Stream;
+use crate::math::{Color, Ray};
+use crate::options::RenderOptions;
+use crate::scene::PreparedScene;
+use crate::stats::Stats;
+use arrayvec::ArrayVec;
+use std::ops::Range;
+
+/// Paths in flight per thread. A path's state with its vertex is about 200 bytes, so the
+/// queue and its stages' arrays stay within a core's L2 cache; fewer paths leave the
+/// camera rays' packets and the stages' loops short.
+pub(super) const WAVEFRONT_PATHS: usize = 1024;
+
+/// The path tracer advancing a queue of paths a bounce at a time.
+pub struct WavefrontPathTracer<'a> {
+    paths: PathTracer<'a>,
+    capacity: usize,
+}
+
+/// A path in the queue: its state, its random numbers, the sample it answers, the depth
+/// its ray is at and the rays it has cast after its camera ray.
+struct Lane {
+    path: Path,
+    stream: Stream,
+    sample: usize,
+    depth: u32,
+    rays: u32,
+}
+
+/// The per-stage arrays of a round, kept between rounds so that a render allocates them
+/// once per batch.
+#[derive(Default)]
+struct Stages {
+    hits: Vec<Option<Hit>>,
+    vertices: Vec<Option<Vertex>>,
+    lights: Vec<LightQuery>,
+    spans: Vec<Range<usize>>,
+}
+
+impl<'a> WavefrontPathTracer<'a> {
+    /// The wavefront path tracer for `scene` with the depth and strategy of `options`.
+    pub fn new(scene: &'a PreparedScene<'a>, options: &RenderOptions) -> Self {
+        Self::with_capacity(scene, options, WAVEFRONT_PATHS)
+    }
+
+    /// The same with `capacity` paths in flight (at least one): a test's handle on the
+    /// queue's size, which changes nothing in the image.
+    pub fn with_capacity(
+        scene: &'a PreparedScene<'a>,
+        options: &RenderOptions,
+        capacity: usize,
+    ) -> Self {
+        WavefrontPathTracer {
+            paths: PathTracer::new(scene, options),
+            capacity: capacity.max(1),
+        }
+    }
+
+    /// Traces `count` samples through the queue (`CameraTracer::trace_camera_batch`).
+    pub fn trace_batch(
+        &self,
+        count: usize,
+        sample: &mut dyn FnMut(usize) -> (Ray, Stream),
+        done: &mut dyn FnMut(usize, Color, u32),
+        stats: &mut Stats,
+    ) {
+        let capacity = self.capacity.min(count);
+        let mut queue: Vec<Lane> = Vec::with_capacity(capacity);
+        let mut stages = Stages::default();
+        let mut next = 0;
+        loop {
+            while queue.len() < capacity && next < count {
+                let (ray, stream) = sample(next);
+                queue.push(Lane {
+                    path: Path::new(ray),
+                    stream,
+                    sample: next,
+                    depth: 1,
+                    rays: 0,
+                });
+                next += 1;
+            }
+            if queue.is_empty() {
+                break;
+            }
+            self.find_hits(&queue, &mut stages.hits, stats);
+            self.arrive(&mut queue, &mut stages, stats);
+            self.answer_shadow_rays(&mut stages.lights, stats);
+            self.leave(&mut queue, &stages, done, stats);
+        }
+    }
+
+    /// Every path's next hit, in runs of `PACKET_MAX` in queue order.
+    fn find_hits(&self, queue: &[Lane], hits: &mut Vec<Option<Hit>>, stats: &mut Stats) {
+        let s = self.paths.scene;
+        hits.clear();
+        hits.resize(queue.len(), None);
+        for (lanes, hits) in queue.chunks(PACKET_MAX).zip(hits.chunks_mut(PACKET_MAX)) {
+            let rays: ArrayVec<Ray, PACKET_MAX> = lanes.iter().map(|l| l.path.ray).collect();
+            let cameras = lanes.iter().filter(|l| l.depth == 1).count();
+            stats.primary_rays += cameras as u64;
+            s.intersector
+                .intersect_packet(&s.scene.geometry, &rays, f32::INFINITY, hits, stats);
+        }
+    }
+
+    /// Every path arrives at its hit, and the paths that go on draw their light samples.
+    fn arrive(&self, queue: &mut [Lane], stages: &mut Stages, stats: &mut Stats) {
+        let Stages {
+            hits,
+            vertices,
+            lights,
+            spans,
+        } = stages;
+        vertices.clear();
+        lights.clear();
+        spans.clear();
+        for (lane, &hit) in queue.iter_mut().zip(hits.iter()) {
+            let vertex = self.paths.arrive(&mut lane.path, hit, lane.depth, stats);
+            let first = lights.len();
+            if let Some(v) = &vertex {
+                self.paths.light_queries(v, lane.depth, &lane.stream, lights);
+                lane.rays += (lights.len() - first) as u32;
+            }
+            spans.push(first..lights.len());
+            vertices.push(vertex);
+        }
+    }
+
+    /// Whether each light sample's shadow ray is blocked, in runs of `PACKET_MAX`.
+    fn answer_shadow_rays(&self, lights: &mut [LightQuery], stats: &mut Stats) {
+        let s = self.paths.scene;
+        for chunk in lights.chunks_mut(PACKET_MAX) {
+            let c = chunk.len();
+            let rays: ArrayVec<Ray, PACKET_MAX> =
+                chunk.iter().map(|q| Ray::new(q.origin, q.dir)).collect();
+            let t_max: ArrayVec<f32, PACKET_MAX> = chunk.iter().map(|q| q.t_max).collect();
+            let mut blocked = [false; PACKET_MAX];
+            stats.shadow_query(c as u64, |stats| {
+                s.intersector
+                    .occluded_packet(&s.scene.geometry, &rays, &t_max, &mut blocked[..c], stats)
+            });
+            for (q, &b) in chunk.iter_mut().zip(&blocked[..c]) {
+                q.blocked = b;
+            }
+        }
+    }
+
+    /// Every path leaves its vertex or ends; the ended ones hand their radiance to `done`
+    /// and the living close ranks in queue order.
+    fn leave(
+        &self,
+        queue: &mut Vec<Lane>,
+        stages: &Stages,
+        done: &mut dyn FnMut(usize, Color, u32),
+        stats: &mut Stats,
+    ) {
+        let mut alive = 0;
+        for i in 0..queue.len() {
+            let lane = &mut queue[i];
+            let goes_on = match &stages.vertices[i] {
+                Some(v) => {
+                    let lights = &stages.lights[stages.spans[i].clone()];
+                    self.paths
+                        .leave(&mut lane.path, v, lights, lane.depth, &lane.stream, stats)
+                }
+                None => false,
+            };
+            if goes_on {
+                lane.depth += 1;
+                lane.rays += 1;
+                queue.swap(alive, i);
+                alive += 1;
+            } else {
+                done(lane.sample, lane.path.finish(), lane.rays);
+            }
+        }
+        queue.truncate(alive);
+    }
+}
+
+impl CameraTracer for WavefrontPathTracer<'_> {
+    #[inline]
+    fn trace_camera_ray(&self, ray: &Ray, stream: &Stream, stats: &mut Stats) -> Color {
+        self.paths.trace_camera_ray(ray, stream, stats)
+    }
+
+    fn trace_camera_packet(
+        &self,
+        rays: &[Ray],
+        streams: &[Stream],
+        colors: &mut [Color],
+        rays_of: &mut [u32; PACKET_MAX],
+        stats: &mut Stats,
+    ) {
+        let n = rays.len();
+        self.paths
+            .trace_camera_packet(rays, streams, &mut colors[..n], rays_of, stats)
+    }
+
+    fn traces_batches(&self) -> bool {
+        true
+    }
+
+    fn trace_camera_batch(
+        &self,
+        count: usize,
+        sample: &mut dyn FnMut(usize) -> (Ray, Stream),
+        done: &mut dyn FnMut(usize, Color, u32),
+        stats: &mut Stats,
+    ) {
+        self.trace_batch(count, sample, done, stats)
+    }
+}
