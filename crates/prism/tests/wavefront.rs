@@ -1,0 +1,164 @@
+//! The wavefront path tracer against the one-path-at-a-time tracer: every sample is the
+//! same operations on the same random numbers, so images and ray counts are equal bit for
+//! bit, whatever the queue's size, the filter, the tile size or the thread count.
+
+use prism::integrator::{CameraTracer, WavefrontPathTracer};
+use prism::options::IntegratorKind;
+use prism::render::{render, render_with, sampler_method, IntegratorMethod, RenderResult, Tile};
+use prism::render::FilterKind;
+use prism::sampling::SamplerKind;
+use prism::scene::{builtin, PreparedScene};
+use prism::{RenderOptions, Scene};
+use std::sync::atomic::AtomicBool;
+
+/// The path tracer with a queue of `0` paths.
+struct Queue(usize);
+
+impl IntegratorMethod for Queue {
+    fn tracer<'a>(
+        &self,
+        scene: &'a PreparedScene<'a>,
+        options: &RenderOptions,
+    ) -> Box<dyn CameraTracer + 'a> {
+        Box::new(WavefrontPathTracer::with_capacity(scene, options, self.0))
+    }
+}
+
+fn options(scene: &Scene) -> RenderOptions {
+    RenderOptions {
+        // Not whole packets or tiles: the edges' short blocks go through the queue too.
+        width: 45,
+        height: 30,
+        samples: 2,
+        sampler: SamplerKind::Jittered,
+        integrator: IntegratorKind::Path,
+        max_depth: 8,
+        threads: 2,
+        tile_size: 16,
+        ..scene.options.clone()
+    }
+}
+
+fn rendered(scene: &Scene, o: &RenderOptions) -> RenderResult {
+    let prepared = scene.prepare_for(o);
+    render(&prepared, o, &|_| {}, &AtomicBool::new(false)).unwrap()
+}
+
+fn with_queue(scene: &Scene, o: &RenderOptions, paths: usize) -> RenderResult {
+    let prepared = scene.prepare_for(o);
+    render_with(
+        &prepared,
+        o,
+        Tile::full(o.width, o.height),
+        sampler_method(o.sampler),
+        &Queue(paths),
+        &|_| {},
+        &AtomicBool::new(false),
+    )
+    .unwrap()
+}
+
+/// The two renders have the same pixels and the same rays, per pixel too.
+fn assert_same(a: &RenderResult, b: &RenderResult, what: &str) {
+    assert_eq!(a.film.pixels, b.film.pixels, "{what}: pixels differ");
+    assert_eq!(a.stats.primary_rays, b.stats.primary_rays, "{what}");
+    assert_eq!(a.stats.primary_hits, b.stats.primary_hits, "{what}");
+    assert_eq!(a.stats.shadow_rays, b.stats.shadow_rays, "{what}");
+    assert_eq!(a.stats.reflected_rays, b.stats.reflected_rays, "{what}");
+    assert_eq!(a.stats.refracted_rays, b.stats.refracted_rays, "{what}");
+    assert_eq!(a.rays.camera, b.rays.camera, "{what}: camera rays per pixel");
+    assert_eq!(a.rays.total, b.rays.total, "{what}: rays per pixel");
+}
+
+#[test]
+fn the_wavefront_renders_the_one_path_tracers_image_bit_for_bit() {
+    for name in ["cornell-light", "cornell-light-glass", "cornell", "sphereflake:1"] {
+        let scene = builtin::find(name).unwrap();
+        let one = RenderOptions {
+            wavefront: false,
+            ..options(&scene)
+        };
+        let reference = rendered(&scene, &one);
+        let single = rendered(
+            &scene,
+            &RenderOptions {
+                packets: false,
+                ..one.clone()
+            },
+        );
+        assert_same(&single, &reference, &format!("{name}: packets against single paths"));
+        let wave = RenderOptions {
+            wavefront: true,
+            ..one
+        };
+        assert_same(&rendered(&scene, &wave), &reference, name);
+        // Some light reached the film: the comparison is of something.
+        assert!(reference.film.pixels.iter().any(|c| c.max_element() > 0.01));
+    }
+}
+
+#[test]
+fn the_queues_size_changes_nothing() {
+    let scene = builtin::find("cornell-light-glass").unwrap();
+    let o = RenderOptions {
+        wavefront: false,
+        ..options(&scene)
+    };
+    let reference = rendered(&scene, &o);
+    for paths in [1, 3, 64, 100, 5000] {
+        assert_same(
+            &with_queue(&scene, &o, paths),
+            &reference,
+            &format!("{paths} paths in flight"),
+        );
+    }
+}
+
+#[test]
+fn threads_tiles_and_filters_change_nothing() {
+    let scene = builtin::find("cornell-light").unwrap();
+    let base = RenderOptions {
+        wavefront: true,
+        ..options(&scene)
+    };
+    for filter in [FilterKind::Box, FilterKind::Gaussian] {
+        let o = RenderOptions { filter, ..base.clone() };
+        let reference = rendered(
+            &scene,
+            &RenderOptions {
+                wavefront: false,
+                threads: 1,
+                ..o.clone()
+            },
+        );
+        for (threads, tile_size) in [(1, 8), (2, 16), (2, 40)] {
+            let r = rendered(
+                &scene,
+                &RenderOptions {
+                    threads,
+                    tile_size,
+                    ..o.clone()
+                },
+            );
+            assert_same(
+                &r,
+                &reference,
+                &format!("{filter} filter, {threads} threads, tiles of {tile_size}"),
+            );
+        }
+    }
+}
+
+#[test]
+fn a_different_seed_gives_a_different_image() {
+    // The tests above compare renders that could only be equal by sharing the samples'
+    // random numbers: another seed must change the wavefront's image.
+    let scene = builtin::find("cornell-light").unwrap();
+    let o = RenderOptions {
+        wavefront: true,
+        ..options(&scene)
+    };
+    let a = rendered(&scene, &o);
+    let b = rendered(&scene, &RenderOptions { seed: 7, ..o });
+    assert_ne!(a.film.pixels, b.film.pixels);
+}
