@@ -4,6 +4,7 @@ use anyhow::{Context, Result};
 use prism::geometry::ShapeKind;
 use prism::render::RenderResult;
 use prism::scene::PreparedScene;
+use prism::stats::StageTimes;
 use prism::{RenderOptions, Stats};
 use serde_json::json;
 use std::path::Path;
@@ -72,6 +73,11 @@ impl Report {
                 .map(|(k, n)| (k.to_string(), json!(n)))
                 .collect::<serde_json::Map<_, _>>(),
             "node_visits": s.node_visits,
+            "wavefront_stage_ns_per_path": StageTimes::NAMES
+                .iter()
+                .zip(s.stages.ns)
+                .map(|(k, ns)| (k.to_string(), json!(ns as f64 / s.primary_rays.max(1) as f64)))
+                .collect::<serde_json::Map<_, _>>(),
             "shadows": {
                 "method": options.shadows.to_string(),
                 "rays": s.shadow_rays,
@@ -171,6 +177,18 @@ impl Report {
         );
         for line in &self.shadows {
             println!("{line}");
+        }
+        if s.stages.total() > 0 {
+            println!("{:<18} {:>14} {:>8}", "wavefront stages", "ns per path", "share");
+            let total = s.stages.total() as f64;
+            for (name, ns) in StageTimes::NAMES.iter().zip(s.stages.ns) {
+                println!(
+                    "{:<18} {:>14.1} {:>7.1}%",
+                    format!("  {name}"),
+                    ns as f64 / s.primary_rays.max(1) as f64,
+                    100.0 * ns as f64 / total
+                );
+            }
         }
         for (name, t) in self.times {
             println!(

@@ -60,7 +60,39 @@ pub struct Stats {
     pub beam_fragments: u64,
     /// Fragment ∩ pixel pieces the beam tracer shaded.
     pub beam_pieces: u64,
+    /// Time the wavefront path tracer spent in each of its stages.
+    pub stages: StageTimes,
 }
+
+/// Nanoseconds of the render threads' time in each stage of the wavefront path tracer
+/// (`StageTimes::NAMES`), summed over threads; zero for the other renderers. Times are
+/// measurements, not statistics of the work: two renders' `Stats` are equal whatever
+/// their times, so this compares equal to any other.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct StageTimes {
+    /// Per stage, in the order of `NAMES`.
+    pub ns: [u64; StageTimes::NAMES.len()],
+}
+
+impl StageTimes {
+    /// The stages: new camera rays, their and the bounce rays' hits, the hits' emission,
+    /// BSDF and light samples, the shadow rays, and the paths leaving (light added, a
+    /// direction drawn, Russian roulette, the queue compacted).
+    pub const NAMES: [&'static str; 5] = ["camera", "trace", "shade", "shadow", "leave"];
+
+    /// All stages' time.
+    pub fn total(&self) -> u64 {
+        self.ns.iter().sum()
+    }
+}
+
+impl PartialEq for StageTimes {
+    fn eq(&self, _: &StageTimes) -> bool {
+        true
+    }
+}
+
+impl Eq for StageTimes {}
 
 impl Stats {
     /// Records one intersection test against a shape of `kind`.
@@ -125,5 +157,8 @@ impl AddAssign for Stats {
         self.beams += o.beams;
         self.beam_fragments += o.beam_fragments;
         self.beam_pieces += o.beam_pieces;
+        for (a, b) in self.stages.ns.iter_mut().zip(o.stages.ns) {
+            *a += b;
+        }
     }
 }
