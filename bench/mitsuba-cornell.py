@@ -18,6 +18,7 @@ Dr.Jit would otherwise pick up, fails in its code generator):
     python3 -m venv /tmp/mi && /tmp/mi/bin/pip install mitsuba numpy
     /tmp/mi/bin/python bench/mitsuba-cornell.py [--spp 256] [--threads 2]
         [--variant llvm_ad_rgb] [--size 512] [--depth 6] [--out DIR]
+        [--prism-args '--wavefront false']
 Run it from the repository root after `cargo build --release -p prism-cli`.
 
     /tmp/mi/bin/python bench/mitsuba-cornell.py --write-reference crates/prism/tests/data \
@@ -174,6 +175,8 @@ def main():
     ap.add_argument("--depth", type=int, default=6)
     ap.add_argument("--out", default="/tmp/prism-mitsuba")
     ap.add_argument("--prism", default="target/release/prism")
+    ap.add_argument("--prism-args", default="",
+                    help="more arguments for prism render, e.g. '--wavefront false'")
     ap.add_argument("--scenes", default="cornell-light,cornell-light-glass")
     ap.add_argument("--write-reference", metavar="DIR",
                     help="only render Mitsuba's images into DIR")
@@ -212,7 +215,7 @@ def main():
                         "-W", str(args.size), "-H", str(args.size), "--depth", str(args.depth),
                         "--samples", str(n), "--sampler", "jittered",
                         "--threads", str(args.threads), "-q",
-                        "-o", prism_exr], check=True)
+                        "-o", prism_exr] + args.prism_args.split(), check=True)
         prism_cpu, prism_wall = child_cpu_seconds() - c0, time.time() - w0
 
         # Mitsuba: a one-path-per-pixel warm-up compiles the kernels first.

@@ -79,6 +79,7 @@ fn every_setting_reads_from_a_scene_file_as_set_gives_it() {
         ("shadows", "light-buffer:res=20"),
         ("tile_size", "9"),
         ("packets", "false"),
+        ("wavefront", "false"),
     ];
     let keys: Vec<&str> = values.iter().map(|(k, _)| *k).collect();
     let table: Vec<&str> = SETTINGS.iter().map(|s| s.key).collect();

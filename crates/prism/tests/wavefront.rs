@@ -4,7 +4,9 @@
 
 use prism::integrator::{CameraTracer, WavefrontPathTracer};
 use prism::options::IntegratorKind;
-use prism::render::{render, render_with, sampler_method, IntegratorMethod, RenderResult, Tile};
+use prism::render::{
+    render, render_with, sampler_method, IntegratorMethod, Progressive, RenderResult, Tile,
+};
 use prism::render::FilterKind;
 use prism::sampling::SamplerKind;
 use prism::scene::{builtin, PreparedScene};
@@ -161,4 +163,29 @@ fn a_different_seed_gives_a_different_image() {
     let a = rendered(&scene, &o);
     let b = rendered(&scene, &RenderOptions { seed: 7, ..o });
     assert_ne!(a.film.pixels, b.film.pixels);
+}
+
+#[test]
+fn progressive_passes_through_the_wavefront_add_the_same_samples() {
+    // The viewer's path-traced mode: passes of a few samples per pixel, accumulated.
+    let scene = builtin::find("cornell-light-glass").unwrap();
+    let o = options(&scene);
+    let prepared = scene.prepare_for(&o);
+    let frames = |wavefront: bool| {
+        let o = RenderOptions {
+            wavefront,
+            ..o.clone()
+        };
+        let mut p = Progressive::new(o.width, o.height).unwrap();
+        let cancel = AtomicBool::new(false);
+        let mut rays = 0;
+        for spp in [1, 3, 2] {
+            rays += p.advance(&prepared, &o, spp, &cancel).unwrap().total_rays();
+        }
+        (p.film().pixels, rays)
+    };
+    let (wave, wave_rays) = frames(true);
+    let (one, one_rays) = frames(false);
+    assert_eq!(wave, one);
+    assert_eq!(wave_rays, one_rays);
 }

@@ -145,7 +145,7 @@ impl Default for RenderOptions {
             shadows: Default::default(),
             tile_size: 16,
             packets: true,
-            wavefront: false,
+            wavefront: true,
             integrator: IntegratorKind::Whitted,
             path_strategy: Strategy::Mis,
             per_pixel_rays: true,

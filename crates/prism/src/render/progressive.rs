@@ -299,6 +299,9 @@ impl Pass<'_, '_> {
             }
             return;
         }
+        if self.integrator.traces_batches() {
+            return self.band_batch(y0, band, stats);
+        }
         // Blocks of PACKET_EDGE × PACKET_EDGE pixels, one packet per sample index; each
         // pixel still adds its samples in index order.
         // Per pixel of the block: its index in the band and its position.
@@ -331,6 +334,55 @@ impl Pass<'_, '_> {
                     band[k].add(colors[j], work[j]);
                 }
             }
+        }
+    }
+
+    /// `band` with all of this pass's samples of the band as one batch
+    /// (`CameraTracer::trace_camera_batch`), in the packets' order: block by block,
+    /// sample index by sample index. Each pixel adds its samples in index order; the
+    /// batch's traversal work is shared evenly among its samples.
+    fn band_batch(&self, y0: u32, band: &mut [PixelTotals], stats: &mut Stats) {
+        let width = self.width as usize;
+        let rows = (band.len() / width) as u32;
+        let spp = self.samples.len();
+        // Per sample of the batch: its pixel's index in the band and its sample index.
+        let mut order: Vec<(u32, u32)> = Vec::with_capacity(band.len() * spp);
+        for bx in (0..self.width).step_by(PACKET_EDGE as usize) {
+            for i in 0..spp as u32 {
+                for dy in 0..rows {
+                    for x in bx..(bx + PACKET_EDGE).min(self.width) {
+                        order.push(((dy as usize * width + x as usize) as u32, i));
+                    }
+                }
+            }
+        }
+        let first = self.samples.start;
+        let mut colors = vec![Color::ZERO; band.len() * spp];
+        let mut rays = vec![(0u32, 0u32); band.len() * spp];
+        let mark = RayMark::of(stats);
+        self.integrator.trace_camera_batch(
+            order.len(),
+            &mut |j| {
+                let (k, i) = order[j];
+                let (x, y) = (k % self.width, y0 + k / self.width);
+                let (at, stream) = self.sample(x, y, first + i);
+                (self.camera.ray(at.x, at.y), stream)
+            },
+            &mut |j, color, spawned| {
+                let (k, i) = order[j];
+                let slot = k as usize * spp + i as usize;
+                colors[slot] = color;
+                rays[slot] = (1, 1 + spawned);
+            },
+            stats,
+        );
+        let shared = PixelRays::since(mark, stats);
+        let n = order.len();
+        for (j, &(k, i)) in order.iter().enumerate() {
+            let slot = k as usize * spp + i as usize;
+            let mut work = shared.share(j, n);
+            (work.camera, work.total) = rays[slot];
+            band[k as usize].add(colors[slot], work);
         }
     }
 }
