@@ -179,7 +179,10 @@ impl Report {
             println!("{line}");
         }
         if s.stages.total() > 0 {
-            println!("{:<18} {:>14} {:>8}", "wavefront stages", "ns per path", "share");
+            println!(
+                "{:<18} {:>14} {:>8}",
+                "wavefront stages", "ns per path", "share"
+            );
             let total = s.stages.total() as f64;
             for (name, ns) in StageTimes::NAMES.iter().zip(s.stages.ns) {
                 println!(

@@ -3,15 +3,18 @@
 //! bit, whatever the queue's size, the filter, the tile size or the thread count.
 
 use prism::integrator::{CameraTracer, WavefrontPathTracer};
+use prism::math::hash::Stream;
+use prism::math::{Color, Ray};
 use prism::options::IntegratorKind;
+use prism::render::FilterKind;
 use prism::render::{
     render, render_with, sampler_method, IntegratorMethod, Progressive, RenderResult, Tile,
 };
-use prism::render::FilterKind;
 use prism::sampling::SamplerKind;
 use prism::scene::{builtin, PreparedScene};
+use prism::Stats;
 use prism::{RenderOptions, Scene};
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// The path tracer with a queue of `0` paths.
 struct Queue(usize);
@@ -68,13 +71,21 @@ fn assert_same(a: &RenderResult, b: &RenderResult, what: &str) {
     assert_eq!(a.stats.shadow_rays, b.stats.shadow_rays, "{what}");
     assert_eq!(a.stats.reflected_rays, b.stats.reflected_rays, "{what}");
     assert_eq!(a.stats.refracted_rays, b.stats.refracted_rays, "{what}");
-    assert_eq!(a.rays.camera, b.rays.camera, "{what}: camera rays per pixel");
+    assert_eq!(
+        a.rays.camera, b.rays.camera,
+        "{what}: camera rays per pixel"
+    );
     assert_eq!(a.rays.total, b.rays.total, "{what}: rays per pixel");
 }
 
 #[test]
 fn the_wavefront_renders_the_one_path_tracers_image_bit_for_bit() {
-    for name in ["cornell-light", "cornell-light-glass", "cornell", "sphereflake:1"] {
+    for name in [
+        "cornell-light",
+        "cornell-light-glass",
+        "cornell",
+        "sphereflake:1",
+    ] {
         let scene = builtin::find(name).unwrap();
         let one = RenderOptions {
             wavefront: false,
@@ -88,7 +99,11 @@ fn the_wavefront_renders_the_one_path_tracers_image_bit_for_bit() {
                 ..one.clone()
             },
         );
-        assert_same(&single, &reference, &format!("{name}: packets against single paths"));
+        assert_same(
+            &single,
+            &reference,
+            &format!("{name}: packets against single paths"),
+        );
         let wave = RenderOptions {
             wavefront: true,
             ..one
@@ -124,7 +139,10 @@ fn threads_tiles_and_filters_change_nothing() {
         ..options(&scene)
     };
     for filter in [FilterKind::Box, FilterKind::Gaussian] {
-        let o = RenderOptions { filter, ..base.clone() };
+        let o = RenderOptions {
+            filter,
+            ..base.clone()
+        };
         let reference = rendered(
             &scene,
             &RenderOptions {
@@ -188,4 +206,86 @@ fn progressive_passes_through_the_wavefront_add_the_same_samples() {
     let (one, one_rays) = frames(false);
     assert_eq!(wave, one);
     assert_eq!(wave_rays, one_rays);
+}
+
+/// Set by `CancelAfter` once its tracer has been asked for its samples.
+static CANCEL: AtomicBool = AtomicBool::new(false);
+/// The samples `CancelAfter`'s tracer asked for.
+static ASKED: AtomicUsize = AtomicUsize::new(0);
+
+/// The wavefront, cancelling the render (`CANCEL`) after `0` samples.
+struct CancelAfter(usize);
+
+struct CancellingTracer<'a> {
+    inner: WavefrontPathTracer<'a>,
+    after: usize,
+}
+
+impl CameraTracer for CancellingTracer<'_> {
+    fn trace_camera_ray(&self, ray: &Ray, stream: &Stream, stats: &mut Stats) -> Color {
+        self.inner.trace_camera_ray(ray, stream, stats)
+    }
+
+    fn traces_batches(&self) -> bool {
+        true
+    }
+
+    fn trace_camera_batch(
+        &self,
+        count: usize,
+        sample: &mut dyn FnMut(usize) -> Option<(Ray, Stream)>,
+        done: &mut dyn FnMut(usize, Color, u32),
+        stats: &mut Stats,
+    ) {
+        let mut counting = |i| {
+            let asked = ASKED.fetch_add(1, Ordering::Relaxed) + 1;
+            if asked > self.after {
+                CANCEL.store(true, Ordering::Relaxed);
+            }
+            sample(i)
+        };
+        self.inner
+            .trace_camera_batch(count, &mut counting, done, stats)
+    }
+}
+
+impl IntegratorMethod for CancelAfter {
+    fn tracer<'a>(
+        &self,
+        scene: &'a PreparedScene<'a>,
+        options: &RenderOptions,
+    ) -> Box<dyn CameraTracer + 'a> {
+        Box::new(CancellingTracer {
+            inner: WavefrontPathTracer::new(scene, options),
+            after: self.0,
+        })
+    }
+}
+
+#[test]
+fn a_cancel_stops_the_batch_within_the_tile() {
+    let scene = builtin::find("cornell-light").unwrap();
+    // One tile of 64 × 64 pixels at 16 samples: 65,536 samples in one batch.
+    let o = RenderOptions {
+        width: 64,
+        height: 64,
+        samples: 4,
+        threads: 1,
+        tile_size: 64,
+        ..options(&scene)
+    };
+    let prepared = scene.prepare_for(&o);
+    let r = render_with(
+        &prepared,
+        &o,
+        Tile::full(o.width, o.height),
+        sampler_method(o.sampler),
+        &CancelAfter(1000),
+        &|_| {},
+        &CANCEL,
+    )
+    .unwrap();
+    assert!(!r.complete);
+    // The sample asked after the cancel was refused, and none after it.
+    assert_eq!(ASKED.load(Ordering::Relaxed), 1001);
 }

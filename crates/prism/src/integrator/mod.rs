@@ -22,10 +22,10 @@ pub use wavefront::WavefrontPathTracer;
 pub use whitted::Whitted;
 
 use crate::accel::PACKET_MAX;
-use arrayvec::ArrayVec;
 use crate::math::hash::Stream;
 use crate::math::{Color, Ray};
 use crate::stats::Stats;
+use arrayvec::ArrayVec;
 
 /// What an integrator does with camera rays: radiance along one, or along a packet of
 /// them (at most `accel::PACKET_MAX`) with exactly the values one at a time gives. The
@@ -59,15 +59,17 @@ pub trait CameraTracer: Sync {
         false
     }
 
-    /// Radiance of `count` camera samples. Sample i's ray and random numbers come from
-    /// `sample(i)`, asked once each in order of i when the tracer has room for it; its
-    /// radiance and the rays it spawned after its camera ray go to `done(i, color, rays)`,
-    /// in any order. Every value is the one `trace_camera_ray` gives. By default packets
-    /// of `PACKET_MAX` consecutive samples.
+    /// Radiance of up to `count` camera samples. Sample i's ray and random numbers come
+    /// from `sample(i)`, asked once each in order of i when the tracer has room for it;
+    /// its radiance and the rays it spawned after its camera ray go to
+    /// `done(i, color, rays)`, in any order. Every value is the one `trace_camera_ray`
+    /// gives. A `sample` that answers None stops the batch (a cancelled render): it is
+    /// asked no more, and the samples already begun finish. By default packets of
+    /// `PACKET_MAX` consecutive samples.
     fn trace_camera_batch(
         &self,
         count: usize,
-        sample: &mut dyn FnMut(usize) -> (Ray, Stream),
+        sample: &mut dyn FnMut(usize) -> Option<(Ray, Stream)>,
         done: &mut dyn FnMut(usize, Color, u32),
         stats: &mut Stats,
     ) {
@@ -75,11 +77,15 @@ pub trait CameraTracer: Sync {
         for first in (0..count).step_by(PACKET_MAX) {
             let n = PACKET_MAX.min(count - first);
             let (rays, streams): (ArrayVec<Ray, PACKET_MAX>, ArrayVec<Stream, PACKET_MAX>) =
-                (first..first + n).map(&mut *sample).unzip();
+                (first..first + n).map_while(&mut *sample).unzip();
+            let n = rays.len();
             let mut rays_of = [0u32; PACKET_MAX];
             self.trace_camera_packet(&rays, &streams, &mut colors[..n], &mut rays_of, stats);
             for i in 0..n {
                 done(first + i, colors[i], rays_of[i]);
+            }
+            if n < PACKET_MAX.min(count - first) {
+                return;
             }
         }
     }

@@ -269,7 +269,13 @@ impl<'a> PathTracer<'a> {
     /// adds unblocked: every delta light, and one point on an area light (none at a
     /// vertex of delta lobes only).
     #[inline(always)]
-    pub(super) fn light_queries(&self, v: &Vertex, depth: u32, stream: &Stream, out: &mut Vec<LightQuery>) {
+    pub(super) fn light_queries(
+        &self,
+        v: &Vertex,
+        depth: u32,
+        stream: &Stream,
+        out: &mut Vec<LightQuery>,
+    ) {
         if !v.bsdf.has_smooth_lobe() {
             return;
         }

@@ -89,7 +89,7 @@ impl<'a> WavefrontPathTracer<'a> {
     pub fn trace_batch(
         &self,
         count: usize,
-        sample: &mut dyn FnMut(usize) -> (Ray, Stream),
+        sample: &mut dyn FnMut(usize) -> Option<(Ray, Stream)>,
         done: &mut dyn FnMut(usize, Color, u32),
         stats: &mut Stats,
     ) {
@@ -106,7 +106,11 @@ impl<'a> WavefrontPathTracer<'a> {
         };
         loop {
             while queue.len() < capacity && next < count {
-                let (ray, stream) = sample(next);
+                let Some((ray, stream)) = sample(next) else {
+                    // Stopped: no more samples, the ones begun finish.
+                    next = count;
+                    break;
+                };
                 queue.push(Lane {
                     path: Path::new(ray),
                     stream,
@@ -147,11 +151,18 @@ impl<'a> WavefrontPathTracer<'a> {
             let mut found = [None; PACKET_MAX];
             let found = &mut found[..run.len()];
             if coherent((run[0] >> 32) as u32) {
-                s.intersector
-                    .intersect_packet(&s.scene.geometry, &rays, f32::INFINITY, found, stats);
+                s.intersector.intersect_packet(
+                    &s.scene.geometry,
+                    &rays,
+                    f32::INFINITY,
+                    found,
+                    stats,
+                );
             } else {
                 for (r, f) in rays.iter().zip(found.iter_mut()) {
-                    *f = s.intersector.intersect(&s.scene.geometry, r, f32::INFINITY, stats);
+                    *f = s
+                        .intersector
+                        .intersect(&s.scene.geometry, r, f32::INFINITY, stats);
                 }
             }
             for (&k, &h) in run.iter().zip(found.iter()) {
@@ -176,7 +187,8 @@ impl<'a> WavefrontPathTracer<'a> {
             let vertex = self.paths.arrive(&mut lane.path, hit, lane.depth, stats);
             let first = lights.len();
             if let Some(v) = &vertex {
-                self.paths.light_queries(v, lane.depth, &lane.stream, lights);
+                self.paths
+                    .light_queries(v, lane.depth, &lane.stream, lights);
                 lane.rays += (lights.len() - first) as u32;
             }
             spans.push(first..lights.len());
@@ -294,7 +306,7 @@ impl CameraTracer for WavefrontPathTracer<'_> {
     fn trace_camera_batch(
         &self,
         count: usize,
-        sample: &mut dyn FnMut(usize) -> (Ray, Stream),
+        sample: &mut dyn FnMut(usize) -> Option<(Ray, Stream)>,
         done: &mut dyn FnMut(usize, Color, u32),
         stats: &mut Stats,
     ) {

@@ -265,7 +265,8 @@ fn trace_packets(
 /// Traces all of `tile`'s samples as one batch (`CameraTracer::trace_camera_batch`) in
 /// the packets' order: block by block, sample index by sample index, so that the camera
 /// rays the batch takes together are a packet's. Returns what `trace_packets` returns;
-/// the batch's traversal work is shared evenly among its samples.
+/// the batch's traversal work is shared evenly among its samples. None when the render
+/// was cancelled before the tile was done.
 fn trace_batch(
     job: &Job,
     pattern: &dyn PixelSamples,
@@ -310,11 +311,17 @@ fn trace_batch(
     let mut colors = vec![Color::ZERO; pixels * count];
     let mut rays = vec![PixelRays::default(); pixels];
     let before = RayMark::of(stats);
+    let mut cancelled = false;
     job.tracer.trace_camera_batch(
         order.len(),
         &mut |i| {
+            // Asked at every sample, so that a cancel answers at once even in large tiles.
+            if job.cancelled() {
+                cancelled = true;
+                return None;
+            }
             let at = position(i);
-            (job.camera.ray(at.x, at.y), job.stream(at.x, at.y))
+            Some((job.camera.ray(at.x, at.y), job.stream(at.x, at.y)))
         },
         &mut |i, color, spawned| {
             let (p, s) = order[i];
@@ -325,6 +332,9 @@ fn trace_batch(
         },
         stats,
     );
+    if cancelled {
+        return None;
+    }
     let shared = PixelRays::since(before, stats);
     let n = order.len();
     for (i, &(p, _)) in order.iter().enumerate() {

@@ -366,7 +366,7 @@ impl Pass<'_, '_> {
                 let (k, i) = order[j];
                 let (x, y) = (k % self.width, y0 + k / self.width);
                 let (at, stream) = self.sample(x, y, first + i);
-                (self.camera.ray(at.x, at.y), stream)
+                Some((self.camera.ray(at.x, at.y), stream))
             },
             &mut |j, color, spawned| {
                 let (k, i) = order[j];
