@@ -370,6 +370,32 @@ fn an_obj_without_its_mtl_renders_with_a_warning_unless_strict() {
     assert_eq!(listing(&dir), ["model.obj"]);
 }
 
+/// An OBJ object whose faces all have zero area is left out with a warning; --strict
+/// makes it an error.
+#[test]
+fn an_object_of_zero_area_faces_warns_unless_strict() {
+    let dir = work_dir("zero-area");
+    let obj = "o flat\nv 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n\
+               o real\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 4 5 6\n";
+    fs::write(dir.join("model.obj"), obj).unwrap();
+    let out = prism(&dir, &["render", "model.obj", "-q", "-W", "16", "-H", "16"]);
+    let err = expect_exit(&out, 0, "an object of zero area");
+    assert!(
+        err.contains("warning: model.obj: object 'flat' has only faces of zero area (1)"),
+        "{err}"
+    );
+    let out = prism(
+        &dir,
+        &["render", "model.obj", "--strict", "-q", "-o", "s.png"],
+    );
+    let err = expect_exit(&out, 1, "--strict");
+    assert!(
+        err.contains("zero area") && err.contains("--strict"),
+        "{err}"
+    );
+    assert!(!dir.join("s.png").exists());
+}
+
 // 10. A file whose content does not match its extension is named for what it is.
 #[test]
 fn a_file_that_is_not_what_its_extension_says_is_named() {

@@ -1003,3 +1003,40 @@ fn a_missing_base_colour_image_is_a_warning() {
         "a broken image is an error"
     );
 }
+
+/// A normal, occlusion, metallic-roughness or emissive texture whose image file is not
+/// there is a warning naming it, as a missing base colour image is: the material does
+/// without that map.
+#[test]
+fn a_missing_normal_or_occlusion_image_is_a_warning() {
+    let dir = temp_dir("missing-maps");
+    let mut doc = quad_document(Some(&quad_buffer_uri()));
+    let material = &mut doc["materials"][0];
+    material["normalTexture"] = json!({ "index": 0 });
+    material["occlusionTexture"] = json!({ "index": 1 });
+    material["emissiveTexture"] = json!({ "index": 2 });
+    material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({ "index": 3 });
+    doc["textures"] = json!([{ "source": 0 }, { "source": 1 }, { "source": 2 }, { "source": 3 }]);
+    doc["images"] = json!([
+        { "uri": "normal.png" },
+        { "uri": "occlusion.png" },
+        { "uri": "emissive.png" },
+        { "uri": "metal.png" }
+    ]);
+    let scene = load(&write(&dir, "quad.gltf", &pretty(&doc))).unwrap();
+    let w = scene.warnings.join("\n");
+    for (what, file) in [
+        ("normalTexture", "normal.png"),
+        ("occlusionTexture", "occlusion.png"),
+        ("emissiveTexture", "emissive.png"),
+        ("metallicRoughnessTexture", "metal.png"),
+    ] {
+        assert!(
+            w.contains(&format!("material 0: its {what}'s image"))
+                && w.contains(&format!("{file} is missing")),
+            "{what}: {w}"
+        );
+    }
+    let m = &scene.materials[0];
+    assert!(m.normal_map.is_none() && m.occlusion.is_none());
+}

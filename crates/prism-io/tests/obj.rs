@@ -799,3 +799,28 @@ fn a_missing_texture_is_a_warning_and_unrendered_maps_are_named() {
         "{w}"
     );
 }
+
+/// An object whose faces all have zero area (collinear or repeated corners) is left out
+/// with a warning naming it; the file's other objects load. A file with nothing else is
+/// the empty-mesh error, which says zero-area faces may be why.
+#[test]
+fn an_object_of_zero_area_faces_is_a_warning() {
+    let dir = temp_dir("obj-zero-area");
+    let text = "o flat\nv 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3\nf 1 2 4 3\n\
+                o real\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 5 6 7\n";
+    let path = write(&dir, "flat.obj", text);
+    let scene = load(&path).unwrap();
+    let w = scene.warnings.join("\n");
+    assert!(
+        w.contains("object 'flat' has only faces of zero area (2); it is left out"),
+        "{w}"
+    );
+    assert!(!w.contains("'real'"), "{w}");
+    let only = write(
+        &dir,
+        "only.obj",
+        "v 0 0 0\nv 1e-3 0 0\nv 2e-3 0 0\nf 1 2 3\n",
+    );
+    let err = load(&only).unwrap_err().to_string();
+    assert!(err.contains("only faces of zero area"), "{err}");
+}

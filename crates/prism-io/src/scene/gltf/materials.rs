@@ -150,8 +150,20 @@ pub(super) fn material(
 
     // Prism's material has one metallic and one roughness value: a metallicRoughness
     // texture contributes its average (blue = metallic, green = roughness, both linear).
-    if let Some(info) = &pbr_json.metallic_roughness_texture {
-        let img = images.texture(info.index.value()).map_err(context)?;
+    let metallic_roughness = match &pbr_json.metallic_roughness_texture {
+        Some(info) => image_or_warn(
+            images,
+            (index, info.index.value()),
+            (
+                "metallicRoughnessTexture",
+                "keeps its metallic and roughness factors",
+            ),
+            warnings,
+        )
+        .map_err(context)?,
+        None => None,
+    };
+    if let Some(img) = metallic_roughness {
         let rgb = img.to_rgb8();
         let n = (rgb.width() as f64 * rgb.height() as f64).max(1.0);
         let (g, b) = rgb.pixels().fold((0.0f64, 0.0f64), |(g, b), p| {
@@ -168,8 +180,17 @@ pub(super) fn material(
             "expected an emissiveFactor of finite numbers ≥ 0".into(),
         ));
     }
-    if let Some(info) = &json.emissive_texture {
-        let img = images.texture(info.index.value()).map_err(context)?;
+    let emissive = match &json.emissive_texture {
+        Some(info) => image_or_warn(
+            images,
+            (index, info.index.value()),
+            ("emissiveTexture", "keeps its emissiveFactor"),
+            warnings,
+        )
+        .map_err(context)?,
+        None => None,
+    };
+    if let Some(img) = emissive {
         let rgb = img.to_rgb8();
         let n = (rgb.width() as f64 * rgb.height() as f64).max(1.0);
         let mut sum = [0.0f64; 3];
@@ -184,22 +205,18 @@ pub(super) fn material(
             (sum[2] / n) as f32,
         );
     }
-    let missing = (pbr_json.base_color_texture.as_ref())
-        .and_then(|info| images.missing_file(info.index.value()));
-    let color = match &pbr_json.base_color_texture {
-        Some(_) if missing.is_some() => {
-            let path = missing.unwrap_or_default();
-            warnings.push(format!(
-                "material {index}: its baseColorTexture's image {} is missing; the material \
-                 keeps its baseColorFactor",
-                path.display()
-            ));
-            Texture::Solid(pbr.base)
-        }
-        Some(info) => {
-            let img = images.texture(info.index.value()).map_err(context)?;
-            Texture::Image(crate::texture::from_srgb(&img).tinted(pbr.base))
-        }
+    let base_color = match &pbr_json.base_color_texture {
+        Some(info) => image_or_warn(
+            images,
+            (index, info.index.value()),
+            ("baseColorTexture", "keeps its baseColorFactor"),
+            warnings,
+        )
+        .map_err(context)?,
+        None => None,
+    };
+    let color = match base_color {
+        Some(img) => Texture::Image(crate::texture::from_srgb(&img).tinted(pbr.base)),
         None => Texture::Solid(pbr.base),
     };
     let name = json
@@ -215,8 +232,14 @@ pub(super) fn material(
                 info.scale
             )));
         }
-        let img = images.texture(info.index.value()).map_err(context)?;
-        material.normal_map = Some(NormalMap {
+        let image = image_or_warn(
+            images,
+            (index, info.index.value()),
+            ("normalTexture", "keeps its surfaces' own normals"),
+            warnings,
+        )
+        .map_err(context)?;
+        material.normal_map = image.map(|img| NormalMap {
             texture: crate::texture::from_linear(&img),
             scale: info.scale,
         });
@@ -229,19 +252,46 @@ pub(super) fn material(
                 "occlusionTexture.strength is {strength}; expected a number from 0 to 1"
             )));
         }
-        let img = images.texture(info.index.value()).map_err(context)?;
-        let rgb = img.to_rgb8();
-        let texels = rgb
-            .pixels()
-            .map(|p| Color::splat(1.0 + strength * (p[0] as f32 / 255.0 - 1.0)))
-            .collect();
-        material.occlusion = Some(prism::shading::ImageTexture::from_texels(
-            rgb.width() as usize,
-            rgb.height() as usize,
-            texels,
-        ));
+        let image = image_or_warn(
+            images,
+            (index, info.index.value()),
+            ("occlusionTexture", "has no ambient occlusion"),
+            warnings,
+        )
+        .map_err(context)?;
+        material.occlusion = image.map(|img| {
+            let rgb = img.to_rgb8();
+            let texels = rgb
+                .pixels()
+                .map(|p| Color::splat(1.0 + strength * (p[0] as f32 / 255.0 - 1.0)))
+                .collect();
+            prism::shading::ImageTexture::from_texels(
+                rgb.width() as usize,
+                rgb.height() as usize,
+                texels,
+            )
+        });
     }
     Ok(material)
+}
+
+/// The image of texture `texture` of material `material`, or None with a warning where
+/// it names a file that is not there (a model downloaded without its textures): the
+/// material then does without it, as `instead` says, rather than the load failing.
+fn image_or_warn(
+    images: &mut Images,
+    (material, texture): (usize, usize),
+    (what, instead): (&str, &str),
+    warnings: &mut Vec<String>,
+) -> Result<Option<std::rc::Rc<image::DynamicImage>>, String> {
+    if let Some(path) = images.missing_file(texture) {
+        warnings.push(format!(
+            "material {material}: its {what}'s image {} is missing; the material {instead}",
+            path.display()
+        ));
+        return Ok(None);
+    }
+    images.texture(texture).map(Some)
 }
 
 /// The TEXCOORD set the base colour texture of material `index` reads.

@@ -86,7 +86,7 @@ fn parse_with(
         return Err(tobj_failed(&name, tobj::LoadError::MaterialParseError));
     }
     for model in models {
-        if let Some(part) = part(&model, &name)? {
+        if let Some(part) = part(&model, &name, &mut file.warnings)? {
             file.parts.push(part);
         }
     }
@@ -177,8 +177,13 @@ impl scan::Libraries for LibraryOpener<'_> {
     }
 }
 
-/// A tobj model (one object, group and material) as a mesh; `None` when it has no faces.
-fn part(model: &tobj::Model, path: &str) -> Result<Option<MeshPart>, LoadError> {
+/// A tobj model (one object, group and material) as a mesh; `None` when it has no faces,
+/// or (with a warning) when every face has zero area.
+fn part(
+    model: &tobj::Model,
+    path: &str,
+    warnings: &mut Vec<String>,
+) -> Result<Option<MeshPart>, LoadError> {
     let m = &model.mesh;
     if m.indices.is_empty() {
         return Ok(None);
@@ -229,7 +234,20 @@ fn part(model: &tobj::Model, path: &str) -> Result<Option<MeshPart>, LoadError> 
             start += arity as usize;
         }
     }
-    if triangles.is_empty() {
+    // Exactly zero (not small): a face of any size at any scale keeps its area.
+    let has_area = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        (b - a).cross(c - a) != Vec3::ZERO
+    };
+    if !triangles.iter().any(has_area) {
+        let faces = match m.face_arities.len() {
+            0 => m.indices.len() / 3,
+            n => n,
+        };
+        warnings.push(format!(
+            "{path}: object '{}' has only faces of zero area ({faces}); it is left out",
+            model.name
+        ));
         return Ok(None);
     }
     let mesh = TriangleMesh::new(positions, triangles, normals, uvs)
