@@ -107,6 +107,7 @@ pub(crate) fn run(args: &ServeArgs) -> Result<ExitCode> {
         bind: args.bind,
         port: args.port,
     };
+    let stop = crate::signals::StopSignals::listen();
     let server = prism_serve::Server::start(scene, &name, options, &config)?;
     // The one line a script waits for (the port is the system's choice with --port 0).
     println!("prism: viewing {name} at {}", server.url());
@@ -119,7 +120,7 @@ pub(crate) fn run(args: &ServeArgs) -> Result<ExitCode> {
     }
     use std::io::Write;
     std::io::stdout().flush()?;
-    let Some(code) = crate::signals::wait_for_stop() else {
+    let Some(code) = stop.wait() else {
         server.wait();
         return Ok(ExitCode::SUCCESS);
     };

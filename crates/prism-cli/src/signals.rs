@@ -109,27 +109,51 @@ fn install(interrupt: &Interrupt) {
     });
 }
 
-/// Blocks until SIGINT or SIGTERM comes and returns the exit code it calls for (130 or
-/// 143): how a command that runs until stopped (the viewer) ends. A process started in
-/// the background by a script begins with SIGINT ignored; listening here takes it back,
-/// so that `kill -INT` stops it as Ctrl-C does. None if the signals cannot be listened to
-/// (they then keep their default action, ending the process).
-#[cfg(unix)]
-pub(crate) fn wait_for_stop() -> Option<u8> {
-    use signal_hook::consts::{SIGINT, SIGTERM};
-    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]).ok()?;
-    let signal = signals.forever().next()?;
-    Some(128 + signal as u8)
+/// SIGINT and SIGTERM held for a command that runs until stopped (the viewer): listening
+/// starts when this is made, before the command says it is ready, so that a signal sent
+/// as soon as it has said so is not met by the default action. A process started in the
+/// background by a script begins with SIGINT ignored; listening takes it back, so that
+/// `kill -INT` stops it as Ctrl-C does.
+pub(crate) struct StopSignals {
+    #[cfg(unix)]
+    signals: Option<signal_hook::iterator::Signals>,
+    #[cfg(not(unix))]
+    signals: Option<std::sync::mpsc::Receiver<()>>,
 }
 
-#[cfg(not(unix))]
-pub(crate) fn wait_for_stop() -> Option<u8> {
-    let (send, receive) = std::sync::mpsc::channel();
-    ctrlc::set_handler(move || {
-        let _ = send.send(());
-    })
-    .ok()?;
-    receive.recv().ok().map(|()| 130)
+impl StopSignals {
+    #[cfg(unix)]
+    pub(crate) fn listen() -> Self {
+        use signal_hook::consts::{SIGINT, SIGTERM};
+        StopSignals {
+            signals: signal_hook::iterator::Signals::new([SIGINT, SIGTERM]).ok(),
+        }
+    }
+
+    #[cfg(not(unix))]
+    pub(crate) fn listen() -> Self {
+        let (send, receive) = std::sync::mpsc::channel();
+        let set = ctrlc::set_handler(move || {
+            let _ = send.send(());
+        });
+        StopSignals {
+            signals: set.is_ok().then_some(receive),
+        }
+    }
+
+    /// Blocks until a signal comes and returns the exit code it calls for (130 or 143);
+    /// None if the signals could not be listened to (they then keep their default action,
+    /// ending the process).
+    #[cfg(unix)]
+    pub(crate) fn wait(mut self) -> Option<u8> {
+        let signal = self.signals.as_mut()?.forever().next()?;
+        Some(128 + signal as u8)
+    }
+
+    #[cfg(not(unix))]
+    pub(crate) fn wait(self) -> Option<u8> {
+        self.signals?.recv().ok().map(|()| 130)
+    }
 }
 
 #[cfg(not(unix))]
