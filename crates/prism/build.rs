@@ -5,6 +5,7 @@
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rustc-check-cfg=cfg(prism_host_avx2)");
+    println!("cargo:rustc-check-cfg=cfg(prism_host_avx512)");
     #[cfg(target_arch = "x86_64")]
     {
         // The 8-wide kernels' own condition (`simd8::available`).
@@ -12,6 +13,10 @@ fn main() {
             && std::arch::is_x86_feature_detected!("popcnt")
         {
             println!("cargo:rustc-cfg=prism_host_avx2");
+        }
+        // The sixteen-lane kernels' (`simd8::avx512_available`).
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            println!("cargo:rustc-cfg=prism_host_avx512");
         }
     }
 }

@@ -11,6 +11,7 @@ mod plane;
 pub mod polygon;
 mod sphere;
 mod triangle;
+mod triangle_lanes;
 mod triangle_pack;
 
 pub use aabox::AaBox;
@@ -18,8 +19,10 @@ pub use cone::Cone;
 pub(crate) use cone::ConeTerms;
 pub use mesh::{MeshError, TriangleMesh};
 pub use plane::Plane;
+pub(crate) use sphere::sphere_lanes;
 pub use sphere::Sphere;
 pub use triangle::{intersect_triangle, TriangleHit};
+pub(crate) use triangle_lanes::{LaneHits, Sheared};
 pub use triangle_pack::{DecidedHit, PackRay, TrianglePack};
 
 use crate::math::{Aabb, Ray, TraceRay, Vec2, Vec3};

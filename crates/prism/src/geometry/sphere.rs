@@ -1,6 +1,7 @@
 //! Spheres, with a numerically careful quadratic (Haines et al., Ray Tracing Gems ch. 7).
 
 use super::{ShapeHit, SurfacePoint, Uv};
+use crate::math::lanes::{axes, FloatLanes};
 use crate::math::robust::gamma;
 use crate::math::{Aabb, Ray, Vec2, Vec3};
 use std::f32::consts::PI;
@@ -84,4 +85,35 @@ impl Sphere {
         let r = Vec3::splat(self.radius.abs());
         Aabb::new(self.center - r, self.center + r)
     }
+}
+
+/// `Sphere::intersect` in SIMD lanes, each a ray (`origin`, `dir`) and a sphere (`centre`,
+/// squared radius `r2`), any of them broadcast: lane by lane its operations in its order
+/// (`Vec3::dot` sums x, y, then z; no fused multiply-add), so each lane's distance is the
+/// scalar test's bit for bit, where the scalar test reports a hit. Returns the lanes that
+/// hit before `t_max` (bits) and every lane's distance. Shared by the 8-wide walk's leaves
+/// of spheres and the packets' sphere kernel of every width.
+#[inline(always)]
+pub(crate) fn sphere_lanes<L: FloatLanes>(
+    origin: [L; 3],
+    dir: [L; 3],
+    centre: [L; 3],
+    r2: L,
+    t_max: L,
+) -> (u32, L) {
+    let dot = |x: &[L; 3], y: &[L; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+    let zero = L::splat(0.0);
+    let f = axes(|a| origin[a] - centre[a]);
+    let b = dot(&f, &dir);
+    let l = axes(|a| f[a] - b * dir[a]);
+    let disc = r2 - dot(&l, &l);
+    let c = dot(&f, &f) - r2;
+    let q = b.neg() - disc.sqrt().copysign(b);
+    let t0 = c / q;
+    let swap = t0.gt(q);
+    let (near, far) = (L::select(swap, q, t0), L::select(swap, t0, q));
+    let t = L::select(near.gt(zero), near, far);
+    // A negative discriminant misses (the scalar test returns before its square root).
+    let hit = t.gt(zero) & t.lt(t_max) & disc.not_lt(zero);
+    (L::bits(hit), t)
 }

@@ -5,7 +5,7 @@
 //! triangles are evaluated identically from both sides, so no ray slips through a closed
 //! mesh; exact zeros are re-evaluated in f64 for the same reason.
 
-use crate::math::robust::gamma;
+use super::triangle_lanes::t_rounding_bound;
 use crate::math::{TraceRay, Vec3};
 
 /// A hit of the watertight triangle test.
@@ -79,15 +79,7 @@ pub fn intersect_triangle(
     }
     // Reject hits whose distance is not provably positive (pbrt-v4's bound on the rounding
     // of everything above): a ray leaving this triangle must not find it again at t ≈ 0.
-    let max_z = az.abs().max(bz.abs()).max(cz.abs());
-    let max_x = ax.abs().max(bx.abs()).max(cx.abs());
-    let max_y = ay.abs().max(by.abs()).max(cy.abs());
-    let delta_z = gamma(3) * max_z;
-    let delta_x = gamma(5) * (max_x + max_z);
-    let delta_y = gamma(5) * (max_y + max_z);
-    let delta_e = 2.0 * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-    let max_e = u.abs().max(v.abs()).max(w.abs());
-    let delta_t = 3.0 * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv.abs();
+    let delta_t = t_rounding_bound([ax, bx, cx], [ay, by, cy], [az, bz, cz], [u, v, w], inv);
     if t <= delta_t {
         return None;
     }

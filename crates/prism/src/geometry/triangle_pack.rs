@@ -13,7 +13,7 @@
 //! re-evaluates those in f64, and only it can decide them.
 
 use super::triangle::{intersect_triangle, TriangleHit};
-use crate::math::robust::gamma;
+use super::triangle_lanes::{LaneHits, Sheared};
 use crate::math::{TraceRay, Vec3};
 use glam::Vec4;
 
@@ -80,10 +80,10 @@ impl TrianglePack {
             .map(|axes| Vec3::new(axes[0][lane], axes[1][lane], axes[2][lane]))
     }
 
-    /// The edge functions, determinant and scaled distance of the four lanes, computed
-    /// exactly as `intersect_triangle` computes them.
+    /// The four lanes' edge functions, determinant and scaled distance, as
+    /// `intersect_triangle` computes them.
     #[inline(always)]
-    fn sheared(&self, ray: &PackRay) -> Sheared {
+    fn sheared(&self, ray: &PackRay) -> Sheared<Vec4> {
         let (kx, ky, kz) = (ray.kx, ray.ky, ray.kz);
         // As in `intersect_triangle`: vertices relative to the origin, permuted and sheared.
         let rel = |v: &[Vec4; 3]| {
@@ -93,56 +93,17 @@ impl TrianglePack {
                 v[kz] - ray.origin[2],
             ]
         };
-        let (a, b, c) = (rel(&self.v[0]), rel(&self.v[1]), rel(&self.v[2]));
-        let (sx, sy, sz) = (ray.shear[0], ray.shear[1], ray.shear[2]);
-        let ax = a[0] - sx * a[2];
-        let ay = a[1] - sy * a[2];
-        let bx = b[0] - sx * b[2];
-        let by = b[1] - sy * b[2];
-        let cx = c[0] - sx * c[2];
-        let cy = c[1] - sy * c[2];
-        let u = cx * by - cy * bx;
-        let v = ax * cy - ay * cx;
-        let w = bx * ay - by * ax;
-        let az = sz * a[2];
-        let bz = sz * b[2];
-        let cz = sz * c[2];
-        Sheared {
-            x: [ax, bx, cx],
-            y: [ay, by, cy],
-            z: [az, bz, cz],
-            det: u + v + w,
-            t_scaled: u * az + v * bz + w * cz,
-            u,
-            v,
-            w,
-        }
-    }
-
-    /// The lanes the scalar test rejects on the comparisons that need no exact zero
-    /// re-evaluated (`rejected`), and those with an exact zero edge function (`exact_zero`),
-    /// which only the scalar test can decide.
-    #[inline(always)]
-    fn rejected(&self, s: &Sheared, t_max: f32) -> (u32, u32) {
-        let zero = Vec4::ZERO;
-        let (u, v, w, det) = (s.u, s.v, s.w, s.det);
-        let exact_zero = u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero);
-        let outside = (u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero))
-            & (u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero));
-        let t_scaled = s.t_scaled;
-        let bound = Vec4::splat(t_max) * det;
-        let behind_or_beyond = (det.cmplt(zero) & (t_scaled.cmpge(zero) | t_scaled.cmplt(bound)))
-            | (det.cmpgt(zero) & (t_scaled.cmple(zero) | t_scaled.cmpgt(bound)));
-        // A zero determinant rejects in the scalar test too.
-        let rejected = (outside | behind_or_beyond | det.cmpeq(zero)).bitmask();
-        (rejected, exact_zero.bitmask())
+        Sheared::new(
+            [rel(&self.v[0]), rel(&self.v[1]), rel(&self.v[2])],
+            ray.shear,
+        )
     }
 
     /// The lanes (bit k for lane k) that `intersect_triangle(ray, …, t_max)` might report a
     /// hit for; every other lane it certainly rejects.
     #[inline(always)]
     pub fn candidates(&self, ray: &PackRay, t_max: f32) -> u32 {
-        let (rejected, exact_zero) = self.rejected(&self.sheared(ray), t_max);
+        let (rejected, exact_zero) = self.sheared(ray).rejected(Vec4::splat(t_max));
         // Lanes with an exact zero edge function are left to the scalar test, since it
         // re-evaluates those in f64 first.
         !(rejected & !exact_zero) & self.lane_mask()
@@ -154,44 +115,8 @@ impl TrianglePack {
     /// which the scalar test must decide (an exact zero edge function, which it
     /// re-evaluates in f64, or a value that is not finite).
     #[inline(always)]
-    pub fn hits(&self, ray: &PackRay, t_max: f32) -> PackHits {
-        let s = self.sheared(ray);
-        let (rejected, exact_zero) = self.rejected(&s, t_max);
-        let lanes = self.lane_mask();
-        let undecided = exact_zero & lanes;
-        let open = !rejected & !exact_zero & lanes;
-        if open == 0 {
-            return PackHits {
-                hit: 0,
-                undecided,
-                ..PackHits::NONE
-            };
-        }
-        let inv = Vec4::ONE / s.det;
-        let t = s.t_scaled * inv;
-        // pbrt-v4's bound on the rounding of t, as `intersect_triangle` takes it.
-        let abs_max = |a: [Vec4; 3]| a[0].abs().max(a[1].abs()).max(a[2].abs());
-        let (max_x, max_y, max_z) = (abs_max(s.x), abs_max(s.y), abs_max(s.z));
-        let delta_z = Vec4::splat(gamma(3)) * max_z;
-        let delta_x = Vec4::splat(gamma(5)) * (max_x + max_z);
-        let delta_y = Vec4::splat(gamma(5)) * (max_y + max_z);
-        let delta_e = Vec4::splat(2.0)
-            * (Vec4::splat(gamma(2)) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-        let max_e = s.u.abs().max(s.v.abs()).max(s.w.abs());
-        let delta_t = Vec4::splat(3.0)
-            * (Vec4::splat(gamma(3)) * max_e * max_z + delta_e * max_z + delta_z * max_e)
-            * inv.abs();
-        let finite = t.is_finite_mask().bitmask() & delta_t.is_finite_mask().bitmask();
-        let within = (t.cmplt(Vec4::splat(t_max)) & t.cmpgt(delta_t)).bitmask();
-        PackHits {
-            hit: open & within & finite,
-            undecided: undecided | (open & !finite),
-            t,
-            t_scaled: s.t_scaled,
-            det: s.det,
-            b1: s.v * inv,
-            b2: s.w * inv,
-        }
+    pub(crate) fn hits(&self, ray: &PackRay, t_max: f32) -> PackHits {
+        self.sheared(ray).hits(Vec4::splat(t_max), self.lane_mask())
     }
 
     #[inline(always)]
@@ -219,56 +144,8 @@ pub struct PackRay {
     kz: usize,
 }
 
-/// A pack's edge functions, determinant, scaled distance and sheared vertex coordinates
-/// (`x[i]`, `y[i]`, `z[i]` for vertex i), lane by lane.
-struct Sheared {
-    x: [Vec4; 3],
-    y: [Vec4; 3],
-    z: [Vec4; 3],
-    u: Vec4,
-    v: Vec4,
-    w: Vec4,
-    det: Vec4,
-    t_scaled: Vec4,
-}
-
 /// What `TrianglePack::hits` found, lane by lane.
-#[derive(Clone, Copy, Debug)]
-pub struct PackHits {
-    /// Lanes hit at the bound the test was given.
-    pub hit: u32,
-    /// Lanes only the scalar test can decide.
-    pub undecided: u32,
-    t: Vec4,
-    t_scaled: Vec4,
-    det: Vec4,
-    b1: Vec4,
-    b2: Vec4,
-}
-
-impl PackHits {
-    const NONE: PackHits = PackHits {
-        hit: 0,
-        undecided: 0,
-        t: Vec4::ZERO,
-        t_scaled: Vec4::ZERO,
-        det: Vec4::ZERO,
-        b1: Vec4::ZERO,
-        b2: Vec4::ZERO,
-    };
-
-    /// Lane `lane`'s values (a lane of `hit`), for `DecidedHit::within`.
-    #[inline(always)]
-    pub fn decided(&self, lane: usize) -> DecidedHit {
-        DecidedHit {
-            det: self.det[lane],
-            t_scaled: self.t_scaled[lane],
-            t: self.t[lane],
-            b1: self.b1[lane],
-            b2: self.b2[lane],
-        }
-    }
-}
+pub(crate) type PackHits = LaneHits<Vec4>;
 
 /// One lane's hit, decided by a SIMD pass of the watertight test at some bound: the
 /// values the scalar test would compute, from which the hit at a tighter bound follows.

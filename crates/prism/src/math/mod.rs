@@ -7,6 +7,7 @@
 mod aabb;
 mod frame;
 pub mod hash;
+pub(crate) mod lanes;
 mod ray;
 pub mod robust;
 pub mod warp;

@@ -85,7 +85,8 @@ named_kinds! {
     }
 }
 
-/// Whether packets of rays use AVX-512 where the CPU has it (`simd8/avx512.rs`).
+/// Whether packets of rays use AVX-512 where the CPU has it (`simd8/per_ray.rs` in sixteen
+/// lanes).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Avx512 {
     /// Sixteen rays per step in the 8-wide packet kernels where the CPU has AVX-512F

@@ -18,11 +18,12 @@
 
 use super::accel::Root;
 use super::traverse::{walk, CullBound, LeafQuery, Visit};
-use super::wide::WideNode;
+use super::wide::{plane_rows, WideNode};
 use super::Bvh;
 use crate::accel::query::HitSearch;
 use crate::accel::{Hit, QueryMode, CULL_SLACK, PACKET_MAX};
 use crate::geometry::{DecidedHit, Geometry, PackRay, ShapeHit, TrianglePack};
+use crate::math::lanes::{axes, FloatLanes};
 use crate::math::{permutation, watertight_axes, Ray, TraceRay, Vec3};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
@@ -92,58 +93,100 @@ impl PacketBounds {
     }
 }
 
-/// The packet's bounds for the 4-wide box test, broadcast per axis: the 4-wide nodes'
-/// children, and the boxes of a triangle pack's four triangles.
-pub(super) struct Packet4 {
-    bounds: PacketBounds,
-    origin_near: [Vec4; 3],
-    origin_far: [Vec4; 3],
-    inv_lo: [Vec4; 3],
-    inv_hi: [Vec4; 3],
+/// A packet's bounds for the interval box test, broadcast per axis in lanes `L`, a box per
+/// lane: four with glam's `Vec4` (`Packet4`: the 4-wide nodes' children, the boxes of a
+/// triangle pack's four triangles), eight with AVX2 (the 8-wide nodes' children, `simd8.rs`).
+pub(super) struct PacketBoxes<L> {
+    origin_near: [L; 3],
+    origin_far: [L; 3],
+    inv_lo: [L; 3],
+    inv_hi: [L; 3],
+    /// Per axis, the row of a node's bounds (rows `axis` minima, rows `3 + axis` maxima)
+    /// holding the boxes' entry planes for the packet's rays, and the exit planes.
+    pub near: [usize; 3],
+    pub far: [usize; 3],
 }
+
+impl<L: FloatLanes> PacketBoxes<L> {
+    #[inline(always)]
+    pub(super) fn new(bounds: &PacketBounds) -> PacketBoxes<L> {
+        let (near, far) = plane_rows(bounds.negative);
+        PacketBoxes {
+            origin_near: axes(|a| L::splat(bounds.origin_near[a])),
+            origin_far: axes(|a| L::splat(bounds.origin_far[a])),
+            inv_lo: axes(|a| L::splat(bounds.inv_lo[a])),
+            inv_hi: axes(|a| L::splat(bounds.inv_hi[a])),
+            near,
+            far,
+        }
+    }
+
+    /// The boxes some ray of the packet may enter before `t_max` (the farthest bound of its
+    /// rays, as bits) and per box a lower bound of every ray's entry distance, from the
+    /// boxes' bounds `row` by row. With `EVERY`, also the boxes every ray enters before
+    /// `t_min` (the nearest bound), for which no ray needs its own test: the same interval
+    /// arithmetic from the other ends (held to every ray's own box test in `simd8.rs`'s
+    /// tests); else no bits. The packet's inverse directions are finite and nonzero and its
+    /// origins finite (`PacketBounds::of`), so no product is NaN.
+    #[inline(always)]
+    pub(super) fn hit<const EVERY: bool>(
+        &self,
+        row: impl Fn(usize) -> L,
+        t_max: f32,
+        t_min: f32,
+    ) -> (u32, L, u32) {
+        let zero = L::splat(0.0);
+        // The interval products' low and high ends: which end of the inverse interval
+        // depends on the sign of the distance.
+        let product = |d: L, when_non_negative: L, when_negative: L| {
+            d * L::select(d.ge(zero), when_non_negative, when_negative)
+        };
+        let (mut enter_lo, mut enter_hi) = (zero, zero);
+        let (mut exit_hi, mut exit_lo) = (L::splat(t_max), L::splat(t_min));
+        for axis in 0..3 {
+            let (near_plane, far_plane) = (row(self.near[axis]), row(self.far[axis]));
+            let (lo, hi) = (self.inv_lo[axis], self.inv_hi[axis]);
+            let (origin_near, origin_far) = (self.origin_near[axis], self.origin_far[axis]);
+            enter_lo = product(near_plane - origin_near, lo, hi).max(enter_lo);
+            exit_hi = product(far_plane - origin_far, hi, lo).min(exit_hi);
+            if EVERY {
+                enter_hi = product(near_plane - origin_far, hi, lo).max(enter_hi);
+                exit_lo = product(far_plane - origin_near, lo, hi).min(exit_lo);
+            }
+        }
+        let slack = L::splat(CULL_SLACK);
+        let some = L::bits(enter_lo.le(exit_hi * slack));
+        let every = if EVERY {
+            some & L::bits(enter_hi.le(exit_lo * slack))
+        } else {
+            0
+        };
+        (some, enter_lo, every)
+    }
+}
+
+/// The 4-wide interval box test (`PacketBoxes` in glam's `Vec4`).
+pub(super) struct Packet4(PacketBoxes<Vec4>);
 
 impl Packet4 {
     pub(super) fn new(bounds: PacketBounds) -> Packet4 {
-        Packet4 {
-            bounds,
-            origin_near: bounds.origin_near.map(Vec4::splat),
-            origin_far: bounds.origin_far.map(Vec4::splat),
-            inv_lo: bounds.inv_lo.map(Vec4::splat),
-            inv_hi: bounds.inv_hi.map(Vec4::splat),
-        }
+        Packet4(PacketBoxes::new(&bounds))
     }
 
     /// Per child, a lower bound of the entry distance of every ray of the packet into its
     /// box, and whether some ray may enter it before `t_max`.
     #[inline(always)]
     fn hit(&self, node: &WideNode, t_max: f32) -> (u32, Vec4) {
-        let rows = |row: fn(&WideNode, usize) -> Vec4| [0, 1, 2].map(|a| row(node, a));
-        self.hit_boxes(rows(WideNode::min_row), rows(WideNode::max_row), t_max)
+        let (some, enter, _) = self.0.hit::<false>(|row| node.row(row), t_max, t_max);
+        (some, enter)
     }
 
     /// `hit` for four boxes given by their minima and maxima per axis.
     #[inline(always)]
     pub(super) fn hit_boxes(&self, min: [Vec4; 3], max: [Vec4; 3], t_max: f32) -> (u32, Vec4) {
-        let zero = Vec4::ZERO;
-        let mut enter = zero;
-        let mut exit = Vec4::splat(t_max);
-        for axis in 0..3 {
-            let (near_plane, far_plane) = if self.bounds.negative[axis] {
-                (max[axis], min[axis])
-            } else {
-                (min[axis], max[axis])
-            };
-            // The lowest product of the distance interval and the inverse interval, and
-            // the highest: which end of the inverse interval depends on the distance's sign.
-            let d = near_plane - self.origin_near[axis];
-            let near = d * Vec4::select(d.cmpge(zero), self.inv_lo[axis], self.inv_hi[axis]);
-            let d = far_plane - self.origin_far[axis];
-            let far = d * Vec4::select(d.cmpge(zero), self.inv_hi[axis], self.inv_lo[axis]);
-            enter = enter.max(near);
-            exit = exit.min(far);
-        }
-        let hit = enter.cmple(exit * Vec4::splat(CULL_SLACK));
-        (hit.bitmask(), enter)
+        let rows = [min[0], min[1], min[2], max[0], max[1], max[2]];
+        let (some, enter, _) = self.0.hit::<false>(|row| rows[row], t_max, t_max);
+        (some, enter)
     }
 }
 

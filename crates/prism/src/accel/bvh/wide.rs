@@ -12,6 +12,7 @@
 //! tests its eight boxes at once.
 
 use super::Node;
+use crate::math::lanes::{axes, FloatLanes};
 use crate::math::{Aabb, TraceRay, Vec3};
 use arrayvec::ArrayVec;
 use glam::Vec4;
@@ -22,8 +23,9 @@ use rayon::prelude::*;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 pub(super) struct WideNode {
-    min: [Vec4; 3],
-    max: [Vec4; 3],
+    /// `bounds[axis]` holds the children's minima on `axis`, `bounds[3 + axis]` their
+    /// maxima, as `Wide8Node::bounds`.
+    bounds: [Vec4; 6],
     /// A leaf child's first primitive (into `Bvh::prims`), or an interior child's
     /// `WideNode` index.
     pub child: [u32; 4],
@@ -33,29 +35,30 @@ pub(super) struct WideNode {
 
 impl WideNode {
     const EMPTY: WideNode = WideNode {
-        min: [Vec4::INFINITY; 3],
-        max: [Vec4::NEG_INFINITY; 3],
+        bounds: [
+            Vec4::INFINITY,
+            Vec4::INFINITY,
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::NEG_INFINITY,
+        ],
         child: [0; 4],
         count: [0; 4],
     };
 
-    /// The children's minima on `axis`, a lane per child.
+    /// Row `row` of the children's bounds, a lane per child: their minima on axis `row`
+    /// for rows 0..3, their maxima on axis `row - 3` for rows 3..6.
     #[inline(always)]
-    pub(super) fn min_row(&self, axis: usize) -> Vec4 {
-        self.min[axis]
-    }
-
-    /// The children's maxima on `axis`, a lane per child.
-    #[inline(always)]
-    pub(super) fn max_row(&self, axis: usize) -> Vec4 {
-        self.max[axis]
+    pub(super) fn row(&self, row: usize) -> Vec4 {
+        self.bounds[row]
     }
 
     /// Children in use (boxes a visit tests).
     #[inline(always)]
     pub(super) fn children(&self) -> u32 {
         // Unused lanes hold min = +∞.
-        self.min[0].cmplt(Vec4::INFINITY).bitmask().count_ones()
+        self.bounds[0].cmplt(Vec4::INFINITY).bitmask().count_ones()
     }
 
     /// Wide nodes for the tree `nodes` (root at 0). A root that is a leaf has none; the
@@ -65,37 +68,11 @@ impl WideNode {
     }
 
     /// Entry distances of the children's boxes along `ray` within `t_max`; +∞ for a
-    /// child the ray misses (and for unused lanes). `Aabb::hit`'s closed-box test, or more
-    /// conservative, on a short chain of dependent steps (as `simd8`'s `Ray8::hit`): the
-    /// walk's slack (`CULL_SLACK`) is in the ray's exit inverse directions and in the
-    /// bound, and the axes are combined as a tree of `max` and `min`. A slab whose distance
-    /// is NaN (the origin in a face plane of a box the ray runs parallel to) then drops out
-    /// with at most one other axis: the box may be entered earlier than `Aabb::hit` says,
-    /// never missed. Exactly `Aabb::hit`'s entry where no direction component is zero.
+    /// child the ray misses (and for unused lanes): `BoxRay::hit` in four lanes.
     #[inline(always)]
     pub(super) fn hit(&self, ray: &WideRay, t_max: f32) -> Vec4 {
-        let planes = |axis: usize| {
-            if ray.negative[axis] {
-                (self.max[axis], self.min[axis])
-            } else {
-                (self.min[axis], self.max[axis])
-            }
-        };
-        let slab = |axis: usize| {
-            let (near, far) = planes(axis);
-            let o = ray.origin[axis];
-            (
-                (near - o) * ray.inv_dir[axis],
-                (far - o) * ray.inv_exit[axis],
-            )
-        };
-        let ((n0, f0), (n1, f1), (n2, f2)) = (slab(0), slab(1), slab(2));
-        // `max` and `min` return their second operand where either is NaN: the bound and
-        // 0 come second, so neither result is ever NaN.
-        let enter = n0.max(n1).max(n2.max(Vec4::ZERO));
-        let bound = Vec4::splat(t_max * crate::accel::CULL_SLACK);
-        let exit = f0.min(f1).min(f2.min(bound));
-        Vec4::select(enter.cmple(exit), enter, Vec4::INFINITY)
+        let (hit, enter) = ray.hit(|row| self.row(row), t_max);
+        Vec4::select(hit, enter, Vec4::INFINITY)
     }
 }
 
@@ -140,16 +117,17 @@ pub(super) trait Lanes: Sized {
 impl Lanes for WideNode {
     const WIDTH: usize = 4;
     fn lane(&self, k: usize) -> Option<(Aabb, u32, u32)> {
-        let min = Vec3::new(self.min[0][k], self.min[1][k], self.min[2][k]);
-        let max = Vec3::new(self.max[0][k], self.max[1][k], self.max[2][k]);
+        let b = &self.bounds;
+        let min = Vec3::new(b[0][k], b[1][k], b[2][k]);
+        let max = Vec3::new(b[3][k], b[4][k], b[5][k]);
         (min.x < f32::INFINITY).then_some((Aabb { min, max }, self.child[k], self.count[k]))
     }
     fn of_lanes(lanes: &[(Aabb, u32, u32)]) -> Self {
         let mut w = WideNode::EMPTY;
         for (k, &(b, child, count)) in lanes.iter().enumerate() {
             for axis in 0..3 {
-                w.min[axis][k] = b.min[axis];
-                w.max[axis][k] = b.max[axis];
+                w.bounds[axis][k] = b.min[axis];
+                w.bounds[3 + axis][k] = b.max[axis];
             }
             (w.child[k], w.count[k]) = (child, count);
         }
@@ -371,28 +349,71 @@ fn collapse(nodes: &[Node], root: usize, width: usize) -> ArrayVec<usize, 8> {
     children.iter().map(|&(c, _)| c).collect()
 }
 
-/// A ray prepared for `WideNode::hit`: origin and inverse direction splatted per axis,
-/// and per axis whether the ray runs toward negative values (its entry plane is the max).
-pub(super) struct WideRay {
-    origin: [Vec4; 3],
-    inv_dir: [Vec4; 3],
-    /// The inverse direction times `CULL_SLACK`, for the exits: pushed out so that neither
-    /// the box test's rounding nor a primitive's error in its reported distance loses a
-    /// box.
-    inv_exit: [Vec4; 3],
-    negative: [bool; 3],
+/// Per axis, the row of a wide node's bounds holding a box's entry plane and the one
+/// holding its exit plane (rows `axis` hold minima, rows `3 + axis` maxima), for rays
+/// running toward negative values on the axes marked.
+pub(super) fn plane_rows(negative: [bool; 3]) -> ([usize; 3], [usize; 3]) {
+    let near = [0, 1, 2].map(|a| if negative[a] { 3 + a } else { a });
+    let far = [0, 1, 2].map(|a| if negative[a] { a } else { 3 + a });
+    (near, far)
 }
 
-impl WideRay {
+/// A ray prepared for the slab test of a wide node's boxes, a child per lane of `L` (four
+/// with glam's `Vec4`, `WideNode`; eight with AVX2, `Wide8Node`): origin and inverse
+/// direction broadcast per axis, and per axis the row of the node's bounds holding the
+/// entry plane (the max for a ray running toward negative values) and the exit plane.
+pub(super) struct BoxRay<L> {
+    origin: [L; 3],
+    inv_dir: [L; 3],
+    /// The inverse direction times `CULL_SLACK`, for the exits: pushed out so that neither
+    /// the box test's rounding nor a primitive's error in its reported distance loses a
+    /// box; applied before the exits are combined rather than after, one multiplication
+    /// fewer on the visit's critical path.
+    inv_exit: [L; 3],
+    near: [usize; 3],
+    far: [usize; 3],
+}
+
+/// The 4-wide layout's ray.
+pub(super) type WideRay = BoxRay<Vec4>;
+
+impl<L: FloatLanes> BoxRay<L> {
+    #[inline(always)]
     pub(super) fn new(ray: &TraceRay) -> Self {
         let o = ray.ray.origin;
         let inv = ray.inv_dir.to_array();
-        WideRay {
-            origin: [o.x, o.y, o.z].map(Vec4::splat),
-            inv_dir: inv.map(Vec4::splat),
-            inv_exit: inv.map(|v| Vec4::splat(v * crate::accel::CULL_SLACK)),
-            negative: inv.map(|v| v < 0.0),
+        let (near, far) = plane_rows(inv.map(|v| v < 0.0));
+        BoxRay {
+            origin: axes(|a| L::splat(o[a])),
+            inv_dir: axes(|a| L::splat(inv[a])),
+            inv_exit: axes(|a| L::splat(inv[a] * crate::accel::CULL_SLACK)),
+            near,
+            far,
         }
+    }
+
+    /// The children hit within `t_max` (a mask) and their entry distances (meaningful in
+    /// the lanes of the mask), from the node's bounds `row` by row. The slab test of
+    /// `Aabb::hit` with the walk's slack (`CULL_SLACK`) on the exits, its operations
+    /// arranged for a short chain of dependent steps, since a single ray's walk waits on
+    /// each visit's answer: the slack is in the exit planes' inverse direction and the
+    /// bound, and the three axes are combined as a tree (two steps) rather than one after
+    /// the other (three). Where a slab distance is NaN (a ray parallel to an axis that
+    /// starts on a box's face plane, 0 × ∞), `max`/`min` return their second operand, and
+    /// the bound and 0 come second: the NaN drops that axis and maybe one beside it from
+    /// the bound, so the box may be entered where `Aabb::hit` says it is not, never the
+    /// other way round. The answers do not change: a box test only decides which
+    /// primitives are tested. Exactly `Aabb::hit`'s entry where no direction component is
+    /// zero.
+    #[inline(always)]
+    pub(super) fn hit(&self, row: impl Fn(usize) -> L, t_max: f32) -> (L::Mask, L) {
+        let near = |axis: usize| (row(self.near[axis]) - self.origin[axis]) * self.inv_dir[axis];
+        let far = |axis: usize| (row(self.far[axis]) - self.origin[axis]) * self.inv_exit[axis];
+        let (near, far) = ([near(0), near(1), near(2)], [far(0), far(1), far(2)]);
+        let bound = L::splat(t_max * crate::accel::CULL_SLACK);
+        let enter = near[0].max(near[1]).max(near[2].max(L::splat(0.0)));
+        let exit = far[0].min(far[1]).min(far[2].min(bound));
+        (enter.le(exit), enter)
     }
 }
 

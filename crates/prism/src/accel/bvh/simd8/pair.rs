@@ -12,69 +12,41 @@
 
 use super::super::leaves::PACKED;
 use super::super::traverse::LeafQuery;
-use super::x86::t_rounding_bound;
 use crate::accel::query::HitSearch;
-use crate::geometry::{DecidedHit, PackRay, ShapeKind, TrianglePack};
+#[cfg(test)]
+use crate::geometry::DecidedHit;
+use crate::geometry::{LaneHits, PackRay, ShapeKind, Sheared, TrianglePack};
+use crate::math::lanes::{F32x8, FloatLanes};
 use crate::stats::Stats;
-use std::arch::x86_64::*;
 
 /// A ray's `PackRay` constants, broadcast across eight lanes.
 pub(in crate::accel::bvh) struct PairRay {
-    origin: [__m256; 3],
-    shear: [__m256; 3],
+    origin: [F32x8; 3],
+    shear: [F32x8; 3],
     axes: [usize; 3],
 }
 
 impl PairRay {
+    /// Only where the CPU has AVX2 (see `math::lanes`).
     #[target_feature(enable = "avx2,popcnt")]
     #[inline]
     pub(in crate::accel::bvh) fn new(ray: &PackRay) -> PairRay {
         PairRay {
-            origin: ray.origin().map(|o| _mm256_set1_ps(o)),
-            shear: ray.shear().map(|s| _mm256_set1_ps(s)),
+            origin: ray.origin().map(F32x8::splat),
+            shear: ray.shear().map(F32x8::splat),
             axes: ray.axes(),
         }
     }
 }
 
 /// What `pair_hits` found: `PackHits` for two packs, the first's in lanes 0..4.
-pub(in crate::accel::bvh) struct PairHits {
-    hit: u32,
-    undecided: u32,
-    t: __m256,
-    t_scaled: __m256,
-    det: __m256,
-    b1: __m256,
-    b2: __m256,
-}
+type PairHits = LaneHits<F32x8>;
 
-impl PairHits {
-    /// Pack `half`'s (0 or 1) lanes hit and lanes undecided, as `PackHits::hit` and
-    /// `PackHits::undecided` number them (bit k for the pack's lane k).
-    #[inline(always)]
-    fn lanes(&self, half: usize) -> (u32, u32) {
-        let shift = 4 * half;
-        ((self.hit >> shift) & 0xf, (self.undecided >> shift) & 0xf)
-    }
-
-    /// Lane `lane`'s (0..8) values (a lane of `hit`), as `PackHits::decided`.
-    #[target_feature(enable = "avx2,popcnt")]
-    #[inline]
-    fn decided(&self, lane: usize) -> DecidedHit {
-        let at = |v: __m256| {
-            let mut out = [0.0f32; 8];
-            // SAFETY: `out` holds eight f32s; unaligned store.
-            unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };
-            out[lane]
-        };
-        DecidedHit {
-            det: at(self.det),
-            t_scaled: at(self.t_scaled),
-            t: at(self.t),
-            b1: at(self.b1),
-            b2: at(self.b2),
-        }
-    }
+/// Pack `half`'s (0 or 1) lanes of `bits`, numbered as `PackHits` numbers them (bit k for
+/// the pack's lane k).
+#[inline(always)]
+fn half_of(bits: u32, half: usize) -> u32 {
+    (bits >> (4 * half)) & 0xf
 }
 
 /// `TrianglePack::hits` of `first` (lanes 0..4) and `second` (lanes 4..8) at bound `t_max`
@@ -89,92 +61,17 @@ pub(in crate::accel::bvh) fn pair_hits(
     t_max: f32,
 ) -> PairHits {
     let (p, q) = (first.lanes_by_vertex(), second.lanes_by_vertex());
-    // Vertex i's coordinates on `axis`: the first pack's four lanes low, the second's high.
-    let row =
-        |i: usize, axis: usize| _mm256_set_m128(__m128::from(q[i][axis]), __m128::from(p[i][axis]));
-    let (add, sub, mul) = (_mm256_add_ps, _mm256_sub_ps, _mm256_mul_ps);
-    let (zero, splat) = (_mm256_setzero_ps(), |x: f32| _mm256_set1_ps(x));
-    let (or, and) = (_mm256_or_ps, _mm256_and_ps);
-    let mask = |x: __m256| _mm256_movemask_ps(x) as u32;
-    // Absolute values as glam takes them: the sign bit cleared.
-    let abs = |x: __m256| _mm256_andnot_ps(splat(-0.0), x);
-    // Ordered comparisons, false on NaN, as glam's `cmp*` (`_mm_cmp*_ps`) are.
-    let eq = |x, y| _mm256_cmp_ps::<_CMP_EQ_OQ>(x, y);
-    let lt = |x, y| _mm256_cmp_ps::<_CMP_LT_OQ>(x, y);
-    let le = |x, y| _mm256_cmp_ps::<_CMP_LE_OQ>(x, y);
-    let gt = |x, y| _mm256_cmp_ps::<_CMP_GT_OQ>(x, y);
-    let ge = |x, y| _mm256_cmp_ps::<_CMP_GE_OQ>(x, y);
-
-    // `TrianglePack::sheared`: vertices relative to the origin, permuted and sheared.
+    // `TrianglePack::sheared`: vertices relative to the origin, permuted and sheared; the
+    // first pack's four lanes low, the second's high.
     let [kx, ky, kz] = ray.axes;
     let rel = |i: usize| {
-        [
-            sub(row(i, kx), ray.origin[0]),
-            sub(row(i, ky), ray.origin[1]),
-            sub(row(i, kz), ray.origin[2]),
-        ]
+        let row = |axis: usize| F32x8::from_halves(p[i][axis], q[i][axis]);
+        let o = &ray.origin;
+        [row(kx) - o[0], row(ky) - o[1], row(kz) - o[2]]
     };
-    let (a, b, c) = (rel(0), rel(1), rel(2));
-    let [sx, sy, sz] = ray.shear;
-    let ax = sub(a[0], mul(sx, a[2]));
-    let ay = sub(a[1], mul(sy, a[2]));
-    let bx = sub(b[0], mul(sx, b[2]));
-    let by = sub(b[1], mul(sy, b[2]));
-    let cx = sub(c[0], mul(sx, c[2]));
-    let cy = sub(c[1], mul(sy, c[2]));
-    let u = sub(mul(cx, by), mul(cy, bx));
-    let v = sub(mul(ax, cy), mul(ay, cx));
-    let w = sub(mul(bx, ay), mul(by, ax));
-    let az = mul(sz, a[2]);
-    let bz = mul(sz, b[2]);
-    let cz = mul(sz, c[2]);
-    let det = add(add(u, v), w);
-    let t_scaled = add(add(mul(u, az), mul(v, bz)), mul(w, cz));
-
-    // `TrianglePack::rejected`.
-    let exact_zero = or(or(eq(u, zero), eq(v, zero)), eq(w, zero));
-    let outside = and(
-        or(or(lt(u, zero), lt(v, zero)), lt(w, zero)),
-        or(or(gt(u, zero), gt(v, zero)), gt(w, zero)),
-    );
-    let bound = mul(splat(t_max), det);
-    let behind_or_beyond = or(
-        and(lt(det, zero), or(ge(t_scaled, zero), lt(t_scaled, bound))),
-        and(gt(det, zero), or(le(t_scaled, zero), gt(t_scaled, bound))),
-    );
-    let rejected = mask(or(or(outside, behind_or_beyond), eq(det, zero)));
-    let exact_zero = mask(exact_zero);
-
-    // `TrianglePack::hits`.
+    let sheared = Sheared::new([rel(0), rel(1), rel(2)], ray.shear);
     let lanes = lane_mask(first) | lane_mask(second) << 4;
-    let undecided = exact_zero & lanes;
-    let open = !rejected & !exact_zero & lanes;
-    if open == 0 {
-        return PairHits {
-            hit: 0,
-            undecided,
-            t: zero,
-            t_scaled: zero,
-            det: zero,
-            b1: zero,
-            b2: zero,
-        };
-    }
-    let inv = _mm256_div_ps(splat(1.0), det);
-    let t = mul(t_scaled, inv);
-    let delta_t = t_rounding_bound([ax, bx, cx], [ay, by, cy], [az, bz, cz], [u, v, w], inv);
-    let infinity = splat(f32::INFINITY);
-    let finite = mask(lt(abs(t), infinity)) & mask(lt(abs(delta_t), infinity));
-    let within = mask(and(lt(t, splat(t_max)), gt(t, delta_t)));
-    PairHits {
-        hit: open & within & finite,
-        undecided: undecided | (open & !finite),
-        t,
-        t_scaled,
-        det,
-        b1: mul(v, inv),
-        b2: mul(w, inv),
-    }
+    sheared.hits(F32x8::splat(t_max), lanes)
 }
 
 /// The lanes of `pack` that hold a triangle.
@@ -235,12 +132,12 @@ fn test_pair(
     // pack's hits are kept, and `take_pack_lanes` holds each lane to the search's bound
     // for it when it comes to the lane, so the second pack's answers are unchanged.
     let hits = pair_hits(first, second, ray, search.nested_limit());
-    let (hit, undecided) = hits.lanes(0);
+    let (hit, undecided) = (half_of(hits.hit, 0), half_of(hits.undecided, 0));
     if search.take_pack_lanes(first, hit, undecided, |k| hits.decided(k), leaves.ray) {
         return true;
     }
     stats.count_tests(ShapeKind::Triangle, second.len() as u64);
-    let (hit, undecided) = hits.lanes(1);
+    let (hit, undecided) = (half_of(hits.hit, 1), half_of(hits.undecided, 1));
     search.take_pack_lanes(second, hit, undecided, |k| hits.decided(4 + k), leaves.ray)
 }
 
@@ -385,8 +282,7 @@ mod tests {
                     while lanes != 0 {
                         let lane = lanes.trailing_zeros() as usize;
                         lanes &= lanes - 1;
-                        // SAFETY: AVX2 was detected above.
-                        let got = unsafe { eight.decided(lane) };
+                        let got = eight.decided(lane);
                         let want = four[lane / 4].decided(lane % 4);
                         assert_eq!(bits(&got), bits(&want), "lane {lane}, {at}");
                     }

@@ -1,0 +1,421 @@
+//! Lanes of f32 for SIMD kernels written once: `FloatLanes`, the handful of operations the
+//! kernels make (splat, load, arithmetic, min and max, comparisons into a mask, select,
+//! the mask's bits), implemented for one lane (`f32`), four (glam's `Vec4`: SSE on x86-64,
+//! portable elsewhere), eight (`F32x8`, AVX2) and sixteen (`F32x16`, AVX-512F). A kernel is
+//! one generic function over `L: FloatLanes`; each width is a monomorphisation of it, as
+//! Embree's kernels are templates over its `vfloat<N>`.
+//!
+//! Every implementation maps an operation to the one instruction (or glam call) the
+//! hand-written kernels used, and none fuses a multiply and an add, so a kernel gives the
+//! same bits in every width: lane for lane, the scalar code's operations in its order.
+//! Where widths could differ, the operation says how: `min` and `max` return their second
+//! operand when either is NaN on x86 (`minps`/`maxps`, and glam's `Vec4` there), while the
+//! `f32` lane takes the number (`f32::min`), as the scalar code it serves always has.
+//!
+//! How a kernel is compiled for a width: the x86 implementations are `#[inline(always)]`
+//! methods over `std::arch` intrinsics, with no target feature of their own, so they take
+//! the features of the function they are inlined into. A kernel is likewise an
+//! `#[inline(always)]` generic function, and each width's entry point is a
+//! `#[target_feature(enable = …)]` function that calls it with its lane type, entered only
+//! after `is_x86_feature_detected!` said yes (see `accel/bvh/simd8.rs`). A value of `F32x8`
+//! or `F32x16` only ever exists inside such an entry point; nothing else makes one.
+
+#[cfg(target_arch = "x86_64")]
+mod avx2;
+#[cfg(target_arch = "x86_64")]
+mod avx512;
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) use avx2::F32x8;
+#[cfg(target_arch = "x86_64")]
+pub(crate) use avx512::F32x16;
+
+use glam::{BVec4A, Vec4};
+use std::ops::{Add, BitAnd, BitOr, Div, Index, Mul, Sub};
+
+/// `LANES` f32 values operated on together, lane by lane.
+pub(crate) trait FloatLanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
+{
+    /// Lanes per value (at most 32, so that a mask's bits fit a `u32`).
+    const LANES: usize;
+    /// A comparison's answer, lane by lane.
+    type Mask: Copy + BitAnd<Output = Self::Mask> + BitOr<Output = Self::Mask>;
+    /// The lanes stored to memory, for the scalar steps after a kernel.
+    type Array: Copy + Index<usize, Output = f32>;
+
+    /// `x` in every lane.
+    fn splat(x: f32) -> Self;
+    /// Lanes `at .. at + LANES` of `row`.
+    fn load<const K: usize>(row: &[f32; K], at: usize) -> Self;
+    /// The lanes in memory.
+    fn to_array(self) -> Self::Array;
+    /// The lesser of each pair; where either is NaN, see the module's documentation.
+    fn min(self, other: Self) -> Self;
+    /// The greater of each pair; where either is NaN, see the module's documentation.
+    fn max(self, other: Self) -> Self;
+    /// The magnitude (the sign bit cleared).
+    fn abs(self) -> Self;
+    /// The sign bit flipped.
+    fn neg(self) -> Self;
+    /// The magnitude of `self` with the sign bit of `sign`.
+    fn copysign(self, sign: Self) -> Self;
+    /// The square root.
+    fn sqrt(self) -> Self;
+    /// `self == other` (false where either is NaN).
+    fn eq(self, other: Self) -> Self::Mask;
+    /// `self < other` (false where either is NaN).
+    fn lt(self, other: Self) -> Self::Mask;
+    /// `self <= other` (false where either is NaN).
+    fn le(self, other: Self) -> Self::Mask;
+    /// `self > other` (false where either is NaN).
+    fn gt(self, other: Self) -> Self::Mask;
+    /// `self >= other` (false where either is NaN).
+    fn ge(self, other: Self) -> Self::Mask;
+    /// `!(self < other)`: true where either is NaN.
+    fn not_lt(self, other: Self) -> Self::Mask;
+    /// `if_true` in the lanes of `mask`, `if_false` in the others.
+    fn select(mask: Self::Mask, if_true: Self, if_false: Self) -> Self;
+    /// The mask as bits, bit k for lane k.
+    fn bits(mask: Self::Mask) -> u32;
+
+    /// Bits of every lane.
+    #[inline(always)]
+    fn all_lanes() -> u32 {
+        u32::MAX >> (32 - Self::LANES)
+    }
+
+    /// `|a|`, `|b|`, `|c|`: the greatest, combined as `(|a| max |b|) max |c|`.
+    #[inline(always)]
+    fn abs_max([a, b, c]: [Self; 3]) -> Self {
+        a.abs().max(b.abs()).max(c.abs())
+    }
+}
+
+/// `[f(0), f(1), f(2)]`, for a kernel's per-axis values: written out, because
+/// `<[T; 3]>::map` is not always inlined, and a kernel's operations outside the function it
+/// is inlined into lose its target features (each becomes a call).
+#[inline(always)]
+pub(crate) fn axes<T>(f: impl Fn(usize) -> T) -> [T; 3] {
+    [f(0), f(1), f(2)]
+}
+
+/// One lane: the scalar code's own operations, so that a kernel serves it too.
+impl FloatLanes for f32 {
+    const LANES: usize = 1;
+    type Mask = bool;
+    type Array = [f32; 1];
+
+    #[inline(always)]
+    fn splat(x: f32) -> f32 {
+        x
+    }
+    #[inline(always)]
+    fn load<const K: usize>(row: &[f32; K], at: usize) -> f32 {
+        row[at]
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f32; 1] {
+        [self]
+    }
+    #[inline(always)]
+    fn min(self, other: f32) -> f32 {
+        f32::min(self, other)
+    }
+    #[inline(always)]
+    fn max(self, other: f32) -> f32 {
+        f32::max(self, other)
+    }
+    #[inline(always)]
+    fn abs(self) -> f32 {
+        f32::abs(self)
+    }
+    #[inline(always)]
+    fn neg(self) -> f32 {
+        -self
+    }
+    #[inline(always)]
+    fn copysign(self, sign: f32) -> f32 {
+        f32::copysign(self, sign)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> f32 {
+        f32::sqrt(self)
+    }
+    #[inline(always)]
+    fn eq(self, other: f32) -> bool {
+        self == other
+    }
+    #[inline(always)]
+    fn lt(self, other: f32) -> bool {
+        self < other
+    }
+    #[inline(always)]
+    fn le(self, other: f32) -> bool {
+        self <= other
+    }
+    #[inline(always)]
+    fn gt(self, other: f32) -> bool {
+        self > other
+    }
+    #[inline(always)]
+    fn ge(self, other: f32) -> bool {
+        self >= other
+    }
+    #[inline(always)]
+    fn not_lt(self, other: f32) -> bool {
+        self.partial_cmp(&other) != Some(std::cmp::Ordering::Less)
+    }
+    #[inline(always)]
+    fn select(mask: bool, if_true: f32, if_false: f32) -> f32 {
+        if mask {
+            if_true
+        } else {
+            if_false
+        }
+    }
+    #[inline(always)]
+    fn bits(mask: bool) -> u32 {
+        u32::from(mask)
+    }
+}
+
+/// Four lanes through glam: SSE on x86-64 (each operation the `_mm_*` one of the same
+/// name), plain f32 elsewhere.
+impl FloatLanes for Vec4 {
+    const LANES: usize = 4;
+    type Mask = BVec4A;
+    type Array = [f32; 4];
+
+    #[inline(always)]
+    fn splat(x: f32) -> Vec4 {
+        Vec4::splat(x)
+    }
+    #[inline(always)]
+    fn load<const K: usize>(row: &[f32; K], at: usize) -> Vec4 {
+        Vec4::from_slice(&row[at..at + 4])
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f32; 4] {
+        Vec4::to_array(&self)
+    }
+    #[inline(always)]
+    fn min(self, other: Vec4) -> Vec4 {
+        Vec4::min(self, other)
+    }
+    #[inline(always)]
+    fn max(self, other: Vec4) -> Vec4 {
+        Vec4::max(self, other)
+    }
+    #[inline(always)]
+    fn abs(self) -> Vec4 {
+        Vec4::abs(self)
+    }
+    #[inline(always)]
+    fn neg(self) -> Vec4 {
+        -self
+    }
+    #[inline(always)]
+    fn copysign(self, sign: Vec4) -> Vec4 {
+        Vec4::copysign(self, sign)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Vec4 {
+        Vec4::new(self.x.sqrt(), self.y.sqrt(), self.z.sqrt(), self.w.sqrt())
+    }
+    #[inline(always)]
+    fn eq(self, other: Vec4) -> BVec4A {
+        self.cmpeq(other)
+    }
+    #[inline(always)]
+    fn lt(self, other: Vec4) -> BVec4A {
+        self.cmplt(other)
+    }
+    #[inline(always)]
+    fn le(self, other: Vec4) -> BVec4A {
+        self.cmple(other)
+    }
+    #[inline(always)]
+    fn gt(self, other: Vec4) -> BVec4A {
+        self.cmpgt(other)
+    }
+    #[inline(always)]
+    fn ge(self, other: Vec4) -> BVec4A {
+        self.cmpge(other)
+    }
+    #[inline(always)]
+    fn not_lt(self, other: Vec4) -> BVec4A {
+        !self.cmplt(other)
+    }
+    #[inline(always)]
+    fn select(mask: BVec4A, if_true: Vec4, if_false: Vec4) -> Vec4 {
+        Vec4::select(mask, if_true, if_false)
+    }
+    #[inline(always)]
+    fn bits(mask: BVec4A) -> u32 {
+        mask.bitmask()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Numbers every operation meets: signed zeros, tiny and huge values, infinities, NaN.
+    const SPECIAL: [f32; 12] = [
+        0.0,
+        -0.0,
+        1.0,
+        -2.5,
+        1e-30,
+        -3e30,
+        f32::MIN_POSITIVE,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+        7.0,
+        -7.0,
+    ];
+
+    /// Each width's operations, lane by lane, against the scalar ones on every pair of
+    /// `SPECIAL` values: the same bits, and `min`/`max` with NaN (and equal zeros) as the
+    /// module says (the second operand on x86, the number for `f32`).
+    fn agrees_with_scalar<L: FloatLanes>() {
+        let n = L::LANES;
+        let mut pairs = Vec::new();
+        for &a in &SPECIAL {
+            for &b in &SPECIAL {
+                pairs.push((a, b));
+            }
+        }
+        while pairs.len() % n != 0 {
+            pairs.push((1.0, 2.0));
+        }
+        for chunk in pairs.chunks(n) {
+            let mut xs = [0.0f32; 32];
+            let mut ys = [0.0f32; 32];
+            for (k, &(a, b)) in chunk.iter().enumerate() {
+                xs[k] = a;
+                ys[k] = b;
+            }
+            let (x, y) = (L::load(&xs, 0), L::load(&ys, 0));
+            // `want` gives None where the platform decides (min and max of a NaN on
+            // several lanes off x86-64).
+            let agree = |got: L, want: &dyn Fn(f32, f32) -> Option<f32>, what: &str| {
+                let got = got.to_array();
+                for k in 0..n {
+                    let Some(w) = want(xs[k], ys[k]) else {
+                        continue;
+                    };
+                    let g = got[k];
+                    assert!(
+                        g.to_bits() == w.to_bits() || (g.is_nan() && w.is_nan()),
+                        "{n} lanes, {what}({}, {}): {g} against {w}",
+                        xs[k],
+                        ys[k]
+                    );
+                }
+            };
+            let same = |got: L, want: &dyn Fn(f32, f32) -> f32, what: &str| {
+                agree(got, &|a, b| Some(want(a, b)), what)
+            };
+            same(x + y, &|a, b| a + b, "add");
+            same(x - y, &|a, b| a - b, "sub");
+            same(x * y, &|a, b| a * b, "mul");
+            same(x / y, &|a, b| a / b, "div");
+            same(x.abs(), &|a, _| a.abs(), "abs");
+            same(x.neg(), &|a, _| -a, "neg");
+            same(x.copysign(y), &|a, b| a.copysign(b), "copysign");
+            same(x.sqrt(), &|a, _| a.sqrt(), "sqrt");
+            // Several lanes on x86-64 are `minps`/`maxps`: the first operand where it is
+            // strictly less (greater), else the second (NaN and equal zeros included).
+            // Elsewhere those cases are the platform's.
+            let one_lane = n == 1;
+            let min_max = move |a: f32, b: f32, first: bool, f: fn(f32, f32) -> f32| {
+                if one_lane {
+                    Some(f(a, b))
+                } else if cfg!(target_arch = "x86_64") {
+                    Some(if first { a } else { b })
+                } else if a.is_nan() || b.is_nan() || a == b {
+                    None
+                } else {
+                    Some(f(a, b))
+                }
+            };
+            agree(x.min(y), &|a, b| min_max(a, b, a < b, f32::min), "min");
+            agree(x.max(y), &|a, b| min_max(a, b, a > b, f32::max), "max");
+            let mask_is = |got: L::Mask, want: fn(f32, f32) -> bool, what: &str| {
+                let bits = L::bits(got);
+                for k in 0..n {
+                    let w = want(xs[k], ys[k]);
+                    assert_eq!(
+                        bits >> k & 1 == 1,
+                        w,
+                        "{n} lanes, {what}({}, {})",
+                        xs[k],
+                        ys[k]
+                    );
+                }
+                assert_eq!(
+                    bits & !L::all_lanes(),
+                    0,
+                    "{n} lanes, {what}: bits past the lanes"
+                );
+            };
+            mask_is(x.eq(y), |a, b| a == b, "eq");
+            mask_is(x.lt(y), |a, b| a < b, "lt");
+            mask_is(x.le(y), |a, b| a <= b, "le");
+            mask_is(x.gt(y), |a, b| a > b, "gt");
+            mask_is(x.ge(y), |a, b| a >= b, "ge");
+            mask_is(
+                x.not_lt(y),
+                |a, b| a >= b || a.is_nan() || b.is_nan(),
+                "not_lt",
+            );
+            mask_is(x.lt(y) | x.eq(y), |a, b| a <= b, "or");
+            mask_is(x.le(y) & x.ge(y), |a, b| a == b, "and");
+            same(
+                L::select(x.lt(y), x, y),
+                &|a, b| if a < b { a } else { b },
+                "select",
+            );
+            same(L::splat(xs[0]), &|_, _| xs[0], "splat");
+        }
+    }
+
+    #[test]
+    fn one_lane_is_the_scalar_code() {
+        agrees_with_scalar::<f32>();
+    }
+
+    #[test]
+    fn four_lanes_agree_with_the_scalar_code() {
+        agrees_with_scalar::<Vec4>();
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    #[cfg_attr(
+        not(prism_host_avx2),
+        ignore = "this CPU lacks AVX2: the 8-lane type never runs here"
+    )]
+    fn eight_lanes_agree_with_the_scalar_code() {
+        if !is_x86_feature_detected!("avx2") {
+            return;
+        }
+        agrees_with_scalar::<F32x8>();
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    #[cfg_attr(
+        not(prism_host_avx512),
+        ignore = "this CPU lacks AVX-512F: the 16-lane type never runs here"
+    )]
+    fn sixteen_lanes_agree_with_the_scalar_code() {
+        if !is_x86_feature_detected!("avx512f") {
+            return;
+        }
+        agrees_with_scalar::<F32x16>();
+    }
+}
