@@ -67,8 +67,10 @@ pub struct Stats {
 /// Nanoseconds of the render threads' time in each stage of the wavefront path tracer
 /// (`StageTimes::NAMES`), summed over threads; zero for the other renderers. Times are
 /// measurements, not statistics of the work: two renders' `Stats` are equal whatever
-/// their times, so this compares equal to any other.
+/// their times, so this compares equal to any other. Serialised as the plain list of
+/// `ns`, which adds up as the other counters do.
 #[derive(Clone, Copy, Debug, Default, Serialize)]
+#[serde(transparent)]
 pub struct StageTimes {
     /// Per stage, in the order of `NAMES`.
     pub ns: [u64; StageTimes::NAMES.len()],
