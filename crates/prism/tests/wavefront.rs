@@ -289,3 +289,27 @@ fn a_cancel_stops_the_batch_within_the_tile() {
     // The sample asked after the cancel was refused, and none after it.
     assert_eq!(ASKED.load(Ordering::Relaxed), 1001);
 }
+
+#[test]
+fn a_tile_of_more_samples_than_a_batch_renders_the_same() {
+    // 24 × 24 pixels in one tile (nine blocks) at 256 samples a pixel: 147,456 samples,
+    // traced as batches of four, four and one block.
+    let scene = builtin::find("cornell-light").unwrap();
+    let o = RenderOptions {
+        width: 24,
+        height: 24,
+        samples: 16,
+        tile_size: 24,
+        threads: 1,
+        max_depth: 4,
+        ..options(&scene)
+    };
+    let one = rendered(
+        &scene,
+        &RenderOptions {
+            wavefront: false,
+            ..o.clone()
+        },
+    );
+    assert_same(&rendered(&scene, &o), &one, "batches of whole blocks");
+}

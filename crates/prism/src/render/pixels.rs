@@ -262,11 +262,17 @@ fn trace_packets(
     Some((sums, rays))
 }
 
-/// Traces all of `tile`'s samples as one batch (`CameraTracer::trace_camera_batch`) in
-/// the packets' order: block by block, sample index by sample index, so that the camera
-/// rays the batch takes together are a packet's. Returns what `trace_packets` returns;
-/// the batch's traversal work is shared evenly among its samples. None when the render
-/// was cancelled before the tile was done.
+/// Samples at most in one batch of `trace_batch` (but whole blocks): about 2 MiB of
+/// positions, colours and order per thread however large the tile or the sample count,
+/// and far more than the wavefront's queue holds, so that it stays full.
+const BATCH_SAMPLES: usize = 1 << 16;
+
+/// Traces `tile`'s samples as batches (`CameraTracer::trace_camera_batch`) of whole
+/// blocks, at most `BATCH_SAMPLES` samples unless one block has more, in the packets'
+/// order: block by block, sample index by sample index, so that the camera rays the
+/// batch takes together are a packet's. Returns what `trace_packets` returns; a batch's
+/// traversal work is shared evenly among its samples. None when the render was cancelled
+/// before the tile was done.
 fn trace_batch(
     job: &Job,
     pattern: &dyn PixelSamples,
@@ -278,91 +284,90 @@ fn trace_batch(
     let pixels = tile.pixel_count() as usize;
     let count = pattern.count() as usize;
     let edge = PACKET_EDGE as usize;
-    // Per pixel (row-major in the tile), its samples' offsets; per sample of the batch,
-    // its pixel and its index in the pixel.
-    let mut offsets: Vec<Vec2> = Vec::with_capacity(pixels * count);
-    let mut one: Vec<Vec2> = Vec::with_capacity(count);
-    for y in tile.y0..tile.y1 {
-        for x in tile.x0..tile.x1 {
-            one.clear();
-            pattern.offsets(x, y, &mut one);
-            offsets.extend_from_slice(&one);
-        }
-    }
     let local = |x: u32, y: u32| (y - tile.y0) as usize * width + (x - tile.x0) as usize;
-    let mut order: Vec<(u32, u32)> = Vec::with_capacity(pixels * count);
-    for by in (tile.y0..tile.y1).step_by(edge) {
-        for bx in (tile.x0..tile.x1).step_by(edge) {
-            for s in 0..count as u32 {
-                for y in by..(by + PACKET_EDGE).min(tile.y1) {
-                    for x in bx..(bx + PACKET_EDGE).min(tile.x1) {
-                        order.push((local(x, y) as u32, s));
-                    }
-                }
-            }
-        }
-    }
-    let position = |i: usize| {
-        let (p, s) = order[i];
-        let (x, y) = (p % width as u32, p / width as u32);
-        let o = offsets[p as usize * count + s as usize];
-        Vec2::new((tile.x0 + x) as f32 + o.x, (tile.y0 + y) as f32 + o.y)
-    };
-    let mut colors = vec![Color::ZERO; pixels * count];
-    let mut rays = vec![PixelRays::default(); pixels];
-    let before = RayMark::of(stats);
-    let mut cancelled = false;
-    job.tracer.trace_camera_batch(
-        order.len(),
-        &mut |i| {
-            // Asked at every sample, so that a cancel answers at once even in large tiles.
-            if job.cancelled() {
-                cancelled = true;
-                return None;
-            }
-            let at = position(i);
-            Some((job.camera.ray(at.x, at.y), job.stream(at.x, at.y)))
-        },
-        &mut |i, color, spawned| {
-            let (p, s) = order[i];
-            colors[p as usize * count + s as usize] = color;
-            let r = &mut rays[p as usize];
-            r.camera += 1;
-            r.total += 1 + spawned;
-        },
-        stats,
-    );
-    if cancelled {
-        return None;
-    }
-    let shared = PixelRays::since(before, stats);
-    let n = order.len();
-    for (i, &(p, _)) in order.iter().enumerate() {
-        let mut work = shared.share(i, n);
-        (work.camera, work.total) = (0, 0);
-        rays[p as usize] += work;
-    }
-    // Each pixel's samples in sample order, as the single-ray path sums them; into the
-    // splat buffer pixel by pixel in the packets' order of blocks, as `trace_packets`
-    // adds them, so that a wide filter's sums are the same too.
+    let blocks: Vec<(u32, u32)> = (tile.y0..tile.y1)
+        .step_by(edge)
+        .flat_map(|by| (tile.x0..tile.x1).step_by(edge).map(move |bx| (bx, by)))
+        .collect();
+    let per_batch = (BATCH_SAMPLES / (PACKET_MAX * count)).max(1);
     let mut sums = vec![Color::ZERO; pixels];
-    for by in (tile.y0..tile.y1).step_by(edge) {
-        for bx in (tile.x0..tile.x1).step_by(edge) {
+    let mut rays = vec![PixelRays::default(); pixels];
+    let mut one: Vec<Vec2> = Vec::with_capacity(count);
+    for batch in blocks.chunks(per_batch) {
+        // The batch's pixels in block order with their samples' offsets; per sample of
+        // the batch, its pixel (in `at`) and its index in the pixel.
+        let mut at: Vec<(u32, u32)> = Vec::with_capacity(batch.len() * PACKET_MAX);
+        let mut offsets: Vec<Vec2> = Vec::with_capacity(batch.len() * PACKET_MAX * count);
+        let mut order: Vec<(u32, u32)> = Vec::with_capacity(batch.len() * PACKET_MAX * count);
+        for &(bx, by) in batch {
+            let first = at.len();
             for y in by..(by + PACKET_EDGE).min(tile.y1) {
                 for x in bx..(bx + PACKET_EDGE).min(tile.x1) {
-                    let p = local(x, y);
-                    let samples = &colors[p * count..(p + 1) * count];
-                    match buffer {
-                        Some(b) => {
-                            for (s, &c) in samples.iter().enumerate() {
-                                b.add(&job.filter, x, y, offsets[p * count + s], 1.0, c);
-                            }
-                        }
-                        None => {
-                            for &c in samples {
-                                sums[p] += c;
-                            }
-                        }
+                    at.push((x, y));
+                    one.clear();
+                    pattern.offsets(x, y, &mut one);
+                    offsets.extend_from_slice(&one);
+                }
+            }
+            for s in 0..count as u32 {
+                order.extend((first..at.len()).map(|p| (p as u32, s)));
+            }
+        }
+        let position = |i: usize| {
+            let (p, s) = order[i];
+            let (x, y) = at[p as usize];
+            let o = offsets[p as usize * count + s as usize];
+            Vec2::new(x as f32 + o.x, y as f32 + o.y)
+        };
+        let mut colors = vec![Color::ZERO; at.len() * count];
+        let before = RayMark::of(stats);
+        let mut cancelled = false;
+        job.tracer.trace_camera_batch(
+            order.len(),
+            &mut |i| {
+                // Asked at every sample, so that a cancel answers at once in any tile.
+                if job.cancelled() {
+                    cancelled = true;
+                    return None;
+                }
+                let film = position(i);
+                Some((job.camera.ray(film.x, film.y), job.stream(film.x, film.y)))
+            },
+            &mut |i, color, spawned| {
+                let (p, s) = order[i];
+                colors[p as usize * count + s as usize] = color;
+                let (x, y) = at[p as usize];
+                let r = &mut rays[local(x, y)];
+                r.camera += 1;
+                r.total += 1 + spawned;
+            },
+            stats,
+        );
+        if cancelled {
+            return None;
+        }
+        let shared = PixelRays::since(before, stats);
+        let n = order.len();
+        for (i, &(p, _)) in order.iter().enumerate() {
+            let mut work = shared.share(i, n);
+            (work.camera, work.total) = (0, 0);
+            let (x, y) = at[p as usize];
+            rays[local(x, y)] += work;
+        }
+        // Each pixel's samples in sample order, as the single-ray path sums them; into
+        // the splat buffer pixel by pixel in the packets' order of blocks, as
+        // `trace_packets` adds them, so that a wide filter's sums are the same too.
+        for (p, &(x, y)) in at.iter().enumerate() {
+            let samples = &colors[p * count..(p + 1) * count];
+            match buffer {
+                Some(b) => {
+                    for (s, &c) in samples.iter().enumerate() {
+                        b.add(&job.filter, x, y, offsets[p * count + s], 1.0, c);
+                    }
+                }
+                None => {
+                    for &c in samples {
+                        sums[local(x, y)] += c;
                     }
                 }
             }
