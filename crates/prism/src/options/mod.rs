@@ -97,10 +97,11 @@ pub struct RenderOptions {
     /// query; every ray gets the answer its own query gives, so the image is the same
     /// either way. The per-pixel samplers trace blocks of pixels, the `corners` pattern
     /// (and the adaptive sampler's first lattice) runs of 64 corners along a row; the
-    /// adaptive sampler's refinement traces single rays. The path tracer follows a
-    /// packet's paths breadth first: the rays of the paths still alive, and their shadow
-    /// rays, go as packets at every depth. The node visits and tests of a packet are
-    /// shared evenly among its rays' pixels in the cost view.
+    /// adaptive sampler's refinement traces single rays. The path tracer runs as a
+    /// wavefront (`wavefront`), or without it follows a packet's paths breadth first: the
+    /// rays of the paths still alive, and their shadow rays, go as packets at every depth.
+    /// The node visits and tests of a packet are shared evenly among its rays' pixels in
+    /// the cost view.
     pub packets: bool,
     /// The path tracer keeps a wavefront of paths per thread (`integrator::WavefrontPathTracer`),
     /// advanced a bounce at a time over the whole queue, where packets are on; off, it
