@@ -122,7 +122,13 @@ fn simd(b: &Aabb) -> SimdBox {
 }
 
 /// The part of triangle `tri` within `within` (a reference's box) between `lo` and `hi`
-/// on `axis`: its box, or `None` where the part is empty or too thin to bound.
+/// on `axis`: its box, or `None` where the part is empty or too thin to bound, or where
+/// it only touches a border that the reference crosses. Such a part (a corner or an edge
+/// of the triangle lying on the plane) is also the neighbouring part's, which keeps the
+/// plane exactly; bounded on its own it is a point or a segment that can sit far from
+/// everything else in its leaf and stretch the leaf's box across the scene (a quad split
+/// on its diagonal, cut through the diagonal's end, left its corner beside the far
+/// stands of a stadium, under the camera).
 fn piece(tri: &[Vec3; 3], within: &Aabb, axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
     let mut half = *within;
     half.min[axis] = half.min[axis].max(lo);
@@ -135,6 +141,10 @@ fn piece(tri: &[Vec3; 3], within: &Aabb, axis: usize, lo: f32, hi: f32) -> Optio
     }
     let above = clip(tri, axis, half.min[axis], true);
     let slab = clip(&above, axis, half.max[axis], false);
+    let only_on = |border: f32| slab.iter().all(|p| p[axis] == border);
+    if (within.min[axis] < lo && only_on(lo)) || (within.max[axis] > hi && only_on(hi)) {
+        return None;
+    }
     piece_bounds(&slab, half)
 }
 
@@ -387,32 +397,36 @@ impl Builder<'_> {
                     (c, c)
                 }
             };
-            bins.entries[axis * m + first] += 1;
-            bins.exits[axis * m + last] += 1;
-            match triangle {
-                Some(tri) if first < last => {
-                    for k in first..=last {
-                        let lo = if k == first {
-                            f32::NEG_INFINITY
-                        } else {
-                            slabs.plane(axis, k)
-                        };
-                        let hi = if k == last {
-                            f32::INFINITY
-                        } else {
-                            slabs.plane(axis, k + 1)
-                        };
-                        if let Some(p) = piece(&tri, &bounds, axis, lo, hi) {
-                            let b = &mut bins.boxes[axis * m + k];
-                            *b = b.union(&simd(&p));
-                        }
+            // The slabs that got a piece: a part that only touches a slab's border is
+            // the neighbour's (`piece`), so the reference counts on the sides that
+            // `spatial_partition` sends it to.
+            let mut pieces: Option<(usize, usize)> = None;
+            if let Some(tri) = triangle.filter(|_| first < last) {
+                for k in first..=last {
+                    let lo = if k == first {
+                        f32::NEG_INFINITY
+                    } else {
+                        slabs.plane(axis, k)
+                    };
+                    let hi = if k == last {
+                        f32::INFINITY
+                    } else {
+                        slabs.plane(axis, k + 1)
+                    };
+                    if let Some(p) = piece(&tri, &bounds, axis, lo, hi) {
+                        let b = &mut bins.boxes[axis * m + k];
+                        *b = b.union(&simd(&p));
+                        pieces = Some((pieces.map_or(k, |(f, _)| f), k));
                     }
                 }
-                _ => {
-                    let b = &mut bins.boxes[axis * m + first];
-                    b.grow(r.min(), r.max());
-                }
             }
+            let (first, last) = pieces.unwrap_or_else(|| {
+                let b = &mut bins.boxes[axis * m + first];
+                b.grow(r.min(), r.max());
+                (first, first)
+            });
+            bins.entries[axis * m + first] += 1;
+            bins.exits[axis * m + last] += 1;
         }
     }
 
@@ -450,8 +464,9 @@ impl Builder<'_> {
                         left.push(PrimRef::new(r.index(), &lo));
                         right.push(PrimRef::new(r.index(), &hi));
                     }
-                    // One side holds the triangle's part but a sliver on the plane, which
-                    // the other side's box keeps (points on the plane belong to both).
+                    // One side holds the triangle's part but where it touches the plane,
+                    // which the other side's box keeps (points on the plane belong to
+                    // both); the whole reference goes there, as `bin` counted it.
                     (_, None) => left.push(*r),
                     (None, Some(_)) => right.push(*r),
                 }
@@ -526,6 +541,34 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A triangle that reaches a plane only with a corner has no part beyond it: the
+    /// corner is the part on this side's, not a point-sized reference of its own.
+    #[test]
+    fn a_corner_on_the_plane_is_no_piece() {
+        let tri = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(-4.0, 1.0, 0.5),
+            Vec3::new(-4.0, -1.0, 0.0),
+        ];
+        let bounds = tri.iter().fold(Aabb::EMPTY, |b, &p| b.union_point(p));
+        assert!(piece(&tri, &bounds, 0, 0.0, f32::INFINITY).is_none());
+        let below = piece(&tri, &bounds, 0, f32::NEG_INFINITY, 0.0).unwrap();
+        assert_eq!(below, bounds);
+        // The same within a reference cut from a larger triangle, whose box ends on the
+        // plane while the triangle goes on beyond it.
+        let big = [
+            Vec3::new(-4.0, -4.0, 0.0),
+            Vec3::new(4.0, 4.0, 0.0),
+            Vec3::new(-4.0, 4.0, 0.0),
+        ];
+        let within = Aabb::new(Vec3::new(-4.0, -4.0, 0.0), Vec3::new(0.0, 0.0, 0.0));
+        assert!(piece(&big, &within, 0, 0.0, 1.0).is_none());
+        // A triangle lying in a slab's border plane is all there is of it: kept.
+        let flat = tri.map(|p| Vec3::new(0.0, p.y, p.z + p.x));
+        let flat_box = flat.iter().fold(Aabb::EMPTY, |b, &p| b.union_point(p));
+        assert_eq!(piece(&flat, &flat_box, 0, 0.0, 1.0), Some(flat_box));
     }
 
     #[test]
