@@ -4,7 +4,7 @@
 //! plus what each way of encoding a frame would cost. `bench/serve.sh` runs it; the figures
 //! are in docs/viewer.md.
 //!
-//! cargo run --release -p prism-serve --example viewer_bench -- [SCENE] [WIDTHxHEIGHT] [SECONDS]
+//! cargo run --release -p prism-serve --example viewer_bench -- [SCENE] [WIDTHxHEIGHT] [SECONDS] [KEY=VALUE ...]
 
 use prism_lab::bench::Clock;
 use prism_serve::protocol::{split_binary, FrameHeader};
@@ -44,13 +44,20 @@ fn main() {
         });
     let seconds: f64 = args.get(2).map_or(10.0, |s| s.parse().unwrap());
     let scene = prism::scene::builtin::find(name).expect("a built-in scene");
-    let options = prism::RenderOptions {
+    let mut options = prism::RenderOptions {
         width,
         height,
         samples: 1,
         sampler: prism::sampling::SamplerKind::Jittered,
         ..scene.options.clone()
     };
+    // Settings after the seconds, as KEY=VALUE (the scene file's keys), e.g. wavefront=false.
+    for setting in args.iter().skip(3) {
+        let (key, value) = setting
+            .split_once('=')
+            .unwrap_or_else(|| panic!("'{setting}': expected KEY=VALUE"));
+        options.set(key, value).unwrap_or_else(|e| panic!("{e}"));
+    }
     let config = ServerConfig {
         bind: Ipv4Addr::LOCALHOST.into(),
         port: 0,
@@ -58,7 +65,11 @@ fn main() {
     let server = Server::start(scene, name, options.clone(), &config).expect("the server starts");
     let (mut ws, _) = tungstenite::connect(format!("ws://{}/ws", server.addr())).unwrap();
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    println!("viewer: builtin:{name} at {width}x{height}, 1 spp per frame, {cores} cores");
+    println!(
+        "viewer: builtin:{name} at {width}x{height}, 1 spp per frame, {cores} cores, {} integrator{}",
+        options.integrator,
+        if args.len() > 3 { format!(", {}", args[3..].join(" ")) } else { String::new() }
+    );
 
     // Frames per second: frames rendered (the spp count) over a stretch of accumulation,
     // and frames received (a slow client skips frames; this one keeps up).

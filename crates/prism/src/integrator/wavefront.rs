@@ -85,56 +85,6 @@ impl<'a> WavefrontPathTracer<'a> {
         }
     }
 
-    /// Traces `count` samples through the queue (`CameraTracer::trace_camera_batch`).
-    pub fn trace_batch(
-        &self,
-        count: usize,
-        sample: &mut dyn FnMut(usize) -> Option<(Ray, Stream)>,
-        done: &mut dyn FnMut(usize, Color, u32),
-        stats: &mut Stats,
-    ) {
-        let capacity = self.capacity.min(count);
-        let mut queue: Vec<Lane> = Vec::with_capacity(capacity);
-        let mut stages = Stages::default();
-        let mut next = 0;
-        let mut clock = Instant::now();
-        // Adds the time since the last lap to `stage`.
-        let mut lap = |stage: usize, stats: &mut Stats| {
-            let now = Instant::now();
-            stats.stages.ns[stage] += (now - clock).as_nanos() as u64;
-            clock = now;
-        };
-        loop {
-            while queue.len() < capacity && next < count {
-                let Some((ray, stream)) = sample(next) else {
-                    // Stopped: no more samples, the ones begun finish.
-                    next = count;
-                    break;
-                };
-                queue.push(Lane {
-                    path: Path::new(ray),
-                    stream,
-                    sample: next,
-                    depth: 1,
-                    rays: 0,
-                });
-                next += 1;
-            }
-            lap(CAMERA, stats);
-            if queue.is_empty() {
-                break;
-            }
-            self.find_hits(&queue, &mut stages, stats);
-            lap(TRACE, stats);
-            self.arrive(&mut queue, &mut stages, stats);
-            lap(SHADE, stats);
-            self.answer_shadow_rays(&queue, &mut stages, stats);
-            lap(SHADOW, stats);
-            self.leave(&mut queue, &stages, done, stats);
-            lap(LEAVE, stats);
-        }
-    }
-
     /// Every path's next hit. The rays go to the accelerator grouped by depth, in queue
     /// order within a depth: the camera rays of neighbouring pixels in runs of
     /// `PACKET_MAX` as packets, the bounce rays one by one (`coherent`).
@@ -310,7 +260,46 @@ impl CameraTracer for WavefrontPathTracer<'_> {
         done: &mut dyn FnMut(usize, Color, u32),
         stats: &mut Stats,
     ) {
-        self.trace_batch(count, sample, done, stats)
+        let capacity = self.capacity.min(count);
+        let mut queue: Vec<Lane> = Vec::with_capacity(capacity);
+        let mut stages = Stages::default();
+        let mut next = 0;
+        let mut clock = Instant::now();
+        // Adds the time since the last lap to `stage`.
+        let mut lap = |stage: usize, stats: &mut Stats| {
+            let now = Instant::now();
+            stats.stages.ns[stage] += (now - clock).as_nanos() as u64;
+            clock = now;
+        };
+        loop {
+            while queue.len() < capacity && next < count {
+                let Some((ray, stream)) = sample(next) else {
+                    // Stopped: no more samples, the ones begun finish.
+                    next = count;
+                    break;
+                };
+                queue.push(Lane {
+                    path: Path::new(ray),
+                    stream,
+                    sample: next,
+                    depth: 1,
+                    rays: 0,
+                });
+                next += 1;
+            }
+            lap(CAMERA, stats);
+            if queue.is_empty() {
+                break;
+            }
+            self.find_hits(&queue, &mut stages, stats);
+            lap(TRACE, stats);
+            self.arrive(&mut queue, &mut stages, stats);
+            lap(SHADE, stats);
+            self.answer_shadow_rays(&queue, &mut stages, stats);
+            lap(SHADOW, stats);
+            self.leave(&mut queue, &stages, done, stats);
+            lap(LEAVE, stats);
+        }
     }
 }
 

@@ -239,24 +239,8 @@ fn trace_packets(
                     rays[local(x, y)] += work[i];
                 }
             }
-            // Each pixel's samples in sample order, as the single-ray path sums them.
-            for (i, &(x, y)) in block.iter().enumerate() {
-                let samples = &colors[i * count..(i + 1) * count];
-                match buffer {
-                    Some(b) => {
-                        for (s, &c) in samples.iter().enumerate() {
-                            b.add(&job.filter, x, y, block_offsets[i * count + s], 1.0, c);
-                        }
-                    }
-                    None => {
-                        let mut sum = Color::ZERO;
-                        for &c in samples {
-                            sum += c;
-                        }
-                        sums[local(x, y)] = sum;
-                    }
-                }
-            }
+            let traced = Samples::new(&block, &block_offsets, &colors, count);
+            traced.add(job, buffer, &mut sums, local);
         }
     }
     Some((sums, rays))
@@ -354,24 +338,63 @@ fn trace_batch(
             let (x, y) = at[p as usize];
             rays[local(x, y)] += work;
         }
-        // Each pixel's samples in sample order, as the single-ray path sums them; into
-        // the splat buffer pixel by pixel in the packets' order of blocks, as
-        // `trace_packets` adds them, so that a wide filter's sums are the same too.
-        for (p, &(x, y)) in at.iter().enumerate() {
-            let samples = &colors[p * count..(p + 1) * count];
+        // In the packets' order of blocks, as `trace_packets` adds them, so that a wide
+        // filter's sums are the same too.
+        Samples::new(&at, &offsets, &colors, count).add(job, buffer, &mut sums, local);
+    }
+    Some((sums, rays))
+}
+
+/// The traced samples of some pixels: pixel p's `count` samples at
+/// `offsets[p * count..][..count]` came out as `colors[p * count..][..count]`.
+struct Samples<'a> {
+    pixels: &'a [(u32, u32)],
+    offsets: &'a [Vec2],
+    colors: &'a [Color],
+    count: usize,
+}
+
+impl<'a> Samples<'a> {
+    fn new(
+        pixels: &'a [(u32, u32)],
+        offsets: &'a [Vec2],
+        colors: &'a [Color],
+        count: usize,
+    ) -> Self {
+        Samples {
+            pixels,
+            offsets,
+            colors,
+            count,
+        }
+    }
+
+    /// Adds each pixel's samples in sample order, as the single-ray path sums them: to its
+    /// sum in `sums` (at `local(x, y)`), or with a wide filter into the splat buffer pixel
+    /// by pixel in the order of `pixels`.
+    fn add(
+        &self,
+        job: &Job,
+        buffer: &mut Option<SplatBuffer>,
+        sums: &mut [Color],
+        local: impl Fn(u32, u32) -> usize,
+    ) {
+        let count = self.count;
+        for (p, &(x, y)) in self.pixels.iter().enumerate() {
+            let samples = &self.colors[p * count..(p + 1) * count];
             match buffer {
                 Some(b) => {
                     for (s, &c) in samples.iter().enumerate() {
-                        b.add(&job.filter, x, y, offsets[p * count + s], 1.0, c);
+                        b.add(&job.filter, x, y, self.offsets[p * count + s], 1.0, c);
                     }
                 }
                 None => {
+                    let sum = &mut sums[local(x, y)];
                     for &c in samples {
-                        sums[local(x, y)] += c;
+                        *sum += c;
                     }
                 }
             }
         }
     }
-    Some((sums, rays))
 }
