@@ -9,6 +9,9 @@ for Mitsuba (the same published geometry, reflectances, light and camera):
    Embree), its `scalar_rgb` variant (one path at a time, one ray at a time through
    Embree, as prism traces) and prism's `--integrator path`. The steps between depths say
    what a path vertex costs (its light sample's shadow ray, its bounce ray, its shading).
+   prism's wavefront reports its stages (camera, trace, shade, shadow, leave) in ns per
+   path (`--stats-json`), printed beside Mitsuba's whole path and its rays' share (its
+   measured ns per ray, part 2, times prism's rays per path).
 2. The same 4,194,304 rays (uniform points on the floor, cosine-distributed directions,
    as the bounce rays of a path's first vertex on the floor) through Mitsuba's
    `ray_intersect_preliminary` (llvm) and, from the same file, through Embree 3 and prism
@@ -25,6 +28,7 @@ Run it from the repository root.
 
 import argparse
 import importlib.util
+import json
 import os
 import subprocess
 import sys
@@ -61,18 +65,45 @@ def mitsuba_per_path(mi, dr, mc, variant, size, spp, out):
     return result
 
 
-def prism_per_path(mc, prism, size, spp, threads, out):
+def prism_per_path(mc, prism, size, spp, threads, out, stages):
+    """ns of CPU per path at each depth; `stages[depth]` gets the wavefront's stages (ns
+    per path, from `--stats-json`) and the rays per path."""
     n = int(round(spp ** 0.5))
     result = {}
     for depth in DEPTHS:
+        stats = os.path.join(out, f"prism-depth{depth}.json")
         c0 = mc.child_cpu_seconds()
         subprocess.run([prism, "render", "--builtin", "cornell-light", "--integrator", "path",
                         "-W", str(size), "-H", str(size), "--depth", str(depth),
                         "--samples", str(n), "--sampler", "jittered",
-                        "--threads", str(threads), "-q",
+                        "--threads", str(threads), "-q", "--stats-json", stats,
                         "-o", os.path.join(out, f"prism-depth{depth}.exr")], check=True)
         result[depth] = (mc.child_cpu_seconds() - c0) / (size * size * n * n) * 1e9
+        with open(stats) as f:
+            report = json.load(f)
+        paths = report["rays"]["primary"]
+        stages[depth] = dict(report.get("wavefront_stage_ns_per_path") or {})
+        stages[depth]["rays"] = report["rays"]["total"] / paths
+        stages[depth]["shadow rays"] = report["rays"]["shadow"] / paths
     return result
+
+
+def print_stages(stages, per_path, mitsuba_ns_per_ray):
+    """prism's wavefront stages in ns per path at each depth, beside what Mitsuba's
+    vectorised variant spends in all: its whole path, and its rays' share at its measured
+    cost per ray (the floor rays below) times prism's rays per path."""
+    names = ["camera", "trace", "shade", "shadow", "leave"]
+    print("\n# prism's wavefront stages (ns of the render threads' CPU time per path) beside "
+          "Mitsuba llvm_ad_rgb")
+    print("| depth | " + " | ".join(names) + " | rays per path | Mitsuba llvm: whole path | "
+          "Mitsuba llvm: its rays at its ns per ray |")
+    print("|---:|" + "---:|" * (len(names) + 3))
+    for depth in DEPTHS:
+        st = stages[depth]
+        cells = [f"{st.get(k, float('nan')):.0f}" for k in names]
+        rays = st["rays"]
+        print(f"| {depth} | " + " | ".join(cells) + f" | {rays:.2f} | "
+              f"{per_path[depth]:.0f} | {rays * mitsuba_ns_per_ray:.0f} |")
 
 
 def floor_rays():
@@ -131,12 +162,14 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     print(f"# cornell-light, {args.size}², {args.spp} paths per pixel, {args.threads} threads, "
           f"Mitsuba {mi.__version__}; ns of process CPU time per path")
+    stages = {}
     rows = {
         "Mitsuba llvm_ad_rgb": mitsuba_per_path(mi, dr, mc, "llvm_ad_rgb", args.size,
                                                 args.spp, args.out),
         "Mitsuba scalar_rgb": mitsuba_per_path(mi, dr, mc, "scalar_rgb", args.size,
                                                args.spp, args.out),
-        "prism": prism_per_path(mc, args.prism, args.size, args.spp, args.threads, args.out),
+        "prism": prism_per_path(mc, args.prism, args.size, args.spp, args.threads, args.out,
+                                stages),
     }
     print("| renderer | " + " | ".join(f"depth {d}" for d in DEPTHS) + " |")
     print("|---|" + "---:|" * len(DEPTHS))
@@ -145,6 +178,7 @@ def main():
 
     o, d = floor_rays()
     ns, hits = mitsuba_rays(mi, dr, mc, o, d, args.out)
+    print_stages(stages, rows["Mitsuba llvm_ad_rgb"], ns)
     ray_file = os.path.join(args.out, "floor-rays.bin")
     np.concatenate([o, d], 1).astype("<f4").tofile(ray_file)
     print(f"\n# {RAYS} rays from the floor: Mitsuba llvm ray_intersect_preliminary "

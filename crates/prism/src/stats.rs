@@ -64,7 +64,7 @@ pub struct Stats {
     pub stages: StageTimes,
 }
 
-/// Nanoseconds of the render threads' time in each stage of the wavefront path tracer
+/// Nanoseconds of the render threads' CPU time in each stage of the wavefront path tracer
 /// (`StageTimes::NAMES`), summed over threads; zero for the other renderers. Times are
 /// measurements, not statistics of the work: two renders' `Stats` are equal whatever
 /// their times, so this compares equal to any other. Serialised as the plain list of

@@ -10,6 +10,7 @@ mod emitters;
 mod light_buffer;
 mod path;
 mod shadow;
+mod stage_clock;
 mod wavefront;
 mod whitted;
 

@@ -15,6 +15,7 @@
 //! tracer's bit for bit, whatever the queue's size, and the image with it.
 
 use super::path::{LightQuery, Path, Vertex};
+use super::stage_clock::StageClock;
 use super::{CameraTracer, PathTracer};
 use crate::accel::{Hit, PACKET_MAX};
 use crate::math::hash::Stream;
@@ -24,7 +25,6 @@ use crate::scene::PreparedScene;
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
 use std::ops::Range;
-use std::time::Instant;
 
 /// The stages' places in `StageTimes::NAMES`.
 const CAMERA: usize = 0;
@@ -264,13 +264,9 @@ impl CameraTracer for WavefrontPathTracer<'_> {
         let mut queue: Vec<Lane> = Vec::with_capacity(capacity);
         let mut stages = Stages::default();
         let mut next = 0;
-        let mut clock = Instant::now();
-        // Adds the time since the last lap to `stage`.
-        let mut lap = |stage: usize, stats: &mut Stats| {
-            let now = Instant::now();
-            stats.stages.ns[stage] += (now - clock).as_nanos() as u64;
-            clock = now;
-        };
+        let mut clock = StageClock::start();
+        // Adds the thread's CPU time since the last lap to `stage`.
+        let mut lap = |stage: usize, stats: &mut Stats| stats.stages.ns[stage] += clock.lap();
         loop {
             while queue.len() < capacity && next < count {
                 let Some((ray, stream)) = sample(next) else {
