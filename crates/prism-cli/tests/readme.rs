@@ -90,6 +90,19 @@ fn the_first_screen_gives_the_render_and_test_commands() {
         first_screen.contains("python/test.sh") && ci.contains("\npython/test.sh"),
         ".ci/run calls the README's Python test command"
     );
+    // The tiers the README's "Tests" section gives (wrapped across its lines) are the
+    // commands .ci/run runs.
+    let words = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    for tier in [
+        "cargo test --release -- --ignored long_tier",
+        "cargo test --release -p prism-serve --features browser --test browser",
+    ] {
+        assert!(
+            words.contains(&format!("`{tier}`")),
+            "the README gives {tier}"
+        );
+        assert!(ci.contains(&format!("\n{tier}\n")), ".ci/run runs {tier}");
+    }
 }
 
 /// A fenced shell block of a Markdown file: where it starts, its command lines (comments

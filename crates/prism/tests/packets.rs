@@ -403,11 +403,17 @@ fn pixel_bits(r: &prism::render::RenderResult) -> Vec<u32> {
         .collect()
 }
 
-/// Every built-in renders bit-identically with and without packets, with one and several
-/// samples per pixel, a wide filter and the 4-wide nodes, and traces the same rays (only
-/// the traversal work differs).
+/// Every built-in renders bit-identically with and without packets at one sample per pixel
+/// and traces the same rays (only the traversal work differs); the long tier adds several
+/// samples per pixel, the corners and adaptive samplers, a wide filter and the 4-wide nodes.
 #[test]
 fn renders_are_identical_with_and_without_packets() {
+    compare_renders_with_and_without_packets(1);
+}
+
+/// The built-ins rendered with and without packets under the first `count` variants of
+/// sampler, filter and tree layout.
+fn compare_renders_with_and_without_packets(count: usize) {
     use prism::render::FilterKind;
     use prism::sampling::SamplerKind;
     type Tweak = Box<dyn Fn(&mut prism::RenderOptions)>;
@@ -436,7 +442,7 @@ fn renders_are_identical_with_and_without_packets() {
         ),
     ];
     for name in prism::scene::builtin::names() {
-        for (label, tweak) in &variants {
+        for (label, tweak) in variants.iter().take(count) {
             let single = render_builtin(name, false, tweak);
             let packed = render_builtin(name, true, tweak);
             assert!(
@@ -449,5 +455,15 @@ fn renders_are_identical_with_and_without_packets() {
             assert_eq!(single.rays.camera, packed.rays.camera, "{name} ({label})");
             assert_eq!(single.rays.total, packed.rays.total, "{name} ({label})");
         }
+    }
+}
+
+/// Minutes of CPU time between them, so the README's test command leaves them out:
+/// `cargo test --release -- --ignored long_tier` runs them (.ci/run does).
+mod long_tier {
+    #[test]
+    #[ignore = "long tier: every sampler, filter and layout variant"]
+    fn renders_are_identical_with_and_without_packets_in_every_variant() {
+        super::compare_renders_with_and_without_packets(usize::MAX);
     }
 }

@@ -285,16 +285,11 @@ fn check_scene_with(scale: f32, offset: Vec3, seed: u64, accel: &str) {
     );
 }
 
+/// The 8-wide BVH at unit scale; the long tier adds the other layouts, an offset scene
+/// and the extreme scales.
 #[test]
 fn the_light_buffer_answers_as_the_accelerator() {
-    check_scene(1.0, Vec3::ZERO, 1);
-    check_scene(1.0, Vec3::new(3.0, -1.0, 2.0), 2);
-}
-
-#[test]
-fn the_light_buffer_answers_as_the_accelerator_at_every_scale() {
-    check_scene(1e-3, Vec3::new(2e-3, 0.0, -1e-3), 3);
-    check_scene(1e3, Vec3::new(-5e3, 2e3, 0.0), 4);
+    check_scene_with(1.0, Vec3::ZERO, 1, "bvh");
 }
 
 /// A directional light's buffer against the accelerator: shadow rays along `to_light`
@@ -358,6 +353,10 @@ fn check_directional(
 }
 
 fn check_directional_scene(scale: f32, offset: Vec3, seed: u64) {
+    check_directional_with(scale, offset, seed, &["bvh", "bvh:width=4", "bvh:leaf=1"]);
+}
+
+fn check_directional_with(scale: f32, offset: Vec3, seed: u64, accels: &[&str]) {
     let mut rng = Rng::new(seed ^ 0xd1);
     let mut directions = vec![
         Vec3::Y,
@@ -369,7 +368,7 @@ fn check_directional_scene(scale: f32, offset: Vec3, seed: u64) {
         Vec3::new(0.0, 0.6, 0.8),
     ];
     directions.extend((0..3).map(|_| rng.unit_vector()));
-    for accel in ["bvh", "bvh:width=4", "bvh:leaf=1"] {
+    for accel in accels {
         let s = scene(seed, scale, offset);
         let intersector = SceneIntersector::build(&s.geometry, &accel.parse().unwrap());
         let (mut blocked, mut total, mut answered) = (0, 0, 0);
@@ -394,16 +393,10 @@ fn check_directional_scene(scale: f32, offset: Vec3, seed: u64) {
     }
 }
 
+/// The 8-wide BVH at unit scale; the long tier adds the rest, as for point lights.
 #[test]
 fn the_directional_light_buffer_answers_as_the_accelerator() {
-    check_directional_scene(1.0, Vec3::ZERO, 21);
-    check_directional_scene(1.0, Vec3::new(3.0, -1.0, 2.0), 22);
-}
-
-#[test]
-fn the_directional_light_buffer_answers_as_the_accelerator_at_every_scale() {
-    check_directional_scene(1e-3, Vec3::new(2e-3, 0.0, -1e-3), 23);
-    check_directional_scene(1e3, Vec3::new(-5e3, 2e3, 0.0), 24);
+    check_directional_with(1.0, Vec3::ZERO, 21, &["bvh"]);
 }
 
 #[test]
@@ -731,5 +724,39 @@ fn per_pixel_shadow_work_adds_up_to_the_statistics() {
             assert!(rays.shadow_tests[i] <= rays.primitive_tests[i]);
             assert!(rays.shadow_node_visits[i] <= rays.node_visits[i]);
         }
+    }
+}
+
+/// Minutes of CPU time between them, so the README's test command leaves them out:
+/// `cargo test --release -- --ignored long_tier` runs them (.ci/run does).
+mod long_tier {
+    use super::*;
+
+    #[test]
+    #[ignore = "long tier: every BVH layout, two scenes"]
+    fn the_light_buffer_answers_as_the_accelerator_over_every_layout() {
+        check_scene(1.0, Vec3::ZERO, 1);
+        check_scene(1.0, Vec3::new(3.0, -1.0, 2.0), 2);
+    }
+
+    #[test]
+    #[ignore = "long tier: every BVH layout at 1e-3 and 1e3"]
+    fn the_light_buffer_answers_as_the_accelerator_at_every_scale() {
+        check_scene(1e-3, Vec3::new(2e-3, 0.0, -1e-3), 3);
+        check_scene(1e3, Vec3::new(-5e3, 2e3, 0.0), 4);
+    }
+
+    #[test]
+    #[ignore = "long tier: every BVH layout, two scenes"]
+    fn the_directional_light_buffer_answers_as_the_accelerator_over_every_layout() {
+        check_directional_scene(1.0, Vec3::ZERO, 21);
+        check_directional_scene(1.0, Vec3::new(3.0, -1.0, 2.0), 22);
+    }
+
+    #[test]
+    #[ignore = "long tier: every BVH layout at 1e-3 and 1e3"]
+    fn the_directional_light_buffer_answers_as_the_accelerator_at_every_scale() {
+        check_directional_scene(1e-3, Vec3::new(2e-3, 0.0, -1e-3), 23);
+        check_directional_scene(1e3, Vec3::new(-5e3, 2e3, 0.0), 24);
     }
 }
