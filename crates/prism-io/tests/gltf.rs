@@ -456,6 +456,49 @@ fn base_colour_textures_come_from_files_data_uris_and_buffer_views() {
     assert_eq!(texel_top_left(&scene), Color::new(1.0, 0.0, 0.0));
 }
 
+/// A primitive whose triangles all have zero area (three points on a line) shows nothing:
+/// it is left out with a warning naming its mesh, and the quad beside it loads.
+#[test]
+fn a_primitive_of_zero_area_faces_is_left_out_with_a_warning() {
+    let mut doc = quad_document(Some(&quad_buffer_uri()));
+    let line: Vec<u8> = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]
+        .iter()
+        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
+        .collect();
+    doc["buffers"].as_array_mut().unwrap().push(json!({
+        "byteLength": line.len(),
+        "uri": format!("data:application/octet-stream;base64,{}", base64(&line)),
+    }));
+    doc["bufferViews"].as_array_mut().unwrap().push(json!(
+        { "buffer": 1, "byteOffset": 0, "byteLength": line.len() }
+    ));
+    doc["accessors"].as_array_mut().unwrap().push(json!(
+        { "bufferView": 4, "componentType": 5126, "count": 3, "type": "VEC3",
+          "min": [0.0, 0.0, 0.0], "max": [2.0, 0.0, 0.0] }
+    ));
+    doc["meshes"].as_array_mut().unwrap().push(json!(
+        { "name": "Flat", "primitives": [{ "attributes": { "POSITION": 4 } }] }
+    ));
+    doc["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({ "name": "flat", "mesh": 1 }));
+    doc["scenes"][0]["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!(5));
+    let scene = load_doc("gltf-zero-area", &doc).expect("the quad loads");
+    assert_eq!(scene.geometry.meshes.len(), 1, "only the quad");
+    let w = scene.warnings.join("\n");
+    assert!(
+        w.contains(
+            "scene.gltf: mesh 1 ('Flat'), primitive 0 has only faces of zero area (1); it is \
+             left out"
+        ),
+        "{w}"
+    );
+}
+
 #[test]
 fn a_mirroring_transform_keeps_the_outside_outside() {
     let mut doc = quad_document(Some(&quad_buffer_uri()));

@@ -666,6 +666,36 @@ fn a_ply_file_is_a_scene_with_a_camera_and_light() {
     assert_eq!(file.defined_vertices, 13 * 7);
 }
 
+/// A mesh whose faces all have zero area (collinear corners, a corner repeated) shows
+/// nothing: it is left out with a warning, and a file with nothing else is the empty-mesh
+/// error, which says zero-area faces may be why. Faces with area beside them keep it in.
+#[test]
+fn a_mesh_of_zero_area_faces_is_left_out_with_a_warning() {
+    let header = |faces: usize| {
+        format!(
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+             property float z\nelement face {faces}\nproperty list uchar int vertex_indices\n\
+             end_header\n0 0 0\n1e-3 0 0\n2e-3 0 0\n0 1e-3 0\n"
+        )
+    };
+    let flat = format!("{}3 0 1 2\n3 0 0 3\n", header(2));
+    let file = ply::parse(flat.as_bytes(), "flat.ply").expect("read");
+    assert_eq!(file.triangle_count(), 0);
+    let w = file.warnings.join("\n");
+    assert!(
+        w.contains("flat.ply: the mesh has only faces of zero area (2); it is left out"),
+        "{w}"
+    );
+    let dir = temp_dir("ply-zero-area");
+    let path = write(&dir, "flat.ply", flat.into_bytes());
+    let err = load(&path).unwrap_err().to_string();
+    assert!(err.contains("only faces of zero area"), "{err}");
+    let mixed = format!("{}3 0 1 2\n3 0 1 3\n", header(2));
+    let file = ply::parse(mixed.as_bytes(), "mixed.ply").expect("read");
+    assert_eq!(file.triangle_count(), 2);
+    assert!(file.warnings.is_empty(), "{:?}", file.warnings);
+}
+
 /// A small valid binary PLY (both byte orders) and ASCII PLY to damage.
 fn fuzz_seed(which: u8) -> Vec<u8> {
     let mesh = TestMesh::sphere(4, 3);

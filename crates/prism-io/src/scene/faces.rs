@@ -1,4 +1,5 @@
-//! Polygons of mesh files (OBJ, PLY) to triangles. Convex faces fan out from their first
+//! Polygons of mesh files (OBJ, PLY) to triangles, and whether a mesh's triangles cover
+//! any area (glTF's too). Convex faces fan out from their first
 //! corner, exactly as the TOML format's inline meshes do, so one mesh renders the same from
 //! any of the three; other faces are ear-clipped by `geometry::polygon`, which keeps
 //! concave faces exact.
@@ -33,6 +34,16 @@ impl std::fmt::Display for FaceError {
             ),
         }
     }
+}
+
+/// Whether any of `triangles` (indexing `positions`, all in range) has an area. Exactly
+/// zero, not small: a face of any size at any scale keeps its area. A mesh without one
+/// shows nothing, so the loaders leave it out with a warning rather than in silence.
+pub(super) fn any_with_area(positions: &[Vec3], triangles: &[[u32; 3]]) -> bool {
+    triangles.iter().any(|t| {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        (b - a).cross(c - a) != Vec3::ZERO
+    })
 }
 
 /// Appends the triangles of the face whose corners index `positions` (all in range) to

@@ -6,6 +6,7 @@
 
 use super::accessor::Accessors;
 use super::transform::Placement;
+use crate::scene::faces::any_with_area;
 use gltf::json::mesh::{Mode, Semantic};
 use gltf::json::validation::Checked;
 use gltf::json::Root;
@@ -23,12 +24,14 @@ pub(super) struct Primitive {
 }
 
 /// Decodes the triangle primitives of mesh `index`. `uv_set` says which TEXCOORD_n set a
-/// material's base colour texture reads.
+/// material's base colour texture reads. A primitive whose triangles all have zero area is
+/// left out with a warning.
 pub(super) fn decode(
     root: &Root,
     accessors: &Accessors,
     index: usize,
     uv_set: impl Fn(Option<usize>) -> u32,
+    warnings: &mut Vec<String>,
 ) -> Result<Vec<Primitive>, String> {
     let mesh = root.meshes.get(index).ok_or_else(|| {
         format!(
@@ -46,6 +49,14 @@ pub(super) fn decode(
         let decoded = primitive(accessors, prim, uv_set(material))
             .map_err(|e| format!("mesh {index}{name}, primitive {p}: {e}"))?;
         if let Some((positions, normals, uvs, triangles)) = decoded {
+            if !triangles.is_empty() && !any_with_area(&positions, &triangles) {
+                warnings.push(format!(
+                    "mesh {index}{name}, primitive {p} has only faces of zero area ({}); it \
+                     is left out",
+                    triangles.len()
+                ));
+                continue;
+            }
             out.push(Primitive {
                 positions,
                 normals,

@@ -92,13 +92,18 @@ fn build(
     let placed = nodes::walk(root)?;
 
     let mut decoded: HashMap<usize, Vec<mesh::Primitive>> = HashMap::new();
+    let mut mesh_warnings = Vec::new();
     let mut placed_triangles = 0usize;
     for &(_, mesh_index, _) in &placed.meshes {
         let primitives = match decoded.entry(mesh_index) {
             Entry::Occupied(e) => e.into_mut(),
-            Entry::Vacant(e) => e.insert(mesh::decode(root, &accessors, mesh_index, |m| {
-                materials::uv_set(root, m)
-            })?),
+            Entry::Vacant(e) => e.insert(mesh::decode(
+                root,
+                &accessors,
+                mesh_index,
+                |m| materials::uv_set(root, m),
+                &mut mesh_warnings,
+            )?),
         };
         let triangles: usize = primitives.iter().map(mesh::Primitive::triangle_count).sum();
         placed_triangles = placed_triangles.saturating_add(triangles);
@@ -115,7 +120,10 @@ fn build(
         ));
     }
 
-    let mut scene = Scene::default();
+    let mut scene = Scene {
+        warnings: mesh_warnings,
+        ..Scene::default()
+    };
     let mut material_ids: HashMap<Option<usize>, u32> = HashMap::new();
     for &(node, mesh_index, world) in &placed.meshes {
         // Every placed mesh was decoded above.

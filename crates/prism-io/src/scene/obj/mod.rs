@@ -234,12 +234,7 @@ fn part(
             start += arity as usize;
         }
     }
-    // Exactly zero (not small): a face of any size at any scale keeps its area.
-    let has_area = |t: &[u32; 3]| {
-        let [a, b, c] = t.map(|i| positions[i as usize]);
-        (b - a).cross(c - a) != Vec3::ZERO
-    };
-    if !triangles.iter().any(has_area) {
+    if !faces::any_with_area(&positions, &triangles) {
         let faces = match m.face_arities.len() {
             0 => m.indices.len() / 3,
             n => n,

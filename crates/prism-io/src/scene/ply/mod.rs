@@ -506,6 +506,14 @@ impl RawMesh {
         if triangles.is_empty() {
             return Ok(file);
         }
+        if !faces::any_with_area(&self.positions, &triangles) {
+            // The file then holds nothing: the caller's empty-mesh error says why.
+            file.warnings.push(format!(
+                "{path}: the mesh has only faces of zero area ({}); it is left out",
+                self.face_sizes.len()
+            ));
+            return Ok(file);
+        }
         let mesh = TriangleMesh::new(self.positions, triangles, self.normals, self.uvs)
             .map_err(|e| invalid(e.to_string()))?;
         file.parts.push(MeshPart {
