@@ -198,7 +198,10 @@ canvas.addEventListener("pointermove", (e) => {
   const dy = e.clientY - drag.y;
   drag.x = e.clientX;
   drag.y = e.clientY;
-  const h = canvas.clientHeight || canvas.height;
+  // The picture's height on screen: the canvas box is taller where the picture is
+  // letterboxed (object-fit: contain).
+  const h = Math.min(canvas.clientHeight, (canvas.clientWidth * canvas.height) / canvas.width) ||
+    canvas.height;
   if (drag.pan) {
     // The scene follows the mouse: the camera moves the other way.
     move([0, 0], [-dx / h, dy / h], 0);

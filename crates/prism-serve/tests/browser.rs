@@ -1,8 +1,9 @@
 //! The viewer in a real browser: headless Chromium driven through chromedriver (WebDriver).
 //! The page loads and draws frames, the image refines (consecutive frames differ less and
 //! less), a mouse drag moves the view, a control changes the picture, and a screenshot is
-//! kept in target/viewer-screenshot.png; a key zooms, and **Save PNG** hands the browser a
-//! PNG file to download. Where Chromium or chromedriver is not installed
+//! kept in target/viewer-screenshot.png; a key zooms, **Save PNG** hands the browser a
+//! PNG file to download, the picture scales with the window, and the page asks for no
+//! favicon. Where Chromium or chromedriver is not installed
 //! (Debian: `apt-get install chromium chromium-driver`) the test prints why it skips;
 //! under CI, whose script installs them, it fails instead.
 
@@ -130,6 +131,34 @@ async fn frame_where(client: &Client, what: &str, accept: impl Fn(&Frame) -> boo
 
 fn difference(a: &Frame, b: &Frame) -> f64 {
     common::difference(&a.pixels, &b.pixels)
+}
+
+/// Where the picture is on screen: its scale (screen pixels per picture pixel, the same
+/// across and down, as `object-fit: contain` draws it) and whether it lies inside the window.
+#[derive(Debug)]
+struct OnScreen {
+    scale: f64,
+    fits: bool,
+}
+
+async fn picture_on_screen(client: &Client) -> OnScreen {
+    let v = client
+        .execute(
+            r#"const c = document.getElementById("view");
+               const r = c.getBoundingClientRect();
+               const scale = Math.min(r.width / c.width, r.height / c.height);
+               const [w, h] = [c.width * scale, c.height * scale];
+               const [left, top] = [r.left + (r.width - w) / 2, r.top + (r.height - h) / 2];
+               return { scale, fits: left >= 0 && top >= 0 &&
+                        left + w <= innerWidth + 0.5 && top + h <= innerHeight + 0.5 };"#,
+            vec![],
+        )
+        .await
+        .expect("the canvas's place");
+    OnScreen {
+        scale: v["scale"].as_f64().unwrap(),
+        fits: v["fits"].as_bool().unwrap(),
+    }
 }
 
 #[tokio::test(flavor = "current_thread")]
@@ -293,6 +322,42 @@ async fn the_page_refines_follows_the_mouse_and_the_controls() {
         saved["head"],
         json!([137, 80, 78, 71, 13, 10, 26, 10]),
         "a PNG signature"
+    );
+
+    // The picture fills the window whatever its pixel size, keeping its aspect ratio, and
+    // follows the window when it shrinks. Before this, a 320 × 180 picture stayed 320 ×
+    // 180 on screen.
+    let wide = picture_on_screen(&client).await;
+    assert!(wide.scale > 1.5, "the picture is not scaled up: {wide:?}");
+    assert!(wide.fits, "the picture runs past the window: {wide:?}");
+    client
+        .set_window_size(640, 900)
+        .await
+        .expect("a smaller window");
+    let narrow = poll(
+        &client,
+        "the layout of the smaller window",
+        "return innerWidth < 700 ? true : null",
+    )
+    .await;
+    assert_eq!(narrow, json!(true));
+    let narrow = picture_on_screen(&client).await;
+    assert!(
+        narrow.scale < wide.scale && narrow.fits,
+        "the picture does not follow the window: {wide:?}, then {narrow:?}"
+    );
+    // The page names its icon, so the browser asks the server for no /favicon.ico (a 404).
+    let icon = client
+        .execute(
+            r#"const l = document.querySelector('link[rel~="icon"]');
+               return l ? l.getAttribute("href") : null"#,
+            vec![],
+        )
+        .await
+        .unwrap();
+    assert!(
+        icon.as_str().is_some_and(|h| h.starts_with("data:")),
+        "the page's icon: {icon}"
     );
 
     let errors = client
