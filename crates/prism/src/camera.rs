@@ -53,6 +53,18 @@ pub enum CameraError {
 }
 
 impl Camera {
+    /// A pinhole at `eye` aiming at `look_at`, `up` upwards, `fov_degrees` across the
+    /// shorter image side.
+    pub fn perspective(eye: Vec3, look_at: Vec3, up: Vec3, fov_degrees: f32) -> Self {
+        Camera {
+            eye,
+            look_at,
+            up,
+            fov_degrees,
+            projection: Projection::Perspective,
+        }
+    }
+
     /// Checks that the camera defines a view: a direction, a sideways axis and a valid field of
     /// view or window.
     pub fn validate(&self) -> Result<(), CameraError> {

@@ -94,6 +94,44 @@ pub struct SpecularWeights {
 }
 
 impl Material {
+    /// A diffuse surface of one colour with ka `ambient` and kd `diffuse`, no highlight,
+    /// mirror or transmission: where hand-made scenes start, adding the rest with
+    /// `glossy`, `reflecting` and `glass`.
+    pub fn matte(name: &str, color: Color, ambient: f32, diffuse: f32) -> Self {
+        Material {
+            name: name.into(),
+            color: Texture::Solid(color),
+            ambient,
+            diffuse,
+            ..Material::default()
+        }
+    }
+
+    /// With a highlight of weight ks `specular` and exponent `shininess`.
+    pub fn glossy(self, specular: f32, shininess: f32) -> Self {
+        Material {
+            specular,
+            shininess,
+            ..self
+        }
+    }
+
+    /// With a mirror-reflected ray of weight kr `reflect`.
+    pub fn reflecting(self, reflect: f32) -> Self {
+        Material { reflect, ..self }
+    }
+
+    /// Glass: a refracted ray of weight `transmit` per channel through index `ior`, the
+    /// mirror and refracted weights shared by the exact Fresnel terms.
+    pub fn glass(self, transmit: Color, ior: f32) -> Self {
+        Material {
+            transmit,
+            ior,
+            fresnel: FresnelMode::Exact,
+            ..self
+        }
+    }
+
     /// Whether the surface is a light (emits from its front side).
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0

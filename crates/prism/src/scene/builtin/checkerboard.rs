@@ -2,27 +2,21 @@
 //! alone so every pixel is exactly the area average of the pattern it covers: the classic
 //! aliasing test, with an exact reference that sampling can be measured against.
 
-use crate::camera::{Camera, Projection};
+use super::staging::stage;
+use crate::camera::Camera;
 use crate::geometry::{Plane, Shape};
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
 use crate::shading::{Checker, CheckerSpace, Material, Texture};
 
 pub(super) fn checkerboard() -> Scene {
-    let mut scene = Scene {
-        camera: Camera {
-            eye: Vec3::new(0.0, 1.0, 0.0),
-            look_at: Vec3::new(0.0, 0.75, 4.0),
-            up: Vec3::Y,
-            fov_degrees: 50.0,
-            projection: Projection::Perspective,
-        },
-        background: Color::new(0.55, 0.7, 0.9),
-        ambient: Color::ONE,
-        ..Scene::default()
-    };
-    scene.options.width = 640;
-    scene.options.height = 360;
+    let camera = Camera::perspective(
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::new(0.0, 0.75, 4.0),
+        Vec3::Y,
+        50.0,
+    );
+    let mut scene = stage(camera, (640, 360), Color::new(0.55, 0.7, 0.9), 1.0);
     let board = scene.add_material(Material {
         name: "checker".into(),
         color: Texture::Checker(Checker {

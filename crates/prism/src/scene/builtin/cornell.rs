@@ -1,63 +1,39 @@
 //! A Cornell box lit by one point light below the ceiling, with a mirror sphere and a glass
 //! sphere: every Whitted effect in a closed room.
 
-use crate::camera::{Camera, Projection};
+use super::staging::stage;
+use crate::camera::Camera;
 use crate::geometry::{generate, Shape, Sphere};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
-use crate::shading::{FresnelMode, Material, Texture};
+use crate::shading::Material;
 
 pub(super) fn cornell() -> Scene {
-    let mut scene = Scene {
-        camera: Camera {
-            eye: Vec3::new(0.5, 0.5, -1.35),
-            look_at: Vec3::new(0.5, 0.5, 0.5),
-            up: Vec3::Y,
-            fov_degrees: 38.0,
-            projection: Projection::Perspective,
-        },
-        background: Color::ZERO,
-        ambient: Color::splat(0.15),
-        ..Scene::default()
-    };
-    scene.options.width = 512;
-    scene.options.height = 512;
+    let camera = Camera::perspective(
+        Vec3::new(0.5, 0.5, -1.35),
+        Vec3::new(0.5, 0.5, 0.5),
+        Vec3::Y,
+        38.0,
+    );
+    let mut scene = stage(camera, (512, 512), Color::ZERO, 0.15);
 
     let wall = |scene: &mut Scene, name: &str, color: Color| {
-        scene.add_material(Material {
-            name: name.into(),
-            color: Texture::Solid(color),
-            ambient: 1.0,
-            diffuse: 0.85,
-            ..Material::default()
-        })
+        scene.add_material(Material::matte(name, color, 1.0, 0.85))
     };
     let white = wall(&mut scene, "white", Color::splat(0.75));
     let red = wall(&mut scene, "red", Color::new(0.75, 0.1, 0.1));
     let green = wall(&mut scene, "green", Color::new(0.12, 0.6, 0.12));
-    let mirror = scene.add_material(Material {
-        name: "mirror".into(),
-        color: Texture::Solid(Color::splat(0.9)),
-        ambient: 0.0,
-        diffuse: 0.0,
-        specular: 0.8,
-        shininess: 300.0,
-        reflect: 0.9,
-        ..Material::default()
-    });
-    let glass = scene.add_material(Material {
-        name: "glass".into(),
-        color: Texture::Solid(Color::ONE),
-        ambient: 0.0,
-        diffuse: 0.0,
-        specular: 0.8,
-        shininess: 300.0,
-        transmit: Color::ONE,
-        ior: 1.5,
-        fresnel: FresnelMode::Exact,
-        ..Material::default()
-    });
+    let mirror = scene.add_material(
+        Material::matte("mirror", Color::splat(0.9), 0.0, 0.0)
+            .glossy(0.8, 300.0)
+            .reflecting(0.9),
+    );
+    let glass = scene.add_material(
+        Material::matte("glass", Color::ONE, 0.0, 0.0)
+            .glossy(0.8, 300.0)
+            .glass(Color::ONE, 1.5),
+    );
 
     let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
     // Walls face into the box. Looking along +z with +y up, +x is on the image's left.

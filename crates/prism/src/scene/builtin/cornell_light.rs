@@ -13,12 +13,12 @@
 //! The glass variant replaces the blocks by two spheres standing where they stood: a
 //! mirror behind, where the tall block was, and glass (η = 1.5, exact Fresnel) in front.
 
-use crate::camera::{Camera, Projection};
+use crate::camera::Camera;
 use crate::geometry::{generate, Shape, Sphere};
 use crate::math::{Color, Vec3};
 use crate::options::IntegratorKind;
 use crate::scene::Scene;
-use crate::shading::{FresnelMode, Material, Texture};
+use crate::shading::Material;
 
 /// Which blocks stand in the box.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -140,26 +140,19 @@ fn add_quad(scene: &mut Scene, q: &Quad, material: u32) {
 }
 
 fn matte(name: &str, color: Color) -> Material {
-    Material {
-        name: name.into(),
-        color: Texture::Solid(color),
-        ambient: 0.0,
-        diffuse: 1.0,
-        ..Material::default()
-    }
+    Material::matte(name, color, 0.0, 1.0)
 }
 
 pub(super) fn cornell_light(variant: Variant) -> Scene {
     // 35 mm lens, 25 mm film: 2·atan(12.5/35) across.
     let fov = 2.0 * (12.5f32 / 35.0).atan().to_degrees();
     let mut scene = Scene {
-        camera: Camera {
-            eye: Vec3::new(278.0, 273.0, -800.0),
-            look_at: Vec3::new(278.0, 273.0, 0.0),
-            up: Vec3::Y,
-            fov_degrees: fov,
-            projection: Projection::Perspective,
-        },
+        camera: Camera::perspective(
+            Vec3::new(278.0, 273.0, -800.0),
+            Vec3::new(278.0, 273.0, 0.0),
+            Vec3::Y,
+            fov,
+        ),
         background: Color::ZERO,
         ambient: Color::ZERO,
         ..Scene::default()
@@ -191,24 +184,11 @@ pub(super) fn cornell_light(variant: Variant) -> Scene {
             }
         }
         Variant::Glass => {
-            let mirror = scene.add_material(Material {
-                name: "mirror".into(),
-                color: Texture::Solid(Color::ONE),
-                ambient: 0.0,
-                diffuse: 0.0,
-                reflect: 1.0,
-                ..Material::default()
-            });
-            let glass = scene.add_material(Material {
-                name: "glass".into(),
-                color: Texture::Solid(Color::ONE),
-                ambient: 0.0,
-                diffuse: 0.0,
-                transmit: Color::ONE,
-                ior: 1.5,
-                fresnel: FresnelMode::Exact,
-                ..Material::default()
-            });
+            let mirror =
+                scene.add_material(Material::matte("mirror", Color::ONE, 0.0, 0.0).reflecting(1.0));
+            let glass = scene.add_material(
+                Material::matte("glass", Color::ONE, 0.0, 0.0).glass(Color::ONE, 1.5),
+            );
             scene.geometry.add(
                 Shape::Sphere(Sphere::new(Vec3::new(368.0, 100.0, 351.0), 100.0)),
                 mirror,

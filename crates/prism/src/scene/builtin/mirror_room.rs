@@ -4,22 +4,21 @@
 //! mirror, so every pixel piece's light is smooth (the beam tests and
 //! `examples/beam_vs_supersampling.rs` compare supersampling against it).
 
-use crate::camera::{Camera, Projection};
+use crate::camera::Camera;
 use crate::geometry::TriangleMesh;
 use crate::light::Light;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
-use crate::shading::{Material, Texture};
+use crate::shading::Material;
 
 pub(super) fn mirror_room() -> Scene {
     let mut s = Scene {
-        camera: Camera {
-            eye: Vec3::new(0.0, 1.0, 3.2),
-            look_at: Vec3::new(0.0, 1.0, 0.0),
-            up: Vec3::Y,
-            fov_degrees: 50.0,
-            projection: Projection::Perspective,
-        },
+        camera: Camera::perspective(
+            Vec3::new(0.0, 1.0, 3.2),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::Y,
+            50.0,
+        ),
         background: Color::new(0.1, 0.1, 0.1),
         ambient: Color::ONE,
         lights: vec![Light::Point {
@@ -29,14 +28,7 @@ pub(super) fn mirror_room() -> Scene {
         ..Scene::default()
     };
     let mut material = |name: &str, c: Color, ambient: f32, diffuse: f32, reflect: f32| {
-        s.add_material(Material {
-            name: name.into(),
-            color: Texture::Solid(c),
-            ambient,
-            diffuse,
-            reflect,
-            ..Material::default()
-        })
+        s.add_material(Material::matte(name, c, ambient, diffuse).reflecting(reflect))
     };
     let white = material("white", Color::splat(0.75), 0.2, 0.8, 0.0);
     let red = material("red", Color::new(0.75, 0.1, 0.1), 0.2, 0.8, 0.0);

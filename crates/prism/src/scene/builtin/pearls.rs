@@ -4,12 +4,13 @@
 //! refuses (more references than it saves) and leaves every pearl in the root leaf. A
 //! kd-tree or BVH cuts the string along its length instead.
 
-use crate::camera::{Camera, Projection};
+use super::staging::stage;
+use crate::camera::Camera;
 use crate::geometry::{Shape, Sphere};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
-use crate::shading::{Material, Texture};
+use crate::shading::Material;
 
 const PEARLS: u32 = 10_000;
 const RADIUS: f32 = 0.05;
@@ -17,30 +18,18 @@ const RADIUS: f32 = 0.05;
 pub(super) fn pearls() -> Scene {
     let length = PEARLS as f32 * 2.0 * RADIUS;
     let start = -0.5 * length + RADIUS;
-    let mut scene = Scene {
-        camera: Camera {
-            eye: Vec3::new(start - 1.0, -0.9, 0.45),
-            look_at: Vec3::new(start + 3.0, 0.0, 0.0),
-            up: Vec3::Z,
-            fov_degrees: 45.0,
-            projection: Projection::Perspective,
-        },
-        background: Color::new(0.1, 0.1, 0.14),
-        ambient: Color::splat(0.15),
-        ..Scene::default()
-    };
-    scene.options.width = 480;
-    scene.options.height = 360;
-    let pearl = scene.add_material(Material {
-        name: "pearl".into(),
-        color: Texture::Solid(Color::new(0.95, 0.92, 0.88)),
-        ambient: 0.5,
-        diffuse: 0.7,
-        specular: 0.6,
-        shininess: 60.0,
-        reflect: 0.2,
-        ..Material::default()
-    });
+    let camera = Camera::perspective(
+        Vec3::new(start - 1.0, -0.9, 0.45),
+        Vec3::new(start + 3.0, 0.0, 0.0),
+        Vec3::Z,
+        45.0,
+    );
+    let mut scene = stage(camera, (480, 360), Color::new(0.1, 0.1, 0.14), 0.15);
+    let pearl = scene.add_material(
+        Material::matte("pearl", Color::new(0.95, 0.92, 0.88), 0.5, 0.7)
+            .glossy(0.6, 60.0)
+            .reflecting(0.2),
+    );
     for i in 0..PEARLS {
         let centre = Vec3::new(start + i as f32 * 2.0 * RADIUS, 0.0, 0.0);
         scene

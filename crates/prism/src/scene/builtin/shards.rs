@@ -4,31 +4,20 @@
 //! and memory explode, where a BVH just lets its boxes overlap.
 
 use super::random::unit;
-use crate::camera::{Camera, Projection};
+use super::staging::stage;
+use crate::camera::Camera;
 use crate::geometry::TriangleMesh;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
-use crate::shading::{Material, Texture};
+use crate::shading::Material;
 
 const SHARDS: u32 = 2_000;
 /// Distance of a shard's corners from its centre, against a scene of half-size 1.
 const REACH: f32 = 0.5;
 
 pub(super) fn shards() -> Scene {
-    let mut scene = Scene {
-        camera: Camera {
-            eye: Vec3::new(2.8, -3.6, 2.2),
-            look_at: Vec3::ZERO,
-            up: Vec3::Z,
-            fov_degrees: 45.0,
-            projection: Projection::Perspective,
-        },
-        background: Color::new(0.08, 0.08, 0.1),
-        ambient: Color::splat(0.15),
-        ..Scene::default()
-    };
-    scene.options.width = 480;
-    scene.options.height = 360;
+    let camera = Camera::perspective(Vec3::new(2.8, -3.6, 2.2), Vec3::ZERO, Vec3::Z, 45.0);
+    let mut scene = stage(camera, (480, 360), Color::new(0.08, 0.08, 0.1), 0.15);
     let palette = [
         Color::new(0.8, 0.3, 0.3),
         Color::new(0.3, 0.7, 0.4),
@@ -38,15 +27,7 @@ pub(super) fn shards() -> Scene {
         .iter()
         .enumerate()
         .map(|(k, &c)| {
-            scene.add_material(Material {
-                name: format!("shard{k}"),
-                color: Texture::Solid(c),
-                ambient: 0.5,
-                diffuse: 0.8,
-                specular: 0.4,
-                shininess: 30.0,
-                ..Material::default()
-            })
+            scene.add_material(Material::matte(&format!("shard{k}"), c, 0.5, 0.8).glossy(0.4, 30.0))
         })
         .collect();
     for (k, &material) in materials.iter().enumerate() {

@@ -4,40 +4,28 @@
 //! triangles than a ray comes near.
 
 use super::random::unit;
-use crate::camera::{Camera, Projection};
+use super::staging::stage;
+use crate::camera::Camera;
 use crate::geometry::TriangleMesh;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
-use crate::shading::{Material, Texture};
+use crate::shading::Material;
 
 const NEEDLES: u32 = 10_000;
 const LENGTH: f32 = 1.2;
 const WIDTH: f32 = 0.02;
 
 pub(super) fn slivers() -> Scene {
-    let mut scene = Scene {
-        camera: Camera {
-            eye: Vec3::new(3.2, -4.0, 2.4),
-            look_at: Vec3::new(0.0, 0.0, -0.2),
-            up: Vec3::Z,
-            fov_degrees: 40.0,
-            projection: Projection::Perspective,
-        },
-        background: Color::new(0.05, 0.05, 0.08),
-        ambient: Color::splat(0.15),
-        ..Scene::default()
-    };
-    scene.options.width = 480;
-    scene.options.height = 360;
-    let straw = scene.add_material(Material {
-        name: "straw".into(),
-        color: Texture::Solid(Color::new(0.9, 0.8, 0.4)),
-        ambient: 0.5,
-        diffuse: 0.8,
-        specular: 0.3,
-        shininess: 20.0,
-        ..Material::default()
-    });
+    let camera = Camera::perspective(
+        Vec3::new(3.2, -4.0, 2.4),
+        Vec3::new(0.0, 0.0, -0.2),
+        Vec3::Z,
+        40.0,
+    );
+    let mut scene = stage(camera, (480, 360), Color::new(0.05, 0.05, 0.08), 0.15);
+    let straw = scene.add_material(
+        Material::matte("straw", Color::new(0.9, 0.8, 0.4), 0.5, 0.8).glossy(0.3, 20.0),
+    );
     scene.geometry.add_mesh(needles(), straw);
     super::staging::matte_floor(&mut scene, Color::splat(0.45), -1.8);
     scene.lights = super::staging::key_and_fill();

@@ -1,47 +1,30 @@
 //! Haines' sphereflake (the SPD "balls" database, re-derived): a sphere with nine spheres of
 //! a third its radius on it, recursively. Level n has (9^(n+1) − 1)/8 spheres.
 
-use crate::camera::{Camera, Projection};
+use super::staging::stage;
+use crate::camera::Camera;
 use crate::geometry::{generate, Shape, Sphere};
 use crate::light::Light;
 use crate::math::{Color, Frame, Vec3};
 use crate::scene::Scene;
-use crate::shading::{Material, Texture};
+use crate::shading::Material;
 
 /// Haines' sphereflake (SPD) of the given recursion level: a mirror sphere with nine smaller ones
 /// around it, recursively; level n has (9^(n+1) − 1)/8 spheres.
 pub fn sphereflake(level: u32) -> Scene {
-    let mut scene = Scene {
-        camera: Camera {
-            eye: Vec3::new(2.1, 1.3, 1.7),
-            look_at: Vec3::ZERO,
-            up: Vec3::Z,
-            fov_degrees: 45.0,
-            projection: Projection::Perspective,
-        },
-        background: Color::new(0.078, 0.361, 0.753),
-        ambient: Color::splat(0.15),
-        ..Scene::default()
-    };
-    scene.options.width = 512;
-    scene.options.height = 512;
-    let floor = scene.add_material(Material {
-        name: "floor".into(),
-        color: Texture::Solid(Color::new(1.0, 0.75, 0.33)),
-        ambient: 0.5,
-        diffuse: 0.8,
-        ..Material::default()
-    });
-    let balls = scene.add_material(Material {
-        name: "balls".into(),
-        color: Texture::Solid(Color::new(1.0, 0.9, 0.7)),
-        ambient: 0.5,
-        diffuse: 0.5,
-        specular: 0.5,
-        shininess: 3.0827,
-        reflect: 0.5,
-        ..Material::default()
-    });
+    let camera = Camera::perspective(Vec3::new(2.1, 1.3, 1.7), Vec3::ZERO, Vec3::Z, 45.0);
+    let mut scene = stage(camera, (512, 512), Color::new(0.078, 0.361, 0.753), 0.15);
+    let floor = scene.add_material(Material::matte(
+        "floor",
+        Color::new(1.0, 0.75, 0.33),
+        0.5,
+        0.8,
+    ));
+    let balls = scene.add_material(
+        Material::matte("balls", Color::new(1.0, 0.9, 0.7), 0.5, 0.5)
+            .glossy(0.5, 3.0827)
+            .reflecting(0.5),
+    );
     let s = 12.0;
     scene.geometry.add_mesh(
         generate::quad(

@@ -3,12 +3,13 @@
 //! large triangles. A uniform grid sized for the whole stadium puts the knot into a
 //! handful of cells holding thousands of triangles each, while most cells stay empty.
 
-use crate::camera::{Camera, Projection};
+use super::staging::stage;
+use crate::camera::Camera;
 use crate::geometry::{generate, TriangleMesh};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
-use crate::shading::{Material, Texture};
+use crate::shading::Material;
 
 /// Triangles in the knot.
 const KNOT: u32 = 40_000;
@@ -16,43 +17,23 @@ const KNOT: u32 = 40_000;
 const SECTIONS: u32 = 48;
 
 pub(super) fn stadium() -> Scene {
-    let mut scene = Scene {
-        camera: Camera {
-            eye: Vec3::new(0.0, -5.0, 2.2),
-            look_at: Vec3::new(0.0, 0.0, 0.3),
-            up: Vec3::Z,
-            fov_degrees: 45.0,
-            projection: Projection::Perspective,
-        },
-        background: Color::new(0.35, 0.5, 0.75),
-        ambient: Color::splat(0.2),
-        ..Scene::default()
-    };
-    scene.options.width = 480;
-    scene.options.height = 360;
-    let knot = scene.add_material(Material {
-        name: "knot".into(),
-        color: Texture::Solid(Color::new(0.85, 0.45, 0.2)),
-        ambient: 0.5,
-        diffuse: 0.8,
-        specular: 0.5,
-        shininess: 40.0,
-        ..Material::default()
-    });
-    let pitch = scene.add_material(Material {
-        name: "pitch".into(),
-        color: Texture::Solid(Color::new(0.2, 0.55, 0.25)),
-        ambient: 0.5,
-        diffuse: 0.7,
-        ..Material::default()
-    });
-    let stands = scene.add_material(Material {
-        name: "stands".into(),
-        color: Texture::Solid(Color::splat(0.6)),
-        ambient: 0.5,
-        diffuse: 0.7,
-        ..Material::default()
-    });
+    let camera = Camera::perspective(
+        Vec3::new(0.0, -5.0, 2.2),
+        Vec3::new(0.0, 0.0, 0.3),
+        Vec3::Z,
+        45.0,
+    );
+    let mut scene = stage(camera, (480, 360), Color::new(0.35, 0.5, 0.75), 0.2);
+    let knot = scene.add_material(
+        Material::matte("knot", Color::new(0.85, 0.45, 0.2), 0.5, 0.8).glossy(0.5, 40.0),
+    );
+    let pitch = scene.add_material(Material::matte(
+        "pitch",
+        Color::new(0.2, 0.55, 0.25),
+        0.5,
+        0.7,
+    ));
+    let stands = scene.add_material(Material::matte("stands", Color::splat(0.6), 0.5, 0.7));
     scene.geometry.add_mesh(generate::torus_knot(KNOT), knot);
     let ground = -0.75;
     let s = 300.0;

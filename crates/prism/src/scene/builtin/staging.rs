@@ -1,21 +1,36 @@
-//! The stage the bad-case scenes stand on: a matte floor plane and a key-and-fill light
-//! pair, so each scene file only says what is particular to it.
+//! What the built-in scenes share: the scene around a camera, and the stage the bad-case
+//! scenes stand on (a matte floor plane and a key-and-fill light pair), so each scene file
+//! only says what is particular to it.
 
+use crate::camera::Camera;
 use crate::geometry::{Plane, Shape};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
-use crate::shading::{Material, Texture};
+use crate::shading::Material;
+
+/// An empty scene seen through `camera` at `width` × `height` pixels, `background` where
+/// rays leave it and an ambient light of `ambient` in every channel.
+pub(super) fn stage(
+    camera: Camera,
+    (width, height): (u32, u32),
+    background: Color,
+    ambient: f32,
+) -> Scene {
+    let mut scene = Scene {
+        camera,
+        background,
+        ambient: Color::splat(ambient),
+        ..Scene::default()
+    };
+    scene.options.width = width;
+    scene.options.height = height;
+    scene
+}
 
 /// Adds an endless matte floor of `colour` at height `z`.
 pub(super) fn matte_floor(scene: &mut Scene, colour: Color, z: f32) {
-    let floor = scene.add_material(Material {
-        name: "floor".into(),
-        color: Texture::Solid(colour),
-        ambient: 0.5,
-        diffuse: 0.7,
-        ..Material::default()
-    });
+    let floor = scene.add_material(Material::matte("floor", colour, 0.5, 0.7));
     let plane = Plane::new(Vec3::new(0.0, 0.0, z), Vec3::Z).expect("non-zero normal");
     scene.geometry.add(Shape::Plane(Box::new(plane)), floor);
 }

@@ -1,28 +1,22 @@
 //! A homage to the picture in Whitted's 1980 paper: a red and yellow checkerboard, a mirror
 //! sphere behind a hollow glass sphere, two point lights and a blue sky.
 
-use crate::camera::{Camera, Projection};
+use super::staging::stage;
+use crate::camera::Camera;
 use crate::geometry::{generate, Shape, Sphere};
 use crate::light::Light;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
-use crate::shading::{Checker, CheckerSpace, FresnelMode, Material, Texture};
+use crate::shading::{Checker, CheckerSpace, Material, Texture};
 
 pub(super) fn whitted() -> Scene {
-    let mut scene = Scene {
-        camera: Camera {
-            eye: Vec3::new(0.0, 1.3, -5.0),
-            look_at: Vec3::new(0.0, 0.9, 0.0),
-            up: Vec3::Y,
-            fov_degrees: 42.0,
-            projection: Projection::Perspective,
-        },
-        background: Color::new(0.12, 0.28, 0.75),
-        ambient: Color::splat(0.2),
-        ..Scene::default()
-    };
-    scene.options.width = 640;
-    scene.options.height = 480;
+    let camera = Camera::perspective(
+        Vec3::new(0.0, 1.3, -5.0),
+        Vec3::new(0.0, 0.9, 0.0),
+        Vec3::Y,
+        42.0,
+    );
+    let mut scene = stage(camera, (640, 480), Color::new(0.12, 0.28, 0.75), 0.2);
 
     let floor = scene.add_material(Material {
         name: "checkerboard".into(),
@@ -36,29 +30,17 @@ pub(super) fn whitted() -> Scene {
         diffuse: 0.8,
         ..Material::default()
     });
-    let mirror = scene.add_material(Material {
-        name: "mirror".into(),
-        color: Texture::Solid(Color::splat(0.7)),
-        ambient: 0.1,
-        diffuse: 0.15,
-        specular: 0.6,
-        shininess: 80.0,
-        reflect: 0.8,
-        ..Material::default()
-    });
-    let glass = scene.add_material(Material {
-        name: "glass".into(),
-        color: Texture::Solid(Color::splat(1.0)),
-        ambient: 0.0,
-        diffuse: 0.0,
-        specular: 0.7,
-        shininess: 200.0,
-        reflect: 0.05,
-        transmit: Color::splat(0.95),
-        ior: 1.5,
-        fresnel: FresnelMode::Exact,
-        ..Material::default()
-    });
+    let mirror = scene.add_material(
+        Material::matte("mirror", Color::splat(0.7), 0.1, 0.15)
+            .glossy(0.6, 80.0)
+            .reflecting(0.8),
+    );
+    let glass = scene.add_material(
+        Material::matte("glass", Color::splat(1.0), 0.0, 0.0)
+            .glossy(0.7, 200.0)
+            .reflecting(0.05)
+            .glass(Color::splat(0.95), 1.5),
+    );
 
     // A finite board, as in the original, so the sky shows below its far edge.
     let (x0, x1, z0, z1) = (-4.0, 4.0, -3.0, 13.0);
