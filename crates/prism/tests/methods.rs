@@ -8,9 +8,10 @@ mod common;
 use common::oracle::{random_ray, TestScene};
 use common::{icosphere, Rng};
 use prism::accel::{
-    markdown, Accel, AccelKind, AccelSpec, Accepts, BruteForce, BruteForceOptions, BvhOptions, Key,
-    Keyed, Method, Value,
+    markdown, Accel, AccelKind, AccelSpec, BruteForce, BruteForceOptions, BvhOptions, Key, Keyed,
+    Method,
 };
+use prism::field_key;
 use prism::geometry::Geometry;
 use prism::math::{TraceRay, Vec3};
 use prism::Stats;
@@ -36,20 +37,8 @@ impl Keyed for ReversedOptions {
     const NAME: &'static str = "reversed";
     const SUMMARY: &'static str = "the brute-force list backwards";
     const KEYS: &'static [Key<Self>] = &[
-        Key {
-            name: "stride",
-            help: "keep every n-th primitive",
-            accepts: Accepts::Int { lo: 1, hi: 9 },
-            get: |o| Value::Int(o.stride),
-            set: |o, v| o.stride = v.int(),
-        },
-        Key {
-            name: "reverse",
-            help: "walk the list backwards",
-            accepts: Accepts::Switch,
-            get: |o| Value::Switch(o.reverse),
-            set: |o, v| o.reverse = v.switch(),
-        },
+        field_key!("stride" => stride, int 1..=9, "keep every n-th primitive"),
+        field_key!("reverse" => reverse, switch, "walk the list backwards"),
     ];
 }
 

@@ -99,6 +99,59 @@ impl Value {
     }
 }
 
+/// A row of a key table that reads and writes one field of the options: `int lo..=hi`,
+/// `number lo..=hi`, `switch`, or `choice Kind` (a `named_kinds!` type, stored as itself).
+/// An integer field of another type than `usize` says so with `as` after its name.
+///
+/// ```
+/// # use prism::choices::{Key, Value};
+/// struct Options { leaf: usize, res: u32, fast: bool }
+/// const KEYS: &[Key<Options>] = &[
+///     prism::field_key!("leaf" => leaf, int 1..=64, "largest leaf"),
+///     prism::field_key!("res" => res as u32, int 1..=1024, "cells per side"),
+///     prism::field_key!("fast" => fast, switch, "take the fast path"),
+/// ];
+/// # let mut o = Options { leaf: 4, res: 8, fast: false };
+/// # (KEYS[1].set)(&mut o, Value::Int(16));
+/// # assert_eq!((KEYS[1].get)(&o), Value::Int(16));
+/// ```
+///
+/// Exported so that a test's toy method can write its table the same way.
+#[macro_export]
+macro_rules! field_key {
+    ($name:literal => $field:ident, int $lo:literal ..= $hi:expr, $help:expr) => {
+        $crate::field_key!(@key $name, $help, $crate::choices::Accepts::Int { lo: $lo, hi: $hi },
+            |o| $crate::choices::Value::Int(o.$field), |o, v| o.$field = v.int())
+    };
+    ($name:literal => $field:ident as $int:ty, int $lo:literal ..= $hi:expr, $help:expr) => {
+        $crate::field_key!(@key $name, $help, $crate::choices::Accepts::Int { lo: $lo, hi: $hi },
+            |o| $crate::choices::Value::Int(o.$field as usize), |o, v| o.$field = v.int() as $int)
+    };
+    ($name:literal => $field:ident, number $lo:literal ..= $hi:expr, $help:expr) => {
+        $crate::field_key!(@key $name, $help,
+            $crate::choices::Accepts::Number { lo: $lo, hi: $hi },
+            |o| $crate::choices::Value::Number(o.$field), |o, v| o.$field = v.number())
+    };
+    ($name:literal => $field:ident, switch, $help:expr) => {
+        $crate::field_key!(@key $name, $help, $crate::choices::Accepts::Switch,
+            |o| $crate::choices::Value::Switch(o.$field), |o, v| o.$field = v.switch())
+    };
+    ($name:literal => $field:ident, choice $kind:ident, $help:expr) => {
+        $crate::field_key!(@key $name, $help, $crate::choices::Accepts::Choice(&$kind::NAMES),
+            |o| $crate::choices::Value::Choice(o.$field.index()),
+            |o, v| o.$field = $kind::ALL[v.choice()])
+    };
+    (@key $name:literal, $help:expr, $accepts:expr, $get:expr, $set:expr) => {
+        $crate::choices::Key {
+            name: $name,
+            help: $help,
+            accepts: $accepts,
+            get: $get,
+            set: $set,
+        }
+    };
+}
+
 /// One key of a method's parameter table, over the method's options type `P`.
 pub struct Key<P> {
     /// As written after the method's colon.

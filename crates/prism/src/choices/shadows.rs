@@ -2,7 +2,8 @@
 //! light buffer's keys, `METHOD[:res=N,budget=MIB]`, e.g. `light-buffer:res=64`. The
 //! methods themselves live in `integrator::shadow`.
 
-use super::keys::{parse_params, Accepts, Key, Keyed, Value};
+use super::keys::{parse_params, Key, Keyed};
+use crate::field_key;
 use std::fmt;
 use std::str::FromStr;
 
@@ -65,20 +66,10 @@ impl Keyed for ShadowSpec {
     const NAME: &'static str = "shadows";
     const SUMMARY: &'static str = "who answers shadow rays";
     const KEYS: &'static [Key<Self>] = &[
-        Key {
-            name: "res",
-            help: "cells along a light buffer face's side (0: from the primitive count)",
-            accepts: Accepts::Int { lo: 1, hi: 1024 },
-            get: |o| Value::Int(o.res as usize),
-            set: |o, v| o.res = v.int() as u32,
-        },
-        Key {
-            name: "budget",
-            help: "the light buffers' memory budget in MiB (0: 256)",
-            accepts: Accepts::Int { lo: 1, hi: 1 << 20 },
-            get: |o| Value::Int(o.budget_mib as usize),
-            set: |o, v| o.budget_mib = v.int() as u32,
-        },
+        field_key!("res" => res as u32, int 1..=1024,
+            "cells along a light buffer face's side (0: from the primitive count)"),
+        field_key!("budget" => budget_mib as u32, int 1..=1 << 20,
+            "the light buffers' memory budget in MiB (0: 256)"),
     ];
 }
 

@@ -5,7 +5,8 @@ use super::Bvh;
 use crate::accel::volumes::{self, NodeVolume};
 use crate::accel::Accel;
 use crate::accel::Method;
-use crate::choices::{Accepts, Key, Keyed, Value};
+use crate::choices::{Key, Keyed};
+use crate::field_key;
 use crate::geometry::Geometry;
 
 /// The construction algorithm.
@@ -233,100 +234,30 @@ impl Keyed for BvhOptions {
     const NAME: &'static str = "bvh";
     const SUMMARY: &'static str = "bounding volume hierarchy (the default)";
     const KEYS: &'static [Key<Self>] = &[
-        Key {
-            name: "bins",
-            help: "candidate planes per axis of the binned SAH",
-            accepts: Accepts::Int { lo: 2, hi: 256 },
-            get: |o| Value::Int(o.bins),
-            set: |o, v| o.bins = v.int(),
-        },
-        Key {
-            name: "radius",
-            help: "clusters searched each way for a nearest neighbour by PLOC",
-            accepts: Accepts::Int { lo: 1, hi: 256 },
-            get: |o| Value::Int(o.radius),
-            set: |o, v| o.radius = v.int(),
-        },
-        Key {
-            name: "budget",
-            help: "references SBVH's spatial splits may add, per primitive",
-            accepts: Accepts::Number { lo: 0.0, hi: 4.0 },
-            get: |o| Value::Number(o.budget),
-            set: |o, v| o.budget = v.number(),
-        },
-        Key {
-            name: "alpha",
-            help: "overlap of an object split's children, as a share of the root's area, above which SBVH tries spatial splits",
-            accepts: Accepts::Number { lo: 0.0, hi: 1.0 },
-            get: |o| Value::Number(o.alpha),
-            set: |o, v| o.alpha = v.number(),
-        },
-        Key {
-            name: "leaf",
-            help: "largest leaf",
-            accepts: Accepts::Int { lo: 1, hi: 1024 },
-            get: |o| Value::Int(o.max_leaf_size),
-            set: |o, v| o.max_leaf_size = v.int(),
-        },
-        Key {
-            name: "trav",
-            help: "binary node cost relative to a primitive test (a third of it for rays from inside)",
-            accepts: Accepts::Number {
-                lo: 0.0,
-                hi: 1000.0,
-            },
-            get: |o| Value::Number(o.traversal_cost),
-            set: |o, v| o.traversal_cost = v.number(),
-        },
-        Key {
-            name: "build",
-            help: "the builder",
-            accepts: Accepts::Choice(&BvhBuilder::NAMES),
-            get: |o| Value::Choice(o.builder.index()),
-            set: |o, v| o.builder = BvhBuilder::ALL[v.choice()],
-        },
-        Key {
-            name: "split",
-            help: "extra references per primitive from pre-splitting triangles (0 = off)",
-            accepts: Accepts::Number { lo: 0.0, hi: 4.0 },
-            get: |o| Value::Number(o.presplit),
-            set: |o, v| o.presplit = v.number(),
-        },
-        Key {
-            name: "volume",
-            help: "the node volume",
-            accepts: Accepts::Choice(&NodeVolume::NAMES),
-            get: |o| Value::Choice(o.volume.index()),
-            set: |o, v| o.volume = NodeVolume::ALL[v.choice()],
-        },
-        Key {
-            name: "width",
-            help: "traversal node width (auto: 8 with AVX2, else 4)",
-            accepts: Accepts::Choice(&NodeWidth::NAMES),
-            get: |o| Value::Choice(o.width.index()),
-            set: |o, v| o.width = NodeWidth::ALL[v.choice()],
-        },
-        Key {
-            name: "avx512",
-            help: "packets of rays with AVX-512 where the CPU has it (auto) or AVX2 only (off)",
-            accepts: Accepts::Choice(&Avx512::NAMES),
-            get: |o| Value::Choice(o.avx512.index()),
-            set: |o, v| o.avx512 = Avx512::ALL[v.choice()],
-        },
-        Key {
-            name: "rays",
-            help: "where the binned SAH expects rays to start: outside the scene (area shares), inside it (half area and half volume shares, for paths in closed scenes), or auto (inside for the path integrator, else outside)",
-            accepts: Accepts::Choice(&RayOrigins::NAMES),
-            get: |o| Value::Choice(o.rays.index()),
-            set: |o, v| o.rays = RayOrigins::ALL[v.choice()],
-        },
-        Key {
-            name: "reinsert",
-            help: "optimise the tree by reinsertion",
-            accepts: Accepts::Switch,
-            get: |o| Value::Switch(o.reinsert),
-            set: |o, v| o.reinsert = v.switch(),
-        },
+        field_key!("bins" => bins, int 2..=256, "candidate planes per axis of the binned SAH"),
+        field_key!("radius" => radius, int 1..=256,
+            "clusters searched each way for a nearest neighbour by PLOC"),
+        field_key!("budget" => budget, number 0.0..=4.0,
+            "references SBVH's spatial splits may add, per primitive"),
+        field_key!("alpha" => alpha, number 0.0..=1.0,
+            "overlap of an object split's children, as a share of the root's area, above which \
+             SBVH tries spatial splits"),
+        field_key!("leaf" => max_leaf_size, int 1..=1024, "largest leaf"),
+        field_key!("trav" => traversal_cost, number 0.0..=1000.0,
+            "binary node cost relative to a primitive test (a third of it for rays from inside)"),
+        field_key!("build" => builder, choice BvhBuilder, "the builder"),
+        field_key!("split" => presplit, number 0.0..=4.0,
+            "extra references per primitive from pre-splitting triangles (0 = off)"),
+        field_key!("volume" => volume, choice NodeVolume, "the node volume"),
+        field_key!("width" => width, choice NodeWidth,
+            "traversal node width (auto: 8 with AVX2, else 4)"),
+        field_key!("avx512" => avx512, choice Avx512,
+            "packets of rays with AVX-512 where the CPU has it (auto) or AVX2 only (off)"),
+        field_key!("rays" => rays, choice RayOrigins,
+            "where the binned SAH expects rays to start: outside the scene (area shares), inside \
+             it (half area and half volume shares, for paths in closed scenes), or auto (inside \
+             for the path integrator, else outside)"),
+        field_key!("reinsert" => reinsert, switch, "optimise the tree by reinsertion"),
     ];
 }
 

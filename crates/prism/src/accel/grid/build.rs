@@ -9,7 +9,8 @@ use super::Grid;
 use crate::accel::cells::padded_bounds;
 use crate::accel::Accel;
 use crate::accel::Method;
-use crate::choices::{Accepts, Key, Keyed, Value};
+use crate::choices::{Key, Keyed};
+use crate::field_key;
 use crate::geometry::Geometry;
 use crate::math::{Aabb, Vec3};
 
@@ -35,23 +36,9 @@ impl Keyed for GridOptions {
     const NAME: &'static str = "grid";
     const SUMMARY: &'static str = "uniform grid walked by 3D-DDA";
     const KEYS: &'static [Key<Self>] = &[
-        Key {
-            name: "lambda",
-            help: "cells along the longest axis per cube root of the primitive count",
-            accepts: Accepts::Number {
-                lo: 0.01,
-                hi: 100.0,
-            },
-            get: |o| Value::Number(o.lambda),
-            set: |o, v| o.lambda = v.number(),
-        },
-        Key {
-            name: "cells",
-            help: "upper bound on the number of cells",
-            accepts: Accepts::Int { lo: 1, hi: 1 << 24 },
-            get: |o| Value::Int(o.max_cells),
-            set: |o, v| o.max_cells = v.int(),
-        },
+        field_key!("lambda" => lambda, number 0.01..=100.0,
+            "cells along the longest axis per cube root of the primitive count"),
+        field_key!("cells" => max_cells, int 1..=1 << 24, "upper bound on the number of cells"),
     ];
 }
 

@@ -13,7 +13,8 @@ use super::{KdTree, Node, MAX_DEPTH};
 use crate::accel::cells::padded_bounds;
 use crate::accel::Accel;
 use crate::accel::Method;
-use crate::choices::{Accepts, Key, Keyed, Value};
+use crate::choices::{Key, Keyed};
+use crate::field_key;
 use crate::geometry::Geometry;
 use crate::math::Aabb;
 
@@ -45,40 +46,11 @@ impl Keyed for KdTreeOptions {
     const NAME: &'static str = "kdtree";
     const SUMMARY: &'static str = "kd-tree, SAH event-sweep build";
     const KEYS: &'static [Key<Self>] = &[
-        Key {
-            name: "trav",
-            help: "cost of a traversal step",
-            accepts: Accepts::Number {
-                lo: 0.0,
-                hi: 1000.0,
-            },
-            get: |o| Value::Number(o.traversal_cost),
-            set: |o, v| o.traversal_cost = v.number(),
-        },
-        Key {
-            name: "isect",
-            help: "cost of a primitive test",
-            accepts: Accepts::Number {
-                lo: 0.001,
-                hi: 1000.0,
-            },
-            get: |o| Value::Number(o.intersection_cost),
-            set: |o, v| o.intersection_cost = v.number(),
-        },
-        Key {
-            name: "empty-bonus",
-            help: "discount for splits that leave one side empty",
-            accepts: Accepts::Number { lo: 0.0, hi: 1.0 },
-            get: |o| Value::Number(o.empty_bonus),
-            set: |o, v| o.empty_bonus = v.number(),
-        },
-        Key {
-            name: "depth",
-            help: "depth limit (0 = 8 + 1.3·log₂ n)",
-            accepts: Accepts::Int { lo: 0, hi: 60 },
-            get: |o| Value::Int(o.max_depth),
-            set: |o, v| o.max_depth = v.int(),
-        },
+        field_key!("trav" => traversal_cost, number 0.0..=1000.0, "cost of a traversal step"),
+        field_key!("isect" => intersection_cost, number 0.001..=1000.0, "cost of a primitive test"),
+        field_key!("empty-bonus" => empty_bonus, number 0.0..=1.0,
+            "discount for splits that leave one side empty"),
+        field_key!("depth" => max_depth, int 0..=60, "depth limit (0 = 8 + 1.3·log₂ n)"),
     ];
 }
 

@@ -5,7 +5,8 @@ use super::{octant, Node, Octree, INTERIOR, MAX_DEPTH};
 use crate::accel::cells::padded_bounds;
 use crate::accel::Accel;
 use crate::accel::Method;
-use crate::choices::{Accepts, Key, Keyed, Value};
+use crate::choices::{Key, Keyed};
+use crate::field_key;
 use crate::geometry::Geometry;
 use crate::math::Aabb;
 
@@ -31,20 +32,9 @@ impl Keyed for OctreeOptions {
     const NAME: &'static str = "octree";
     const SUMMARY: &'static str = "adaptive octree";
     const KEYS: &'static [Key<Self>] = &[
-        Key {
-            name: "leaf",
-            help: "a cell with more primitives is subdivided",
-            accepts: Accepts::Int { lo: 1, hi: 1024 },
-            get: |o| Value::Int(o.max_leaf_size),
-            set: |o, v| o.max_leaf_size = v.int(),
-        },
-        Key {
-            name: "depth",
-            help: "depth limit, the root being 1",
-            accepts: Accepts::Int { lo: 1, hi: 20 },
-            get: |o| Value::Int(o.max_depth),
-            set: |o, v| o.max_depth = v.int(),
-        },
+        field_key!("leaf" => max_leaf_size, int 1..=1024,
+            "a cell with more primitives is subdivided"),
+        field_key!("depth" => max_depth, int 1..=20, "depth limit, the root being 1"),
     ];
 }
 
