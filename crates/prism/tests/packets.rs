@@ -9,7 +9,9 @@ mod common;
 
 use common::oracle::TestScene;
 use common::{icosphere, Rng};
-use prism::accel::{Accel, Avx512, Bvh, BvhOptions, Hit, NodeWidth, QueryMode, PACKET_MAX};
+use prism::accel::{
+    Accel, Avx512, Bvh, BvhOptions, Hit, NodeWidth, PacketQuery, QueryMode, RayQuery, PACKET_MAX,
+};
 use prism::geometry::{AaBox, Cone, Shape, Sphere};
 use prism::math::{Ray, TraceRay, Vec3};
 use prism::Stats;
@@ -112,17 +114,13 @@ fn check_packet(
     let g = &s.geometry;
     let mut answers = vec![None; rays.len()];
     let mut packet_stats = Stats::default();
-    accel.query_packet(
-        g,
-        &plain(rays),
-        t_max,
-        mode,
-        &mut answers,
-        &mut packet_stats,
-    );
+    let plain_rays = plain(rays);
+    let packet = PacketQuery::new(g, &plain_rays, t_max, mode);
+    accel.query_packet(&packet, &mut answers, &mut packet_stats);
     let mut single_stats = Stats::default();
     for (i, (ray, &t)) in rays.iter().zip(t_max).enumerate() {
-        let single: Option<Hit> = accel.query(g, ray, t, mode, &mut single_stats);
+        let query = RayQuery::new(g, ray, t, mode);
+        let single: Option<Hit> = accel.query(&query, &mut single_stats);
         match mode {
             QueryMode::Nearest => assert_eq!(
                 answers[i],
@@ -209,14 +207,9 @@ fn check_scene(name: &str, scale: f32, offset: Vec3, seed: u64) {
                         // hit, some exactly at it, some beyond.
                         let mut answers = vec![None; rays.len()];
                         let mut stats = Stats::default();
-                        bvh.query_packet(
-                            g,
-                            &plain(&rays),
-                            &inf,
-                            QueryMode::Nearest,
-                            &mut answers,
-                            &mut stats,
-                        );
+                        let plain_rays = plain(&rays);
+                        let packet = PacketQuery::new(g, &plain_rays, &inf, QueryMode::Nearest);
+                        bvh.query_packet(&packet, &mut answers, &mut stats);
                         let bounds: Vec<f32> = answers
                             .iter()
                             .map(|a| match (a, rng.below(3)) {

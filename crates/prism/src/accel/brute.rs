@@ -2,10 +2,9 @@
 
 use super::query::HitSearch;
 use super::Method;
-use super::{Accel, AccelInfo, Hit, QueryMode};
+use super::{Accel, AccelInfo, Hit, RayQuery};
 use crate::choices::{Key, Keyed};
 use crate::geometry::Geometry;
-use crate::math::TraceRay;
 use crate::stats::Stats;
 
 /// Brute force has no parameters.
@@ -38,17 +37,10 @@ impl BruteForce {
 
 impl Accel for BruteForce {
     #[inline(always)]
-    fn query(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        mode: QueryMode,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
-        let mut search = HitSearch::new(t_max, mode);
+    fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
+        let mut search = HitSearch::new(query.t_max, query.mode);
         for &prim in &self.prims {
-            if search.test(geometry, ray, prim, stats) {
+            if search.test(query.geometry, query.ray, prim, stats) {
                 break;
             }
         }

@@ -27,7 +27,7 @@ pub use kdtree::{KdTree, KdTreeOptions};
 pub use octree::{Octree, OctreeOptions};
 pub use params::Method;
 pub(crate) use query::HitSearch;
-pub use query::{Hit, QueryMode};
+pub use query::{Hit, PacketQuery, QueryMode, RayQuery};
 pub use spec::{AccelKind, AccelSpec};
 
 use crate::geometry::Geometry;
@@ -42,36 +42,25 @@ use rayon::prelude::*;
 pub trait Accel: Send + Sync {
     /// Hits with `0 < t < t_max`: the nearest (exact ties to the lower primitive id, see
     /// `HitSearch`) or, for `QueryMode::Any`, whichever is found first.
-    fn query(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        mode: QueryMode,
-        stats: &mut Stats,
-    ) -> Option<Hit>;
+    fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit>;
 
     /// What was built: node counts, depth, leaf sizes, SAH cost, memory.
     fn info(&self) -> AccelInfo;
 
-    /// Answers a packet of rays (at most `PACKET_MAX`), ray i with bound `t_max[i]`:
-    /// `answers[i]` is exactly what `query` gives ray i. A method that can walk coherent
-    /// rays together (the BVH) does so; the others answer one ray at a time.
-    fn query_packet(
-        &self,
-        geometry: &Geometry,
-        rays: &[Ray],
-        t_max: &[f32],
-        mode: QueryMode,
-        answers: &mut [Option<Hit>],
-        stats: &mut Stats,
-    ) {
-        for ((ray, &t), answer) in rays.iter().zip(t_max).zip(answers.iter_mut()) {
-            *answer = self.query(geometry, &TraceRay::new(*ray), t, mode, stats);
+    /// Answers a packet of rays (at most `PACKET_MAX`): `answers[i]` is exactly what
+    /// `query` gives ray i. A method that can walk coherent rays together (the BVH) does
+    /// so; the others answer one ray at a time.
+    fn query_packet(&self, packet: &PacketQuery, answers: &mut [Option<Hit>], stats: &mut Stats) {
+        let PacketQuery { geometry, mode, .. } = *packet;
+        let bounds = packet.rays.iter().zip(packet.t_max);
+        for ((ray, &t_max), answer) in bounds.zip(answers.iter_mut()) {
+            let ray = &TraceRay::new(*ray);
+            *answer = self.query(&RayQuery::new(geometry, ray, t_max, mode), stats);
         }
     }
 
-    /// Nearest hit with `0 < t < t_max`.
+    /// Nearest hit with `0 < t < t_max`. Its own entry point, so that a call through
+    /// `dyn Accel` reaches a walk specialised for the mode.
     fn intersect(
         &self,
         geometry: &Geometry,
@@ -79,12 +68,14 @@ pub trait Accel: Send + Sync {
         t_max: f32,
         stats: &mut Stats,
     ) -> Option<Hit> {
-        self.query(geometry, ray, t_max, QueryMode::Nearest, stats)
+        let mode = QueryMode::Nearest;
+        self.query(&RayQuery::new(geometry, ray, t_max, mode), stats)
     }
 
     /// Whether anything is hit with `0 < t < t_max`; may stop at the first hit found.
     fn occluded(&self, geometry: &Geometry, ray: &TraceRay, t_max: f32, stats: &mut Stats) -> bool {
-        self.query(geometry, ray, t_max, QueryMode::Any, stats)
+        let mode = QueryMode::Any;
+        self.query(&RayQuery::new(geometry, ray, t_max, mode), stats)
             .is_some()
     }
 
@@ -238,14 +229,10 @@ impl SceneIntersector {
         stats: &mut Stats,
     ) {
         let n = rays.len();
-        self.accel.query_packet(
-            geometry,
-            rays,
-            &t_max[..n],
-            QueryMode::Nearest,
-            &mut answers[..n],
-            stats,
-        );
+        let t_max = &t_max[..n];
+        let mode = QueryMode::Nearest;
+        let packet = PacketQuery::new(geometry, rays, t_max, mode);
+        self.accel.query_packet(&packet, &mut answers[..n], stats);
         // The accelerator's answers are final unless a plane may come nearer.
         if self.unbounded.is_empty() {
             return;
@@ -265,10 +252,11 @@ impl SceneIntersector {
         t_max: f32,
         stats: &mut Stats,
     ) -> Option<Hit> {
-        let tr = TraceRay::new(*ray);
-        self.plane_blocker(geometry, &tr, t_max, stats).or_else(|| {
+        let ray = &TraceRay::new(*ray);
+        self.plane_blocker(geometry, ray, t_max, stats).or_else(|| {
+            let mode = QueryMode::Any;
             self.accel
-                .query(geometry, &tr, t_max, QueryMode::Any, stats)
+                .query(&RayQuery::new(geometry, ray, t_max, mode), stats)
         })
     }
 
@@ -284,7 +272,10 @@ impl SceneIntersector {
         stats: &mut Stats,
     ) {
         let n = rays.len();
-        (self.accel).query_packet(geometry, rays, &t_max[..n], QueryMode::Any, answers, stats);
+        let t_max = &t_max[..n];
+        let mode = QueryMode::Any;
+        let packet = PacketQuery::new(geometry, rays, t_max, mode);
+        self.accel.query_packet(&packet, answers, stats);
         if self.unbounded.is_empty() {
             return;
         }
@@ -309,14 +300,9 @@ impl SceneIntersector {
     ) {
         let n = rays.len();
         let mut answers = [None; PACKET_MAX];
-        self.accel.query_packet(
-            geometry,
-            rays,
-            &t_max[..n],
-            QueryMode::Any,
-            &mut answers[..n],
-            stats,
-        );
+        let mode = QueryMode::Any;
+        let packet = PacketQuery::new(geometry, rays, &t_max[..n], mode);
+        self.accel.query_packet(&packet, &mut answers[..n], stats);
         for (i, ray) in rays.iter().enumerate() {
             blocked[i] = answers[i].is_some()
                 || (!self.unbounded.is_empty()

@@ -8,7 +8,7 @@
 
 use crate::geometry::{DecidedHit, Geometry, PackRay, ShapeHit, ShapeKind, TrianglePack};
 use crate::math::robust::next_up;
-use crate::math::TraceRay;
+use crate::math::{Ray, TraceRay};
 use crate::stats::Stats;
 
 /// The nearest intersection found along a ray.
@@ -42,6 +42,60 @@ impl Hit {
             t: self.t,
             u: self.u,
             v: self.v,
+        }
+    }
+}
+
+/// One ray's query, as every accelerator's `Accel::query` takes it: over which primitives,
+/// along which ray, how far (hits with `0 < t < t_max`) and which answer.
+#[derive(Clone, Copy)]
+pub struct RayQuery<'a> {
+    /// The primitives the accelerator was built over.
+    pub geometry: &'a Geometry,
+    /// The ray, with what its tests precompute.
+    pub ray: &'a TraceRay,
+    /// Hits at or beyond it do not count.
+    pub t_max: f32,
+    /// The nearest hit or any.
+    pub mode: QueryMode,
+}
+
+impl<'a> RayQuery<'a> {
+    /// The query of `ray` over `geometry` for hits with `0 < t < t_max`, in `mode`.
+    #[inline(always)]
+    pub fn new(geometry: &'a Geometry, ray: &'a TraceRay, t_max: f32, mode: QueryMode) -> Self {
+        RayQuery {
+            geometry,
+            ray,
+            t_max,
+            mode,
+        }
+    }
+}
+
+/// A packet's query, as `Accel::query_packet` takes it: ray i with bound `t_max[i]`, all
+/// in one mode.
+#[derive(Clone, Copy)]
+pub struct PacketQuery<'a> {
+    /// The primitives the accelerator was built over.
+    pub geometry: &'a Geometry,
+    /// The rays (at most `PACKET_MAX`).
+    pub rays: &'a [Ray],
+    /// One bound per ray.
+    pub t_max: &'a [f32],
+    /// The nearest hit or any, for every ray.
+    pub mode: QueryMode,
+}
+
+impl<'a> PacketQuery<'a> {
+    /// The query of `rays` over `geometry`, ray i for hits with `0 < t < t_max[i]`, all
+    /// in `mode`.
+    pub fn new(geometry: &'a Geometry, rays: &'a [Ray], t_max: &'a [f32], mode: QueryMode) -> Self {
+        PacketQuery {
+            geometry,
+            rays,
+            t_max,
+            mode,
         }
     }
 }

@@ -48,7 +48,7 @@
 //! bit for bit, asks the whole BVH.
 
 use crate::accel::bvh::{Bvh, EntryNodes, Subtree};
-use crate::accel::{Accel, Hit, HitSearch, QueryMode, SceneIntersector, PACKET_MAX};
+use crate::accel::{Accel, Hit, HitSearch, PacketQuery, QueryMode, SceneIntersector, PACKET_MAX};
 use crate::geometry::Geometry;
 use crate::math::{Aabb, Ray, TraceRay, Vec3};
 use crate::stats::Stats;
@@ -858,16 +858,9 @@ impl LightBuffer {
             accel.intersect_packet_within(geometry, rays, t_max, answers, stats);
             return;
         };
-        let entry = self.entries.get(entry);
-        bvh.query_entry_packet(
-            entry,
-            geometry,
-            rays,
-            t_max,
-            QueryMode::Nearest,
-            answers,
-            stats,
-        );
+        let mode = QueryMode::Nearest;
+        let packet = PacketQuery::new(geometry, rays, t_max, mode);
+        bvh.query_entry_packet(self.entries.get(entry), &packet, answers, stats);
         // The planes, as `nearest` offers them after the walk.
         if accel.unbounded().is_empty() {
             return;
@@ -925,12 +918,13 @@ impl LightBuffer {
         if m == 0 {
             return;
         }
-        let mut walk = |rays: &[Ray], t_max: &[f32], answers: &mut [Option<Hit>]| match entry {
-            Some(e) => {
-                let e = self.entries.get(e);
-                bvh.query_entry_packet(e, geometry, rays, t_max, QueryMode::Any, answers, stats)
+        let mut walk = |rays: &[Ray], t_max: &[f32], answers: &mut [Option<Hit>]| {
+            let mode = QueryMode::Any;
+            let packet = PacketQuery::new(geometry, rays, t_max, mode);
+            match entry {
+                Some(e) => bvh.query_entry_packet(self.entries.get(e), &packet, answers, stats),
+                None => bvh.query_packet(&packet, answers, stats),
             }
-            None => bvh.query_packet(geometry, rays, t_max, QueryMode::Any, answers, stats),
         };
         if m == rays.len() {
             // The whole packet, as it came.

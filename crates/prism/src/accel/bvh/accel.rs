@@ -7,9 +7,9 @@ use super::traverse::{walk, LeafQuery, Visit};
 use super::wide::{Wide8Node, WideNode, WideRay};
 use super::{Bvh, Node};
 use crate::accel::query::HitSearch;
-use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
+use crate::accel::{Accel, AccelInfo, Hit, PacketQuery, QueryMode, RayQuery};
 use crate::geometry::{Geometry, PackRay};
-use crate::math::{Aabb, Ray, TraceRay};
+use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
 use glam::Vec4;
 
@@ -24,14 +24,8 @@ fn node_hit(node: &Node, ray: &TraceRay, t_max: f32) -> Option<f32> {
 
 impl Accel for Bvh {
     #[inline(always)]
-    fn query(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        mode: QueryMode,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
+    fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
+        let ray = query.ray;
         let root = self.nodes.first()?;
         // A tree of one leaf: its box, then its primitives. Otherwise the walk's first
         // step tests the root's children's boxes in one SIMD step, which a ray that misses
@@ -40,10 +34,10 @@ impl Accel for Bvh {
         // answer (a box test only decides which primitives are tested).
         if root.is_leaf() {
             stats.node_visits += 1;
-            node_hit(root, ray, t_max)?;
-            let mut search = HitSearch::new(t_max, mode);
+            node_hit(root, ray, query.t_max)?;
+            let mut search = HitSearch::new(query.t_max, query.mode);
             let pack_ray = PackRay::new(ray);
-            let leaf = self.leaf_query(geometry, ray, &pack_ray);
+            let leaf = self.leaf_query(query.geometry, ray, &pack_ray);
             leaf.test(root.first, root.count, &mut search, stats);
             return search.best();
         }
@@ -52,19 +46,11 @@ impl Accel for Bvh {
         } else {
             Root::Eight(&self.wide8[0])
         };
-        self.walk_from(root, geometry, ray, t_max, mode, stats)
+        self.walk_from(root, query.geometry, ray, query.t_max, query.mode, stats)
     }
 
-    fn query_packet(
-        &self,
-        geometry: &Geometry,
-        rays: &[Ray],
-        t_max: &[f32],
-        mode: QueryMode,
-        answers: &mut [Option<Hit>],
-        stats: &mut Stats,
-    ) {
-        super::packet::query(self, None, geometry, rays, t_max, mode, answers, stats)
+    fn query_packet(&self, packet: &PacketQuery, answers: &mut [Option<Hit>], stats: &mut Stats) {
+        super::packet::query(self, None, packet, answers, stats)
     }
 
     fn info(&self) -> AccelInfo {

@@ -21,7 +21,7 @@ use super::traverse::{walk, CullBound, LeafQuery, Visit};
 use super::wide::{plane_rows, WideNode};
 use super::Bvh;
 use crate::accel::query::HitSearch;
-use crate::accel::{Hit, QueryMode, CULL_SLACK, PACKET_MAX};
+use crate::accel::{Hit, PacketQuery, QueryMode, RayQuery, CULL_SLACK, PACKET_MAX};
 use crate::geometry::{DecidedHit, Geometry, PackRay, ShapeHit, TrianglePack};
 use crate::math::lanes::{axes, FloatLanes};
 use crate::math::{permutation, watertight_axes, Ray, TraceRay, Vec3};
@@ -540,18 +540,20 @@ impl PacketSearch {
 /// of them (`Octants`), one by one otherwise, over the subtrees below `root` (an entry node,
 /// `subtree.rs`) or the whole tree without one: `answers[i]` is what `Accel::query` (or
 /// `Bvh::walk_from` from `root`) gives `rays[i]`.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(super) fn query(
     bvh: &Bvh,
     root: Option<Root<'_>>,
-    geometry: &Geometry,
-    rays: &[Ray],
-    t_max: &[f32],
-    mode: QueryMode,
+    packet: &PacketQuery,
     answers: &mut [Option<Hit>],
     stats: &mut Stats,
 ) {
+    let PacketQuery {
+        geometry,
+        rays,
+        t_max,
+        mode,
+    } = *packet;
     assert!(rays.len() <= PACKET_MAX && t_max.len() == rays.len() && answers.len() == rays.len());
     let mut run = |scratch: &mut Scratch| {
         query_in(
@@ -680,7 +682,7 @@ fn query_in(
         for (i, (&t, answer)) in t_max.iter().zip(answers.iter_mut()).enumerate() {
             if !octants.walks_together(i) {
                 *answer = match root {
-                    None => bvh.query(geometry, &soa.ray(i), t, mode, stats),
+                    None => bvh.query(&RayQuery::new(geometry, &soa.ray(i), t, mode), stats),
                     Some(root) => bvh.walk_from(root, geometry, &soa.ray(i), t, mode, stats),
                 };
             }

@@ -9,9 +9,9 @@
 use super::accel::Root;
 use super::wide::{Lanes, Wide8Node, WideNode};
 use super::Bvh;
-use crate::accel::{Hit, QueryMode};
+use crate::accel::{Hit, PacketQuery, QueryMode};
 use crate::geometry::Geometry;
-use crate::math::{Aabb, Ray, TraceRay};
+use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
 
 /// One subtree: a wide node's lane (its box, and an interior child's node or a leaf's
@@ -163,28 +163,15 @@ impl Bvh {
     }
 
     /// `query_entry` for a packet of rays (at most `accel::PACKET_MAX`), walked together
-    /// where they are coherent: `answers[i]` is what `query_entry` gives `rays[i]`.
-    #[allow(clippy::too_many_arguments)]
+    /// where they are coherent: `answers[i]` is what `query_entry` gives ray i.
     pub fn query_entry_packet(
         &self,
         entry: Entry,
-        geometry: &Geometry,
-        rays: &[Ray],
-        t_max: &[f32],
-        mode: QueryMode,
+        packet: &PacketQuery,
         answers: &mut [Option<Hit>],
         stats: &mut Stats,
     ) {
-        super::packet::query(
-            self,
-            Some(entry.0),
-            geometry,
-            rays,
-            t_max,
-            mode,
-            answers,
-            stats,
-        )
+        super::packet::query(self, Some(entry.0), packet, answers, stats)
     }
 }
 

@@ -3,26 +3,18 @@
 
 use super::Grid;
 use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
-use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
-use crate::geometry::Geometry;
-use crate::math::TraceRay;
+use crate::accel::{Accel, AccelInfo, Hit, RayQuery};
 use crate::stats::Stats;
 
 impl Accel for Grid {
     #[inline(always)]
-    fn query(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        mode: QueryMode,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
+    fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
+        let ray = query.ray;
         if self.refs.is_empty() {
             return None;
         }
         stats.node_visits += 1;
-        let (t_enter, t_exit) = ray_span(&self.bounds, ray, t_max)?;
+        let (t_enter, t_exit) = ray_span(&self.bounds, ray, query.t_max)?;
         let (o, d) = (ray.ray.origin, ray.ray.dir);
         let entry = o + t_enter * d;
         let mut cell = [0u32; 3];
@@ -40,7 +32,7 @@ impl Accel for Grid {
                 t_next[k] = plane_crossing(ray, k, self.plane(k, cell[k]));
             }
         }
-        let mut search = CellSearch::new(t_max, mode);
+        let mut search = CellSearch::new(query.t_max, query.mode);
         loop {
             stats.node_visits += 1;
             let axis = if t_next[0] <= t_next[1] && t_next[0] <= t_next[2] {
@@ -51,7 +43,7 @@ impl Accel for Grid {
                 2
             };
             let cell_exit = t_next[axis].min(t_exit);
-            if search.search_cell(geometry, ray, self.cell_prims(cell), cell_exit, stats) {
+            if search.search_cell(query.geometry, ray, self.cell_prims(cell), cell_exit, stats) {
                 return search.hits.best();
             }
             if t_next[axis] > t_exit.min(search.hits.t_max()) {

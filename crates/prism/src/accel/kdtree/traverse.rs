@@ -5,27 +5,19 @@
 use super::{KdTree, MAX_DEPTH};
 use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
 use crate::accel::stack::TraversalStack;
-use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
-use crate::geometry::Geometry;
-use crate::math::TraceRay;
+use crate::accel::{Accel, AccelInfo, Hit, RayQuery};
 use crate::stats::Stats;
 
 impl Accel for KdTree {
     #[inline(always)]
-    fn query(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        mode: QueryMode,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
+    fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
+        let ray = query.ray;
         if self.nodes.is_empty() {
             return None;
         }
         stats.node_visits += 1;
-        let (mut t_near, mut t_far) = ray_span(&self.bounds, ray, t_max)?;
-        let mut search = CellSearch::new(t_max, mode);
+        let (mut t_near, mut t_far) = ray_span(&self.bounds, ray, query.t_max)?;
+        let mut search = CellSearch::new(query.t_max, query.mode);
         // Far children still to search: (node, t where the ray enters it, t where it leaves).
         let mut stack = TraversalStack::<(u32, f32, f32), MAX_DEPTH>::new();
         let mut current = 0usize;
@@ -34,7 +26,7 @@ impl Accel for KdTree {
             if node.is_leaf() {
                 let (first, count) = node.prims();
                 let prims = &self.refs[first..first + count];
-                if search.search_cell(geometry, ray, prims, t_far, stats) {
+                if search.search_cell(query.geometry, ray, prims, t_far, stats) {
                     return search.hits.best();
                 }
                 // Next pushed child that starts before the best hit so far.

@@ -7,9 +7,8 @@
 use super::{octant, Octree, MAX_DEPTH};
 use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
 use crate::accel::stack::TraversalStack;
-use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
-use crate::geometry::Geometry;
-use crate::math::{Aabb, TraceRay};
+use crate::accel::{Accel, AccelInfo, Hit, RayQuery};
+use crate::math::Aabb;
 use crate::stats::Stats;
 
 /// Each level pops one entry and pushes at most four.
@@ -17,20 +16,14 @@ const STACK: usize = 3 * MAX_DEPTH + 4;
 
 impl Accel for Octree {
     #[inline(always)]
-    fn query(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        mode: QueryMode,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
+    fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
+        let ray = query.ray;
         if self.nodes.is_empty() {
             return None;
         }
         stats.node_visits += 1;
-        let (t0, t1) = ray_span(&self.bounds, ray, t_max)?;
-        let mut search = CellSearch::new(t_max, mode);
+        let (t0, t1) = ray_span(&self.bounds, ray, query.t_max)?;
+        let mut search = CellSearch::new(query.t_max, query.mode);
         // Octants still to search: (node, its box, the ray's span in it).
         let mut stack = TraversalStack::<(u32, Aabb, f32, f32), STACK>::new();
         stack.push((0, self.bounds, t0, t1));
@@ -43,7 +36,7 @@ impl Accel for Octree {
             let node = self.nodes[index as usize];
             if node.is_leaf() {
                 let prims = &self.refs[node.first as usize..(node.first + node.count) as usize];
-                if search.search_cell(geometry, ray, prims, t1, stats) {
+                if search.search_cell(query.geometry, ray, prims, t1, stats) {
                     return search.hits.best();
                 }
                 continue;

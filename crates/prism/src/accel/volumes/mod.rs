@@ -30,7 +30,7 @@ pub use sphere::BoundingSphere;
 pub use traverse::CULL_SLACK;
 pub use volume::Volume;
 
-use crate::accel::{Accel, AccelInfo, Bvh, BvhOptions, Hit, QueryMode};
+use crate::accel::{Accel, AccelInfo, Bvh, BvhOptions, Hit, RayQuery};
 use crate::geometry::Geometry;
 use crate::math::{Aabb, TraceRay};
 use crate::stats::Stats;
@@ -130,15 +130,8 @@ pub fn build_measurable(
 }
 
 impl Accel for Box<dyn VolumeAccel> {
-    fn query(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        mode: QueryMode,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
-        self.accel().query(geometry, ray, t_max, mode, stats)
+    fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
+        self.accel().query(query, stats)
     }
 
     // The two modes forwarded as well, so they reach the walks specialised for them.

@@ -15,9 +15,9 @@ use super::measure;
 use super::polytope::{hit_polytope, store_planes, Plane};
 use super::volume::magnitude;
 use super::VolumeAccel;
-use crate::accel::{Accel, AccelInfo, Bvh, BvhOptions, Hit, QueryMode};
+use crate::accel::{Accel, AccelInfo, Bvh, BvhOptions, Hit, RayQuery};
 use crate::geometry::{Geometry, Shape};
-use crate::math::{Aabb, TraceRay};
+use crate::math::Aabb;
 use crate::stats::Stats;
 use glam::DVec3;
 use std::collections::HashMap;
@@ -155,18 +155,16 @@ fn object_planes(geometry: &Geometry, tris: &[u32], bounds: &Aabb) -> Vec<Plane>
 
 impl Accel for ObjectHulls {
     #[inline(always)]
-    fn query(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        mode: QueryMode,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
-        self.top
-            .walk(ray, t_max, mode, stats, |item, search, stats| {
+    fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
+        let ray = query.ray;
+        self.top.walk(
+            ray,
+            query.t_max,
+            query.mode,
+            stats,
+            |item, search, stats| {
                 if item & OBJECT_BIT == 0 {
-                    return search.test(geometry, ray, item, stats);
+                    return search.test(query.geometry, ray, item, stats);
                 }
                 let object = &self.objects[(item & !OBJECT_BIT) as usize];
                 stats.node_visits += 1;
@@ -175,11 +173,13 @@ impl Accel for ObjectHulls {
                 if hit_polytope(planes, ray, limit * super::CULL_SLACK).is_none() {
                     return false;
                 }
-                match object.tree.query(geometry, ray, limit, mode, stats) {
+                let inner = RayQuery::new(query.geometry, ray, limit, query.mode);
+                match object.tree.query(&inner, stats) {
                     Some(hit) => search.offer(hit),
                     None => false,
                 }
-            })
+            },
+        )
     }
 
     fn info(&self) -> AccelInfo {

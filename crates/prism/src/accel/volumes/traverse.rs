@@ -7,8 +7,7 @@ use super::hierarchy::VolumeBvh;
 use super::volume::Volume;
 use crate::accel::query::HitSearch;
 use crate::accel::stack::TraversalStack;
-use crate::accel::{Accel, AccelInfo, Hit, QueryMode};
-use crate::geometry::Geometry;
+use crate::accel::{Accel, AccelInfo, Hit, QueryMode, RayQuery};
 use crate::math::TraceRay;
 use crate::stats::Stats;
 
@@ -87,17 +86,14 @@ impl<V: Volume> VolumeBvh<V> {
 
 impl<V: Volume> Accel for VolumeBvh<V> {
     #[inline(always)]
-    fn query(
-        &self,
-        geometry: &Geometry,
-        ray: &TraceRay,
-        t_max: f32,
-        mode: QueryMode,
-        stats: &mut Stats,
-    ) -> Option<Hit> {
-        self.walk(ray, t_max, mode, stats, |prim, search, stats| {
-            search.test(geometry, ray, prim, stats)
-        })
+    fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
+        self.walk(
+            query.ray,
+            query.t_max,
+            query.mode,
+            stats,
+            |prim, search, stats| search.test(query.geometry, query.ray, prim, stats),
+        )
     }
 
     fn info(&self) -> AccelInfo {
