@@ -1,7 +1,8 @@
 //! Lanes of f32 for SIMD kernels written once: `FloatLanes`, the handful of operations the
 //! kernels make (splat, load, arithmetic, min and max, comparisons into a mask, select,
 //! the mask's bits), implemented for one lane (`f32`), four (glam's `Vec4`: SSE on x86-64,
-//! portable elsewhere), eight (`F32x8`, AVX2) and sixteen (`F32x16`, AVX-512F). A kernel is
+//! portable elsewhere), eight (`F32x8`, AVX2) and sixteen (`F32x16`, AVX-512F), the last two
+//! made by one macro (`x86.rs`) with what each does its own way beside it. A kernel is
 //! one generic function over `L: FloatLanes`; each width is a monomorphisation of it, as
 //! Embree's kernels are templates over its `vfloat<N>`.
 //!
@@ -24,14 +25,39 @@
 mod avx2;
 #[cfg(target_arch = "x86_64")]
 mod avx512;
+#[cfg(target_arch = "x86_64")]
+mod x86;
 
 #[cfg(target_arch = "x86_64")]
-pub(crate) use avx2::F32x8;
-#[cfg(target_arch = "x86_64")]
-pub(crate) use avx512::F32x16;
+pub(crate) use x86::{F32x16, F32x8};
 
 use glam::{BVec4A, Vec4};
 use std::ops::{Add, BitAnd, BitOr, Div, Index, Mul, Sub};
+
+/// `FloatLanes` methods that are one expression each, as a table: `name(a) expression;`
+/// makes `fn name(self)` with `a` the lanes, `name(a, b) expression;` makes `fn
+/// name(self, other)` with `a` the first operand and `b` the second; each returns `$out`.
+/// The comparisons and the methods that are the lane type's own read as one line each.
+macro_rules! lane_fns {
+    ($lane:ty => $out:ty: $($method:ident($($arg:ident),+) $body:expr;)+) => {$(
+        $crate::math::lanes::lane_fns!(@one $lane, $out, $method($($arg),+) $body);
+    )+};
+    (@one $lane:ty, $out:ty, $method:ident($a:ident) $body:expr) => {
+        #[inline(always)]
+        fn $method(self) -> $out {
+            let $a = self;
+            $body
+        }
+    };
+    (@one $lane:ty, $out:ty, $method:ident($a:ident, $b:ident) $body:expr) => {
+        #[inline(always)]
+        fn $method(self, other: $lane) -> $out {
+            let ($a, $b) = (self, other);
+            $body
+        }
+    };
+}
+pub(crate) use lane_fns;
 
 /// `LANES` f32 values operated on together, lane by lane.
 pub(crate) trait FloatLanes:
@@ -118,54 +144,22 @@ impl FloatLanes for f32 {
     fn to_array(self) -> [f32; 1] {
         [self]
     }
-    #[inline(always)]
-    fn min(self, other: f32) -> f32 {
-        f32::min(self, other)
-    }
-    #[inline(always)]
-    fn max(self, other: f32) -> f32 {
-        f32::max(self, other)
-    }
-    #[inline(always)]
-    fn abs(self) -> f32 {
-        f32::abs(self)
-    }
-    #[inline(always)]
-    fn neg(self) -> f32 {
-        -self
-    }
-    #[inline(always)]
-    fn copysign(self, sign: f32) -> f32 {
-        f32::copysign(self, sign)
-    }
-    #[inline(always)]
-    fn sqrt(self) -> f32 {
-        f32::sqrt(self)
-    }
-    #[inline(always)]
-    fn eq(self, other: f32) -> bool {
-        self == other
-    }
-    #[inline(always)]
-    fn lt(self, other: f32) -> bool {
-        self < other
-    }
-    #[inline(always)]
-    fn le(self, other: f32) -> bool {
-        self <= other
-    }
-    #[inline(always)]
-    fn gt(self, other: f32) -> bool {
-        self > other
-    }
-    #[inline(always)]
-    fn ge(self, other: f32) -> bool {
-        self >= other
-    }
-    #[inline(always)]
-    fn not_lt(self, other: f32) -> bool {
-        self.partial_cmp(&other) != Some(std::cmp::Ordering::Less)
-    }
+    lane_fns!(f32 => f32:
+        min(a, b) f32::min(a, b);
+        max(a, b) f32::max(a, b);
+        copysign(a, b) f32::copysign(a, b);
+        abs(a) f32::abs(a);
+        neg(a) -a;
+        sqrt(a) f32::sqrt(a);
+    );
+    lane_fns!(f32 => bool:
+        eq(a, b) a == b;
+        lt(a, b) a < b;
+        le(a, b) a <= b;
+        gt(a, b) a > b;
+        ge(a, b) a >= b;
+        not_lt(a, b) a.partial_cmp(&b) != Some(std::cmp::Ordering::Less);
+    );
     #[inline(always)]
     fn select(mask: bool, if_true: f32, if_false: f32) -> f32 {
         if mask {
@@ -199,54 +193,22 @@ impl FloatLanes for Vec4 {
     fn to_array(self) -> [f32; 4] {
         Vec4::to_array(&self)
     }
-    #[inline(always)]
-    fn min(self, other: Vec4) -> Vec4 {
-        Vec4::min(self, other)
-    }
-    #[inline(always)]
-    fn max(self, other: Vec4) -> Vec4 {
-        Vec4::max(self, other)
-    }
-    #[inline(always)]
-    fn abs(self) -> Vec4 {
-        Vec4::abs(self)
-    }
-    #[inline(always)]
-    fn neg(self) -> Vec4 {
-        -self
-    }
-    #[inline(always)]
-    fn copysign(self, sign: Vec4) -> Vec4 {
-        Vec4::copysign(self, sign)
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Vec4 {
-        Vec4::new(self.x.sqrt(), self.y.sqrt(), self.z.sqrt(), self.w.sqrt())
-    }
-    #[inline(always)]
-    fn eq(self, other: Vec4) -> BVec4A {
-        self.cmpeq(other)
-    }
-    #[inline(always)]
-    fn lt(self, other: Vec4) -> BVec4A {
-        self.cmplt(other)
-    }
-    #[inline(always)]
-    fn le(self, other: Vec4) -> BVec4A {
-        self.cmple(other)
-    }
-    #[inline(always)]
-    fn gt(self, other: Vec4) -> BVec4A {
-        self.cmpgt(other)
-    }
-    #[inline(always)]
-    fn ge(self, other: Vec4) -> BVec4A {
-        self.cmpge(other)
-    }
-    #[inline(always)]
-    fn not_lt(self, other: Vec4) -> BVec4A {
-        !self.cmplt(other)
-    }
+    lane_fns!(Vec4 => Vec4:
+        min(a, b) Vec4::min(a, b);
+        max(a, b) Vec4::max(a, b);
+        copysign(a, b) Vec4::copysign(a, b);
+        abs(a) Vec4::abs(a);
+        neg(a) -a;
+        sqrt(a) Vec4::new(a.x.sqrt(), a.y.sqrt(), a.z.sqrt(), a.w.sqrt());
+    );
+    lane_fns!(Vec4 => BVec4A:
+        eq(a, b) a.cmpeq(b);
+        lt(a, b) a.cmplt(b);
+        le(a, b) a.cmple(b);
+        gt(a, b) a.cmpgt(b);
+        ge(a, b) a.cmpge(b);
+        not_lt(a, b) !a.cmplt(b);
+    );
     #[inline(always)]
     fn select(mask: BVec4A, if_true: Vec4, if_false: Vec4) -> Vec4 {
         Vec4::select(mask, if_true, if_false)
@@ -393,29 +355,25 @@ mod tests {
         agrees_with_scalar::<Vec4>();
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[test]
-    #[cfg_attr(
-        not(prism_host_avx2),
-        ignore = "this CPU lacks AVX2: the 8-lane type never runs here"
-    )]
-    fn eight_lanes_agree_with_the_scalar_code() {
-        if !is_x86_feature_detected!("avx2") {
-            return;
+    /// A width whose instructions the CPU may lack runs where it has them; where it has
+    /// not, the build script marks the test ignored, with the reason.
+    fn agrees_where_the_cpu_has_it<L: FloatLanes>(has_it: bool) {
+        if has_it {
+            agrees_with_scalar::<L>();
         }
-        agrees_with_scalar::<F32x8>();
     }
 
     #[cfg(target_arch = "x86_64")]
     #[test]
-    #[cfg_attr(
-        not(prism_host_avx512),
-        ignore = "this CPU lacks AVX-512F: the 16-lane type never runs here"
-    )]
+    #[cfg_attr(not(prism_host_avx2), ignore = "this CPU lacks AVX2")]
+    fn eight_lanes_agree_with_the_scalar_code() {
+        agrees_where_the_cpu_has_it::<F32x8>(is_x86_feature_detected!("avx2"));
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    #[cfg_attr(not(prism_host_avx512), ignore = "this CPU lacks AVX-512F")]
     fn sixteen_lanes_agree_with_the_scalar_code() {
-        if !is_x86_feature_detected!("avx512f") {
-            return;
-        }
-        agrees_with_scalar::<F32x16>();
+        agrees_where_the_cpu_has_it::<F32x16>(is_x86_feature_detected!("avx512f"));
     }
 }
