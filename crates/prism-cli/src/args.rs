@@ -1,109 +1,16 @@
-//! Command-line arguments. Every render setting maps onto `prism::RenderOptions`; options
+//! `render`'s arguments. Every render setting maps onto `prism::RenderOptions`; options
 //! not given keep the scene's value, and the scene's defaults come from the library.
 
+use crate::density::DensityRays;
+use crate::flags::{per_axis, setting_help};
+use crate::scene_args::{SceneArgs, SizeArgs};
 use anyhow::{bail, Result};
-use clap::{Args, Parser, Subcommand};
+use clap::Args;
 use prism::accel::AccelSpec;
 use prism::render::FilterKind;
 use prism::sampling::SamplerKind;
-use prism::scene::builtin;
 use prism::{RenderOptions, Scene};
 use std::path::PathBuf;
-
-#[derive(Parser, Debug)]
-#[command(
-    name = "prism",
-    version,
-    about = "A Whitted ray tracer with switchable, measurable acceleration methods",
-    long_about = "A Whitted ray tracer with switchable, measurable acceleration methods.\n\n\
-                  Run `prism render` to render the built-in Whitted scene to prism.png. \
-                  `render` is the default command: its arguments work without its name \
-                  (`prism -W 320 -H 240 scene.toml`).",
-    args_conflicts_with_subcommands = true
-)]
-pub(crate) struct Cli {
-    #[command(subcommand)]
-    pub command: Option<Command>,
-
-    /// `render`'s arguments, for `prism` without a command.
-    #[command(flatten)]
-    pub render: RenderArgs,
-}
-
-impl Cli {
-    /// The command to run: the one named, or `render` with the arguments given without
-    /// one. A first word that is no command, no file and no scene name (`prism
-    /// frobnicate`) is bad usage, as clap reports an unknown command, not a missing file.
-    pub(crate) fn into_command(self) -> Result<Command, clap::Error> {
-        if let Some(command) = self.command {
-            return Ok(command);
-        }
-        if let Some(word) = self.render.scene.as_deref() {
-            let named = word.to_str().is_some_and(|w| w.starts_with("builtin:"));
-            if !named && word.extension().is_none() && !word.exists() {
-                use clap::CommandFactory;
-                return Err(Cli::command().error(
-                    clap::error::ErrorKind::InvalidSubcommand,
-                    format!("unrecognized subcommand or scene file '{}'", word.display()),
-                ));
-            }
-        }
-        Ok(Command::Render(self.render))
-    }
-}
-
-#[derive(Subcommand, Debug)]
-pub(crate) enum Command {
-    /// Render a scene file or a built-in scene to an image (the default command).
-    Render(RenderArgs),
-    /// List the built-in scenes.
-    List,
-    /// Describe a scene without rendering it: shapes, materials, lights, bounds, memory
-    /// and the acceleration structure built for it.
-    #[command(override_usage = "prism info [OPTIONS] <SCENE>\n       \
-                                prism info [OPTIONS] --builtin <NAME>")]
-    Info(InfoArgs),
-    /// Measure acceleration methods on scenes: build time, memory, node visits and
-    /// primitive tests per ray, primary and shadow rays per second; a table, CSV, JSON and
-    /// an SVG chart.
-    Bench(crate::bench::BenchArgs),
-    /// Compare two images: RMSE, PSNR, SSIM and FLIP of TEST against REFERENCE.
-    Compare(crate::compare::CompareArgs),
-    /// Write the exact box-filtered image of the checkerboard scene (no sampling).
-    Reference(crate::reference::ReferenceArgs),
-    /// Render a scene with each sampling pattern at several sample counts and plot the
-    /// error against the rays per pixel.
-    Sweep(crate::sweep::SweepArgs),
-    /// Draw each sampling pattern's points (SVG).
-    Patterns(crate::patterns::PatternsArgs),
-    /// Start the live viewer: a local web page that shows the render refining and lets
-    /// the mouse and keys move the camera (docs/viewer.md).
-    Serve(crate::serve::ServeArgs),
-}
-
-#[derive(Args, Debug)]
-pub(crate) struct InfoArgs {
-    /// Scene file (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply), or builtin:NAME for
-    /// a built-in scene. Required unless --builtin is given.
-    #[arg(required_unless_present = "builtin", value_name = "SCENE")]
-    pub scene: Option<String>,
-
-    /// Built-in scene to describe instead of a file, as `render --builtin` takes it.
-    #[arg(short, long, value_name = "NAME", conflicts_with = "scene")]
-    pub builtin: Option<String>,
-
-    /// Acceleration structure to build and describe, as for `render --accel`; the scene
-    /// file's own `accel` setting when not given.
-    #[arg(long, value_name = "SPEC")]
-    pub accel: Option<AccelSpec>,
-}
-
-#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub(crate) enum DensityRays {
-    #[default]
-    All,
-    Camera,
-}
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Preset {
@@ -116,14 +23,8 @@ pub(crate) enum Preset {
 
 #[derive(Args, Debug, Default)]
 pub(crate) struct RenderArgs {
-    /// Scene file to render (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply: framed by a
-    /// default camera and light), or builtin:NAME for a built-in scene (as --builtin NAME).
-    /// Without it (and without --builtin), the built-in `whitted` scene is rendered.
-    pub scene: Option<PathBuf>,
-
-    /// Built-in scene to render instead of a file (see `prism list`).
-    #[arg(short, long, value_name = "NAME", conflicts_with = "scene")]
-    pub builtin: Option<String>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
 
     /// Output image; the extension picks the format: .png, .exr or .pfm.
     #[arg(short, long, value_name = "FILE", default_value = "prism.png")]
@@ -133,11 +34,8 @@ pub(crate) struct RenderArgs {
     #[arg(long)]
     pub half: bool,
 
-    #[arg(short = 'W', long, value_name = "PIXELS", help = setting_help("width"))]
-    pub width: Option<u32>,
-
-    #[arg(short = 'H', long, value_name = "PIXELS", help = setting_help("height"))]
-    pub height: Option<u32>,
+    #[command(flatten)]
+    pub size: SizeArgs,
 
     #[arg(short, long, value_name = "N", conflicts_with = "spp", help = setting_help("samples"))]
     pub samples: Option<u32>,
@@ -259,65 +157,10 @@ pub(crate) struct RenderArgs {
     pub strict: bool,
 }
 
-/// A setting's `--help` text, read from the settings table (`prism::options::SETTINGS`):
-/// its sentence, what it accepts and its default. Every render setting's flag takes its help
-/// from here, so the command line says what the scene file and Python say.
-pub(crate) fn setting_help(key: &str) -> String {
-    use prism::options::SettingKind;
-    let s = prism::options::setting(key).unwrap_or_else(|| panic!("no setting '{key}'"));
-    let accepts = match s.kind {
-        SettingKind::Integer { lo, hi } if hi <= 1 << 20 => format!(", {lo} to {hi}"),
-        SettingKind::Number { lo, hi } => format!(", {lo} to {hi}"),
-        SettingKind::Name(names) => format!(": {}", names.join(", ")),
-        _ => String::new(),
-    };
-    let default = match key {
-        "width" | "height" => "the scene's".to_string(),
-        "filter_radius" => "per filter".to_string(),
-        "min_weight" => "1/255".to_string(),
-        "packets" => "packets on".to_string(),
-        _ => s.default_text(),
-    };
-    format!("{}{accepts} [default: {default}]", s.help)
-}
-
-/// An options error of the engine, which names a setting by its key (`max_depth must be
-/// …`), with the key written as the command line's flag (`--depth must be …`).
-pub(crate) fn in_flags(message: &str) -> String {
-    let named = prism::options::SETTINGS.iter().find_map(|s| {
-        let rest = message.strip_prefix(s.key)?.strip_prefix(' ')?;
-        Some((s.flag?, rest))
-    });
-    match named {
-        Some((flag, rest)) => format!("--{flag} {rest}"),
-        None => message.to_string(),
-    }
-}
-
-/// A built-in scene by name, or an error listing the names there are.
-pub(crate) fn find_builtin(name: &str) -> Result<Scene> {
-    match builtin::find(name) {
-        Some(scene) => Ok(scene),
-        None => bail!(
-            "no built-in scene named '{name}'; available: {} (or sphereflake:N)",
-            builtin::names().join(", ")
-        ),
-    }
-}
-
 impl RenderArgs {
     /// The scene to render and a name for reports.
     pub(crate) fn load_scene(&self) -> Result<(Scene, String)> {
-        if let Some(path) = &self.scene {
-            // `builtin:NAME` in the file's place, as `prism info` takes it.
-            if let Some(name) = path.to_str().and_then(|p| p.strip_prefix("builtin:")) {
-                return Ok((find_builtin(name)?, format!("builtin:{name}")));
-            }
-            let scene = prism_io::scene::load(path)?;
-            return Ok((scene, path.display().to_string()));
-        }
-        let name = self.builtin.as_deref().unwrap_or("whitted");
-        Ok((find_builtin(name)?, format!("builtin:{name}")))
+        self.scene.load("whitted")
     }
 
     /// The scene's options with the command line's on top.
@@ -327,12 +170,7 @@ impl RenderArgs {
         if self.preset == Some(Preset::Pov) {
             prism::preset::apply_pov_am2(&mut o);
         }
-        if let Some(v) = self.width {
-            o.width = v;
-        }
-        if let Some(v) = self.height {
-            o.height = v;
-        }
+        self.size.apply(&mut o);
         if let Some(v) = self.samples {
             o.samples = v;
         }
@@ -412,90 +250,5 @@ impl RenderArgs {
             o.integrator = v;
         }
         Ok(o)
-    }
-}
-
-/// Samples per axis for `spp` samples per pixel, which must be a square from 1 to
-/// 64 × 64. Errors echo the value as the user typed it.
-pub(crate) fn per_axis(spp: i64) -> Result<u32> {
-    let max = prism::options::MAX_SAMPLES_PER_AXIS;
-    let most = i64::from(max * max);
-    if spp < 1 {
-        bail!(
-            "--spp takes a square number from 1 to {most}, got {spp}{}",
-            if spp == 0 {
-                ": a pixel takes at least 1 sample"
-            } else {
-                ""
-            }
-        );
-    }
-    if spp > most {
-        bail!("--spp {spp} is too many: at most {most} ({max}×{max}) samples per pixel");
-    }
-    let n = (spp as f64).sqrt().round() as i64;
-    if n * n != spp {
-        let below = (spp as f64).sqrt().floor().max(1.0) as i64;
-        bail!(
-            "--spp {spp} is not a square number: every pattern takes n×n samples per pixel; \
-             try {} or {}",
-            below * below,
-            (below + 1) * (below + 1)
-        );
-    }
-    Ok(n as u32)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use prism::sampling::AdaptiveRule;
-
-    fn options(args: &[&str]) -> RenderOptions {
-        let mut argv = vec!["prism", "render"];
-        argv.extend(args);
-        match Cli::try_parse_from(argv).unwrap().command {
-            Some(Command::Render(r)) => r.options(&RenderOptions::default()).unwrap(),
-            other => panic!("expected render, got {other:?}"),
-        }
-    }
-
-    #[test]
-    fn options_errors_name_the_flag() {
-        assert_eq!(
-            in_flags("max_depth must be between 1 (the eye ray alone) and 256, got 0"),
-            "--depth must be between 1 (the eye ray alone) and 256, got 0"
-        );
-        assert_eq!(
-            in_flags("tile_size must be at least 1"),
-            "--tile-size must be at least 1"
-        );
-        assert_eq!(
-            in_flags("image size must be at least 1×1"),
-            "image size must be at least 1×1"
-        );
-    }
-
-    #[test]
-    fn the_pov_preset_is_povs_am2_pattern_and_flags_refine_it() {
-        let o = options(&["--preset", "pov"]);
-        assert_eq!(o.sampler, SamplerKind::Adaptive);
-        assert_eq!(o.adaptive.rule, AdaptiveRule::Corners);
-        assert_eq!((o.adaptive.jitter, o.adaptive.texture_spp), (0.0, 0));
-        assert_eq!(o.adaptive.depth, 2, "+R3 counts the pixel: two levels");
-        assert_eq!(
-            o.adaptive.threshold,
-            RenderOptions::default().adaptive.threshold
-        );
-        let o = options(&[
-            "--preset",
-            "pov",
-            "--adaptive-depth",
-            "3",
-            "--adaptive-threshold",
-            "0.3",
-        ]);
-        assert_eq!((o.adaptive.depth, o.adaptive.threshold), (3, 0.3));
-        assert_eq!(o.adaptive.rule, AdaptiveRule::Corners);
     }
 }

@@ -2,11 +2,18 @@
 //! giving the mean and the largest count (PNG), or the raw counts as grey values for
 //! scripts (PFM or EXR).
 
-use crate::args::DensityRays;
 use anyhow::{bail, Result};
 use prism::render::RayCounts;
 use prism_io::output::heatmap::heatmap;
 use std::path::Path;
+
+/// Which rays the density view counts.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum DensityRays {
+    #[default]
+    All,
+    Camera,
+}
 
 /// Fails early on a name the view cannot be written under.
 pub(crate) fn check(path: &Path) -> Result<()> {

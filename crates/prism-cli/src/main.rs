@@ -5,9 +5,11 @@
 
 mod args;
 mod bench;
+mod cli;
 mod compare;
 mod cost;
 mod density;
+mod flags;
 mod huge_pages;
 mod info;
 mod memory;
@@ -17,14 +19,16 @@ mod plot;
 mod progress;
 mod reference;
 mod report;
+mod scene_args;
 mod serve;
 mod signals;
 mod sweep;
 mod warnings;
 
 use anyhow::{Context, Result};
-use args::{Cli, Command, RenderArgs};
+use args::RenderArgs;
 use clap::Parser;
+use cli::{Cli, Command};
 use prism::scene::builtin;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -61,17 +65,9 @@ fn main() -> ExitCode {
     }
 }
 
-fn info(args: &args::InfoArgs) -> Result<ExitCode> {
-    // `--builtin NAME` as `render` takes it, or `builtin:NAME` in the scene's place.
-    let name = match (&args.builtin, &args.scene) {
-        (Some(b), _) => format!("builtin:{b}"),
-        (None, Some(s)) => s.clone(),
-        (None, None) => anyhow::bail!("name a scene file, builtin:NAME or --builtin NAME"),
-    };
-    let scene = match name.strip_prefix("builtin:") {
-        Some(builtin) => args::find_builtin(builtin)?,
-        None => prism_io::scene::load(Path::new(&name))?,
-    };
+fn info(args: &cli::InfoArgs) -> Result<ExitCode> {
+    // clap requires a scene or --builtin, so the default is never taken.
+    let (scene, name) = args.scene().load("whitted")?;
     // The tree the scene's own integrator would render with (`rays=auto` settled by it).
     let options = prism::RenderOptions {
         accel: args.accel.clone().unwrap_or(scene.options.accel.clone()),
@@ -157,7 +153,7 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     }
     options
         .validate()
-        .map_err(|e| anyhow::anyhow!("invalid option: {}", args::in_flags(&e)))?;
+        .map_err(|e| anyhow::anyhow!("invalid option: {}", flags::in_flags(&e)))?;
     warnings.report()?;
     note_threads(&options);
     memory::check(&scene, &options, args)?;

@@ -3,7 +3,7 @@
 //! (white inside, black outside) and a checker finer than the pixels (which takes the
 //! stratified pass) with the library's refinement rule.
 
-use crate::args::per_axis;
+use crate::flags::per_axis;
 use crate::plot::escape;
 use anyhow::Result;
 use clap::Args;

@@ -2,6 +2,7 @@
 //! with no sampling (prism_lab::reference): the checkerboard in closed form, any other
 //! scene of planar polygons by the beam tracer; with its error bound.
 
+use crate::scene_args::{SceneArgs, SizeArgs};
 use anyhow::Result;
 use clap::Args;
 use prism_lab::reference::{beam, checkerboard, ReferenceError, DEFAULT_TOLERANCE};
@@ -10,24 +11,16 @@ use std::process::ExitCode;
 
 #[derive(Args, Debug)]
 pub(crate) struct ReferenceArgs {
-    /// Scene file (any format of planar polygons); without it the built-in checkerboard.
-    pub scene: Option<PathBuf>,
-
-    /// Built-in scene instead of a file.
-    #[arg(short, long, value_name = "NAME", conflicts_with = "scene")]
-    pub builtin: Option<String>,
+    /// The scene: any of planar polygons.
+    #[command(flatten)]
+    pub scene: SceneArgs,
 
     /// Output image (.exr or .pfm keep the exact values; .png rounds to 8 bits).
     #[arg(short, long, value_name = "FILE", default_value = "reference.exr")]
     pub output: PathBuf,
 
-    /// Image width in pixels [default: the scene's].
-    #[arg(short = 'W', long, value_name = "PIXELS")]
-    pub width: Option<u32>,
-
-    /// Image height in pixels [default: the scene's].
-    #[arg(short = 'H', long, value_name = "PIXELS")]
-    pub height: Option<u32>,
+    #[command(flatten)]
+    pub size: SizeArgs,
 
     /// Largest error allowed in any pixel (linear units); the pixels beside the horizon
     /// cost about 1/√tolerance.
@@ -45,24 +38,10 @@ pub(crate) struct ReferenceArgs {
 }
 
 pub(crate) fn run(args: &ReferenceArgs) -> Result<ExitCode> {
-    let render_args = crate::args::RenderArgs {
-        scene: args.scene.clone(),
-        builtin: Some(
-            args.builtin
-                .clone()
-                .unwrap_or_else(|| "checkerboard".into()),
-        )
-        .filter(|_| args.scene.is_none()),
-        ..Default::default()
-    };
-    let (scene, name) = render_args.load_scene()?;
-    let width = args.width.unwrap_or(scene.options.width);
-    let height = args.height.unwrap_or(scene.options.height);
-    let options = prism::RenderOptions {
-        width,
-        height,
-        ..scene.options.clone()
-    };
+    let (scene, name) = args.scene.load("checkerboard")?;
+    let mut options = scene.options.clone();
+    args.size.apply(&mut options);
+    let (width, height) = (options.width, options.height);
     options
         .validate()
         .map_err(|e| anyhow::anyhow!("invalid option: {e}"))?;

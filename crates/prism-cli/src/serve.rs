@@ -3,22 +3,17 @@
 //! when a script started it in the background), then says so and stops the server.
 
 use crate::args::RenderArgs;
+use crate::scene_args::{SceneArgs, SizeArgs};
 use anyhow::{Context, Result};
 use clap::Args;
 use prism::sampling::SamplerKind;
 use std::net::IpAddr;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Args, Debug)]
 pub(crate) struct ServeArgs {
-    /// Scene file to show (.toml, .nff, .gltf, .glb, .obj, .ply); the built-in `whitted`
-    /// scene without it (and without --builtin).
-    pub scene: Option<PathBuf>,
-
-    /// Built-in scene to show instead of a file (see `prism list`).
-    #[arg(short, long, value_name = "NAME", conflicts_with = "scene")]
-    pub builtin: Option<String>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
 
     /// Address to listen on. The default answers this machine only; 0.0.0.0 opens the
     /// viewer (and the CPU it steers) to the network.
@@ -68,9 +63,10 @@ pub(crate) struct ServeArgs {
 pub(crate) fn run(args: &ServeArgs) -> Result<ExitCode> {
     let render = RenderArgs {
         scene: args.scene.clone(),
-        builtin: args.builtin.clone(),
-        width: Some(args.width),
-        height: Some(args.height),
+        size: SizeArgs {
+            width: Some(args.width),
+            height: Some(args.height),
+        },
         accel: args.accel.clone(),
         shadows: args.shadows,
         depth: args.depth,
@@ -102,7 +98,7 @@ pub(crate) fn run(args: &ServeArgs) -> Result<ExitCode> {
     // Checked here too, so that a refused option names its flag (`--depth`).
     options
         .validate()
-        .map_err(|e| anyhow::anyhow!("invalid option: {}", crate::args::in_flags(&e)))?;
+        .map_err(|e| anyhow::anyhow!("invalid option: {}", crate::flags::in_flags(&e)))?;
     let config = prism_serve::ServerConfig {
         bind: args.bind,
         port: args.port,

@@ -4,8 +4,9 @@
 //! (prism_lab::reference), else a file or a jittered render with many samples. Writes a CSV
 //! table, SVG plots and a summary of the comparisons the sampling goals ask for.
 
-use crate::args::{per_axis, RenderArgs};
+use crate::flags::per_axis;
 use crate::plot::{LogLogPlot, Series, PALETTE};
+use crate::scene_args::{SceneArgs, SizeArgs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use prism::render::{render, Film, FilterKind};
@@ -20,24 +21,15 @@ use std::time::Instant;
 
 #[derive(Args, Debug)]
 pub(crate) struct SweepArgs {
-    /// Scene file (.toml or .nff); without it a built-in scene.
-    pub scene: Option<PathBuf>,
-
-    /// Built-in scene [default: checkerboard].
-    #[arg(short, long, value_name = "NAME", conflicts_with = "scene")]
-    pub builtin: Option<String>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
 
     /// Directory for the table, plots and (with --keep-images) images.
     #[arg(short, long, value_name = "DIR", default_value = "sweep")]
     pub out: PathBuf,
 
-    /// Image width in pixels [default: the scene's].
-    #[arg(short = 'W', long, value_name = "PIXELS")]
-    pub width: Option<u32>,
-
-    /// Image height in pixels [default: the scene's].
-    #[arg(short = 'H', long, value_name = "PIXELS")]
-    pub height: Option<u32>,
+    #[command(flatten)]
+    pub size: SizeArgs,
 
     /// Patterns to render, comma-separated.
     #[arg(
@@ -218,21 +210,11 @@ struct Measured {
 }
 
 pub(crate) fn run(args: &SweepArgs) -> Result<ExitCode> {
-    let loader = RenderArgs {
-        scene: args.scene.clone(),
-        builtin: Some(
-            args.builtin
-                .clone()
-                .unwrap_or_else(|| "checkerboard".into()),
-        )
-        .filter(|_| args.scene.is_none()),
-        ..Default::default()
-    };
-    let (scene, name) = loader.load_scene()?;
+    let (scene, name) = args.scene.load("checkerboard")?;
     scene.validate().context("the scene is not valid")?;
     let base = RenderOptions {
-        width: args.width.unwrap_or(scene.options.width),
-        height: args.height.unwrap_or(scene.options.height),
+        width: args.size.width.unwrap_or(scene.options.width),
+        height: args.size.height.unwrap_or(scene.options.height),
         threads: args.threads,
         seed: args.seed,
         filter: args.filter,

@@ -255,13 +255,7 @@ fn top_modules(src: &Path) -> BTreeSet<String> {
 #[test]
 fn modules_import_only_what_the_order_puts_before_them() {
     let mut wrong = Vec::new();
-    for name in [
-        "prism",
-        "prism-io",
-        "prism-lab",
-        "prism-serve",
-        "prism-python",
-    ] {
+    for name in CRATES {
         let order = documented_order(name);
         let src = Path::new(&crate_dir(name, "src")).to_path_buf();
         let level = |m: &str| order.iter().position(|l| l.iter().any(|x| x == m));

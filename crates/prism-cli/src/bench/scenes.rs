@@ -45,7 +45,7 @@ impl SceneSource {
 
     pub(super) fn load(&self) -> Result<Scene> {
         match self {
-            SceneSource::Builtin(n) => crate::args::find_builtin(n),
+            SceneSource::Builtin(n) => crate::scene_args::find_builtin(n),
             SceneSource::File(p) => {
                 prism_io::scene::load(p).with_context(|| format!("cannot load {}", p.display()))
             }
