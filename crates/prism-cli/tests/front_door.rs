@@ -252,50 +252,39 @@ fn a_failed_write_leaves_no_temporary_file() {
 
 // 7. SIGTERM stops like Ctrl-C, keeps the rows its finished tiles reached and exits with 143; a second
 // signal stops at once.
+/// A render of minutes on a terminal, so that the signal always arrives mid-render; it
+/// returns once the progress bar shows finished tiles, so there are rows to write.
 #[cfg(unix)]
-fn spawn_long_render(dir: &Path, output: &str) -> std::process::Child {
-    Command::new(common::bin())
-        // Minutes of work: the signal always arrives mid-render.
-        .args(["render", "-b", "sphereflake", "-W", "1600", "-H", "1600"])
-        .args(["--spp", "64", "--threads", "1", "-o", output])
-        .current_dir(dir)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap()
-}
-
-#[cfg(unix)]
-fn signal(child: &std::process::Child, name: &str) {
-    let ok = Command::new("kill")
-        .args([&format!("-{name}"), &child.id().to_string()])
-        .status()
-        .unwrap()
-        .success();
-    assert!(ok, "kill -{name}");
-}
-
-#[cfg(unix)]
-fn finish(mut child: std::process::Child) -> (Option<i32>, String) {
-    let mut err = String::new();
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut err)
-        .unwrap();
-    (child.wait().unwrap().code(), err)
+fn long_render_started(dir: &Path, output: &str) -> common::terminal::OnTerminal {
+    let mut render = common::terminal::OnTerminal::spawn(
+        dir,
+        &[
+            "render",
+            "-b",
+            "sphereflake",
+            "-W",
+            "1600",
+            "-H",
+            "1600",
+            "--spp",
+            "64",
+            "--threads",
+            "1",
+            "-o",
+            output,
+        ],
+    );
+    assert!(render.wait_for_work_done(), "no progress: {}", render.seen);
+    render
 }
 
 #[cfg(unix)]
 #[test]
 fn sigterm_writes_the_finished_tiles_and_exits_143() {
     let dir = work_dir("sigterm");
-    let child = spawn_long_render(&dir, "out.pfm");
-    // Let the scene load and the render start; the signal is handled whenever it comes.
-    std::thread::sleep(Duration::from_millis(1500));
-    signal(&child, "TERM");
-    let (code, err) = finish(child);
+    let render = long_render_started(&dir, "out.pfm");
+    render.signal("TERM");
+    let (code, err) = render.finish();
     assert_eq!(code, Some(143), "{err}");
     assert!(err.contains("terminated (SIGTERM)"), "{err}");
     assert!(err.contains("prism: wrote out.pfm"), "{err}");
@@ -308,12 +297,12 @@ fn sigterm_writes_the_finished_tiles_and_exits_143() {
 #[test]
 fn a_second_signal_stops_at_once_with_a_message() {
     let dir = work_dir("second-signal");
-    let child = spawn_long_render(&dir, "out.png");
-    std::thread::sleep(Duration::from_millis(1500));
-    signal(&child, "INT");
+    let render = long_render_started(&dir, "out.png");
+    render.signal("INT");
+    // A key pressed twice in a row, not the pair `timeout` sends at once.
     std::thread::sleep(Duration::from_millis(50));
-    signal(&child, "INT");
-    let (code, err) = finish(child);
+    render.signal("INT");
+    let (code, err) = render.finish();
     // The tiles in flight at 64 spp can finish between the two signals; either way the run
     // ends as interrupted, and without a panic.
     assert_eq!(code, Some(130), "{err}");

@@ -8,6 +8,7 @@
 
 mod common;
 
+use common::terminal::OnTerminal;
 use std::fs;
 use std::io::{BufRead, BufReader, Read};
 use std::process::{Command, Stdio};
@@ -15,133 +16,48 @@ use std::process::{Command, Stdio};
 #[test]
 fn two_signals_at_once_are_one_ctrl_c_and_the_work_is_written() {
     let dir = common::work_dir("signals", "double-int");
-    let mut child = Command::new(common::bin())
-        .args(["render", "-b", "sphereflake", "-W", "1200", "-H", "1200"])
-        .args(["--spp", "64", "--threads", "1", "-o", "out.pfm"])
-        .current_dir(&dir)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    // Wait until the render has started: prism says which threads it renders with, or
-    // else give it a moment (the signal is handled whenever it comes).
-    std::thread::sleep(std::time::Duration::from_millis(800));
+    let mut render = OnTerminal::spawn(
+        &dir,
+        &[
+            "render",
+            "-b",
+            "sphereflake",
+            "-W",
+            "1200",
+            "-H",
+            "1200",
+            "--spp",
+            "64",
+            "--threads",
+            "1",
+            "-o",
+            "out.pfm",
+        ],
+    );
+    // The progress bar shows once the render listens for Ctrl-C; work done, once there
+    // are rows to write.
+    assert!(render.wait_for_work_done(), "no progress: {}", render.seen);
     // Two SIGINTs back to back, as `timeout` sends one to the process and one to the group.
-    let pid = child.id().to_string();
+    let pid = render.child.id().to_string();
     let ok = Command::new("sh")
         .args(["-c", &format!("kill -INT {pid}; kill -INT {pid}")])
         .status()
         .unwrap()
         .success();
     assert!(ok);
-    let mut stderr = BufReader::new(child.stderr.take().unwrap());
-    let mut first = String::new();
-    // The first thing it says after the signal (skipping any note before it).
-    while stderr.read_line(&mut first).unwrap() > 0 && !first.contains("stopping") {}
+    let (code, seen) = render.finish();
+    assert_eq!(code, Some(130), "{seen}");
+    // The first thing it says after the signal.
+    let said = seen.find("prism: ").map_or("", |at| &seen[at..]);
     assert!(
-        first.contains("stopping: finishing the tiles in flight; Ctrl-C again discards"),
-        "{first}"
+        said.starts_with("prism: stopping: finishing the tiles in flight; Ctrl-C again discards"),
+        "{seen}"
     );
-    let mut rest = String::new();
-    stderr.read_to_string(&mut rest).unwrap();
-    let code = child.wait().unwrap().code();
-    assert_eq!(code, Some(130), "{first}{rest}");
-    assert!(!rest.contains("stopped at once"), "{rest}");
-    assert!(rest.contains("prism: wrote out.pfm"), "{rest}");
+    assert!(!seen.contains("stopped at once"), "{seen}");
+    assert!(seen.contains("prism: wrote out.pfm"), "{seen}");
     let bytes = fs::read(dir.join("out.pfm")).unwrap();
     assert!(bytes.starts_with(b"PF\n1200 "), "the image's full width");
     let _ = fs::remove_dir_all(&dir);
-}
-
-/// A render whose standard error is a terminal (so that it draws its progress bar),
-/// started in `dir`; the bar's output arrives on the returned channel.
-struct OnTerminal {
-    child: std::process::Child,
-    output: std::sync::mpsc::Receiver<String>,
-    seen: String,
-}
-
-impl OnTerminal {
-    #[allow(unsafe_code)]
-    fn spawn(dir: &std::path::Path, args: &[&str]) -> OnTerminal {
-        use std::os::fd::{FromRawFd, OwnedFd};
-        let (mut leader, mut follower) = (0, 0);
-        let size = libc::winsize {
-            ws_row: 24,
-            ws_col: 100,
-            ws_xpixel: 0,
-            ws_ypixel: 0,
-        };
-        // SAFETY: openpty writes two new descriptors into the integers it is given, which
-        // become owned here and nowhere else.
-        let opened = unsafe {
-            libc::openpty(
-                &mut leader,
-                &mut follower,
-                std::ptr::null_mut(),
-                std::ptr::null(),
-                &size,
-            )
-        };
-        assert_eq!(opened, 0, "openpty");
-        let (leader, follower) =
-            unsafe { (OwnedFd::from_raw_fd(leader), OwnedFd::from_raw_fd(follower)) };
-        let child = Command::new(common::bin())
-            .args(args)
-            .current_dir(dir)
-            .stdout(Stdio::null())
-            .stderr(Stdio::from(follower))
-            .spawn()
-            .unwrap();
-        let (send, output) = std::sync::mpsc::channel();
-        let mut leader = fs::File::from(leader);
-        std::thread::spawn(move || {
-            let mut buffer = [0u8; 4096];
-            // Ends with an error once the child has exited and the terminal is closed.
-            while let Ok(n @ 1..) = leader.read(&mut buffer) {
-                if send
-                    .send(String::from_utf8_lossy(&buffer[..n]).into_owned())
-                    .is_err()
-                {
-                    break;
-                }
-            }
-        });
-        OnTerminal {
-            child,
-            output,
-            seen: String::new(),
-        }
-    }
-
-    /// Waits until the terminal has shown `text`; false if the program ended first.
-    fn wait_for(&mut self, text: &str) -> bool {
-        while !self.seen.contains(text) {
-            match self.output.recv() {
-                Ok(more) => self.seen.push_str(&more),
-                Err(_) => return false,
-            }
-        }
-        true
-    }
-
-    fn signal(&self, name: &str) {
-        let ok = Command::new("kill")
-            .args([&format!("-{name}"), &self.child.id().to_string()])
-            .status()
-            .unwrap()
-            .success();
-        assert!(ok, "kill -{name}");
-    }
-
-    /// The exit code and everything the terminal showed.
-    fn finish(mut self) -> (Option<i32>, String) {
-        let code = self.child.wait().unwrap().code();
-        while let Ok(more) = self.output.recv() {
-            self.seen.push_str(&more);
-        }
-        (code, self.seen)
-    }
 }
 
 #[test]

@@ -2,6 +2,8 @@
 //! the built `prism` binary in it.
 #![allow(dead_code)]
 
+pub(crate) mod terminal;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
