@@ -16,7 +16,7 @@ use prism_io::scene::{load, LoadError};
 #[path = "../../prism/tests/common/mod.rs"]
 mod common;
 
-use common::mutate::{apply, Mutation};
+use common::mutate::{self, apply, Mutation};
 use common::scratch::ScratchDir;
 use proptest::prelude::*;
 use serde_json::{json, Value};
@@ -843,25 +843,11 @@ const MUTATION_VALUES: &[&str] = &[
 ];
 
 fn mutation() -> impl Strategy<Value = Mutation> {
-    prop_oneof![
-        (any::<usize>(), 1usize..16).prop_map(|(at, len)| Mutation::Delete { at, len }),
-        (any::<usize>(), 1usize..32).prop_map(|(at, len)| Mutation::Duplicate { at, len }),
-        (any::<usize>(), prop::sample::select(MUTATION_BYTES))
-            .prop_map(|(at, byte)| Mutation::Replace { at, byte }),
-        (any::<usize>(), any::<u8>()).prop_map(|(at, byte)| Mutation::Replace { at, byte }),
-        (any::<usize>(), prop::sample::select(MUTATION_VALUES))
-            .prop_map(|(at, value)| Mutation::Number { at, value }),
-    ]
+    mutate::text_damage(16, 32, MUTATION_BYTES, MUTATION_VALUES)
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 1024,
-        failure_persistence: Some(Box::new(
-            proptest::test_runner::FileFailurePersistence::WithSource("proptest-regressions"),
-        )),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(mutate::config(1024))]
 
     /// Form 0 mutates a .glb's bytes (headers included); form 1 mutates its JSON and packs
     /// it again, so the mutation reaches the document; form 2 mutates a .gltf whose buffer

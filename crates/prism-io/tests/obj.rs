@@ -8,7 +8,7 @@
 mod common;
 
 use common::mesh_files::{render_at, temp_dir, write, TestMesh};
-use common::mutate::{apply, Mutation};
+use common::mutate::{self, apply, Mutation};
 use common::work::{allocated_by, Counting};
 
 #[global_allocator]
@@ -657,19 +657,12 @@ fn mtl_fuzz_dir() -> ScratchDir {
 
 const MUTATION_BYTES: &[u8] = b"vtnfgo/#-. \n\t0123456789e";
 
+/// The text damages and, as often as each of them, a file cut short.
 fn mutation() -> impl Strategy<Value = Mutation> {
+    let values = common::mesh_files::MUTATION_VALUES;
     prop_oneof![
-        (any::<usize>(), 1usize..16).prop_map(|(at, len)| Mutation::Delete { at, len }),
-        (any::<usize>(), 1usize..48).prop_map(|(at, len)| Mutation::Duplicate { at, len }),
-        (any::<usize>(), prop::sample::select(MUTATION_BYTES))
-            .prop_map(|(at, byte)| Mutation::Replace { at, byte }),
-        (any::<usize>(), any::<u8>()).prop_map(|(at, byte)| Mutation::Replace { at, byte }),
-        any::<usize>().prop_map(|at| Mutation::Truncate { at }),
-        (
-            any::<usize>(),
-            prop::sample::select(common::mesh_files::MUTATION_VALUES)
-        )
-            .prop_map(|(at, value)| Mutation::Number { at, value }),
+        5 => mutate::text_damage(16, 48, MUTATION_BYTES, values),
+        1 => mutate::truncations(),
     ]
 }
 
@@ -701,13 +694,7 @@ fn check_result(result: Result<MeshFile, LoadError>, size: usize) -> Result<(), 
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 512,
-        failure_persistence: Some(Box::new(
-            proptest::test_runner::FileFailurePersistence::WithSource("proptest-regressions"),
-        )),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(mutate::config(512))]
 
     #[test]
     fn mutated_obj_files_never_panic(

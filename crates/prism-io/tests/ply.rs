@@ -8,7 +8,7 @@
 mod common;
 
 use common::mesh_files::{max_difference, render_at, temp_dir, write, TestMesh};
-use common::mutate::{apply, Mutation};
+use common::mutate::{self, apply, Mutation};
 use common::work::{allocated_by, Counting};
 
 #[global_allocator]
@@ -709,32 +709,22 @@ fn fuzz_seed(which: u8) -> Vec<u8> {
 
 fn mutation() -> impl Strategy<Value = Mutation> {
     prop_oneof![
-        (any::<usize>(), 1usize..16).prop_map(|(at, len)| Mutation::Delete { at, len }),
-        (any::<usize>(), 1usize..32).prop_map(|(at, len)| Mutation::Duplicate { at, len }),
-        (any::<usize>(), any::<u8>()).prop_map(|(at, byte)| Mutation::Replace { at, byte }),
+        mutate::deletions(16),
+        mutate::duplications(32),
+        mutate::any_bytes(),
         (any::<usize>(), any::<u32>()).prop_map(|(at, word)| Mutation::Word { at, word }),
         (
             any::<usize>(),
             prop::sample::select(vec![0x7fff_ffffu32, u32::MAX, 0x7fc0_0000, 255, 3])
         )
             .prop_map(|(at, word)| Mutation::Word { at, word }),
-        any::<usize>().prop_map(|at| Mutation::Truncate { at }),
-        (
-            any::<usize>(),
-            prop::sample::select(common::mesh_files::MUTATION_VALUES)
-        )
-            .prop_map(|(at, value)| Mutation::Number { at, value }),
+        mutate::truncations(),
+        mutate::numbers_from(common::mesh_files::MUTATION_VALUES),
     ]
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 1024,
-        failure_persistence: Some(Box::new(
-            proptest::test_runner::FileFailurePersistence::WithSource("proptest-regressions"),
-        )),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(mutate::config(1024))]
 
     #[test]
     fn mutated_ply_files_never_panic_and_stay_bounded(

@@ -6,7 +6,7 @@
 #[path = "../../prism/tests/common/mod.rs"]
 mod common;
 
-use common::mutate::{apply, Mutation};
+use common::mutate::{self, apply, Mutation};
 use common::scratch::ScratchDir;
 use prism::geometry::ShapeHit;
 use prism::math::{Color, Vec3};
@@ -803,25 +803,11 @@ const MUTATION_VALUES: &[&str] = &[
 ];
 
 fn mutation() -> impl Strategy<Value = Mutation> {
-    prop_oneof![
-        (any::<usize>(), 1usize..24).prop_map(|(at, len)| Mutation::Delete { at, len }),
-        (any::<usize>(), 1usize..48).prop_map(|(at, len)| Mutation::Duplicate { at, len }),
-        (any::<usize>(), prop::sample::select(MUTATION_BYTES))
-            .prop_map(|(at, byte)| Mutation::Replace { at, byte }),
-        (any::<usize>(), any::<u8>()).prop_map(|(at, byte)| Mutation::Replace { at, byte }),
-        (any::<usize>(), prop::sample::select(MUTATION_VALUES))
-            .prop_map(|(at, value)| Mutation::Number { at, value }),
-    ]
+    mutate::text_damage(24, 48, MUTATION_BYTES, MUTATION_VALUES)
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 768,
-        failure_persistence: Some(Box::new(
-            proptest::test_runner::FileFailurePersistence::WithSource("proptest-regressions"),
-        )),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(mutate::config(768))]
 
     #[test]
     fn mutated_scenes_never_panic(

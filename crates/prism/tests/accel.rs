@@ -9,13 +9,13 @@
 
 mod common;
 
-use common::oracle::{random_ray, same_nearest, TestScene};
+use common::oracle::{random_cone, random_ray, random_triangles, same_nearest, TestScene};
 use common::{icosphere, lattice_cube, rotate, trace_ray, Rng};
 use prism::accel::{
     Accel, AccelKind, AccelSpec, BruteForce, Bvh, BvhBuilder, BvhOptions, Grid, GridOptions,
     KdTree, KdTreeOptions, NodeWidth, Octree, OctreeOptions, SceneIntersector,
 };
-use prism::geometry::{generate, AaBox, Cone, Geometry, Plane, Shape, Sphere};
+use prism::geometry::{generate, AaBox, Geometry, Plane, Shape, Sphere};
 use prism::math::{TraceRay, Vec3};
 use prism::Stats;
 
@@ -28,16 +28,7 @@ fn mixed_scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
     let mut rng = Rng::new(seed);
     let mut s = TestScene::new();
     let p = |rng: &mut Rng| offset + scale * rng.point_in(Vec3::splat(-2.0), Vec3::splat(2.0));
-    let mut tris = Vec::new();
-    for _ in 0..250 {
-        let a = p(&mut rng);
-        let size = scale * rng.range(0.01, 0.8);
-        tris.push([
-            a,
-            a + size * rng.unit_vector(),
-            a + size * rng.unit_vector(),
-        ]);
-    }
+    let mut tris = random_triangles(&mut rng, 250, p, |rng| scale * rng.range(0.01, 0.8));
     for _ in 0..60 {
         // Long and thin: a long edge and a third vertex very close to it.
         let a = p(&mut rng);
@@ -99,21 +90,9 @@ fn mixed_scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
     s.add_box(AaBox::new(a, Vec3::new(mid.x, a.y, mid.z)));
     for _ in 0..60 {
         let base = p(&mut rng);
-        let axis = if rng.chance(0.3) {
-            rng.axis_direction()
-        } else {
-            rng.unit_vector()
-        };
-        let h = scale * rng.range(0.1, 1.0);
-        let rb = scale * rng.range(0.0, 0.4);
-        let ra = if rng.chance(0.5) {
-            rb
-        } else {
-            scale * rng.range(0.0, 0.4)
-        };
-        if let Some(c) = Cone::new(base, rb, base + h * axis, ra, rng.chance(0.5)) {
+        if let Some((c, rim)) = random_cone(&mut rng, base, scale) {
             s.geometry.add(Shape::from(c), 0);
-            s.features.push(base + rb * axis.any_orthonormal_vector());
+            s.features.push(rim);
         }
     }
     s

@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::oracle::TestScene;
+use common::oracle::{random_triangles, TestScene};
 use common::{icosphere, Rng};
 use prism::accel::{
     Accel, Avx512, Bvh, BvhOptions, Hit, NodeWidth, PacketQuery, QueryMode, RayQuery, PACKET_MAX,
@@ -26,16 +26,7 @@ fn scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
         let c = p(&mut rng);
         s.add_mesh(icosphere(c, scale * rng.range(0.2, 0.7), 3));
     }
-    let mut tris = Vec::new();
-    for _ in 0..200 {
-        let a = p(&mut rng);
-        let size = scale * rng.range(0.02, 0.5);
-        tris.push([
-            a,
-            a + size * rng.unit_vector(),
-            a + size * rng.unit_vector(),
-        ]);
-    }
+    let tris = random_triangles(&mut rng, 200, p, |rng| scale * rng.range(0.02, 0.5));
     s.add_triangles(&tris);
     for _ in 0..30 {
         let c = p(&mut rng);

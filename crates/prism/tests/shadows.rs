@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::oracle::{random_ray, TestScene};
+use common::oracle::{random_ray, random_triangles, TestScene};
 use common::{icosphere, Rng};
 use prism::accel::{AccelSpec, Hit, QueryMode, SceneIntersector};
 use prism::geometry::{AaBox, Geometry, Plane, Shape, Sphere};
@@ -27,16 +27,7 @@ fn scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
     let mut rng = Rng::new(seed);
     let mut s = TestScene::new();
     let p = |rng: &mut Rng| offset + scale * rng.point_in(Vec3::splat(-2.0), Vec3::splat(2.0));
-    let mut tris = Vec::new();
-    for _ in 0..150 {
-        let a = p(&mut rng);
-        let size = scale * rng.range(0.01, 0.8);
-        tris.push([
-            a,
-            a + size * rng.unit_vector(),
-            a + size * rng.unit_vector(),
-        ]);
-    }
+    let tris = random_triangles(&mut rng, 150, p, |rng| scale * rng.range(0.01, 0.8));
     s.add_triangles(&tris);
     for _ in 0..40 {
         let c = p(&mut rng);

@@ -6,11 +6,11 @@
 
 mod common;
 
-use common::oracle::{random_ray, same_nearest, TestScene};
+use common::oracle::{random_cone, random_ray, random_triangles, same_nearest, TestScene};
 use common::{icosphere, rotate, Rng};
 use prism::accel::volumes::{self, Dop14, Dop26, NodeVolume, Volume, VolumeBvh, CULL_SLACK};
 use prism::accel::{Accel, BruteForce, Bvh, BvhOptions};
-use prism::geometry::{AaBox, Cone, Geometry, Shape, Sphere, TriangleMesh};
+use prism::geometry::{AaBox, Geometry, Shape, Sphere, TriangleMesh};
 use prism::math::{Aabb, Ray, TraceRay, Vec3};
 use prism::Stats;
 
@@ -26,12 +26,7 @@ fn hostile_scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
     let mut features = Vec::new();
     let mut boxes = Vec::new();
     let p = |rng: &mut Rng| offset + scale * rng.point_in(Vec3::splat(-2.0), Vec3::splat(2.0));
-    let mut tris = Vec::new();
-    for _ in 0..150 {
-        let a = p(&mut rng);
-        let s = scale * rng.range(0.01, 0.8);
-        tris.push([a, a + s * rng.unit_vector(), a + s * rng.unit_vector()]);
-    }
+    let mut tris = random_triangles(&mut rng, 150, p, |rng| scale * rng.range(0.01, 0.8));
     for _ in 0..80 {
         let a = p(&mut rng);
         let b = a + scale * 3.0 * rng.unit_vector();
@@ -83,21 +78,9 @@ fn hostile_scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
     }
     for _ in 0..40 {
         let base = p(&mut rng);
-        let axis = if rng.chance(0.3) {
-            rng.axis_direction()
-        } else {
-            rng.unit_vector()
-        };
-        let h = scale * rng.range(0.1, 1.0);
-        let rb = scale * rng.range(0.0, 0.4);
-        let ra = if rng.chance(0.5) {
-            rb
-        } else {
-            scale * rng.range(0.0, 0.4)
-        };
-        if let Some(c) = Cone::new(base, rb, base + h * axis, ra, rng.chance(0.5)) {
+        if let Some((c, rim)) = random_cone(&mut rng, base, scale) {
             g.add(Shape::from(c), 0);
-            features.push(base + rb * axis.any_orthonormal_vector());
+            features.push(rim);
         }
     }
     let axis = Vec3::new(1.0, -2.0, 0.5);

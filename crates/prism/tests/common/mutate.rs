@@ -1,6 +1,9 @@
 //! The byte-mutation kit of the parser suites (TOML, glTF, OBJ/MTL, PLY): ways to damage a
-//! file and how each is applied. Each suite keeps its own proptest strategy (which bytes
-//! and values are likely to reach its parser's checks); the damage itself is defined once.
+//! file, how each is applied, the strategies that draw them and the suites' proptest
+//! configuration. Each suite mixes its own strategy from these (which bytes and values are
+//! likely to reach its parser's checks); the damage itself is defined once.
+
+use proptest::prelude::*;
 
 /// Ways to damage a file, for the fuzzing properties.
 #[derive(Clone, Debug)]
@@ -75,5 +78,78 @@ pub(crate) fn apply(bytes: &mut Vec<u8>, m: &Mutation) {
                 .map_or(n, |i| start + i);
             bytes.splice(start..end, value.bytes());
         }
+    }
+}
+
+/// Deleting up to `max - 1` bytes somewhere.
+pub(crate) fn deletions(max: usize) -> BoxedStrategy<Mutation> {
+    (any::<usize>(), 1usize..max)
+        .prop_map(|(at, len)| Mutation::Delete { at, len })
+        .boxed()
+}
+
+/// Repeating up to `max - 1` bytes somewhere, right after themselves.
+pub(crate) fn duplications(max: usize) -> BoxedStrategy<Mutation> {
+    (any::<usize>(), 1usize..max)
+        .prop_map(|(at, len)| Mutation::Duplicate { at, len })
+        .boxed()
+}
+
+/// Replacing a byte with one of `bytes` (those the parser reads as syntax).
+pub(crate) fn bytes_from(bytes: &'static [u8]) -> BoxedStrategy<Mutation> {
+    (any::<usize>(), prop::sample::select(bytes))
+        .prop_map(|(at, byte)| Mutation::Replace { at, byte })
+        .boxed()
+}
+
+/// Replacing a byte with any byte.
+pub(crate) fn any_bytes() -> BoxedStrategy<Mutation> {
+    (any::<usize>(), any::<u8>())
+        .prop_map(|(at, byte)| Mutation::Replace { at, byte })
+        .boxed()
+}
+
+/// Replacing a number with one of `values` (limits, signs, overflows).
+pub(crate) fn numbers_from(values: &'static [&'static str]) -> BoxedStrategy<Mutation> {
+    (any::<usize>(), prop::sample::select(values))
+        .prop_map(|(at, value)| Mutation::Number { at, value })
+        .boxed()
+}
+
+/// Cutting the file short somewhere.
+pub(crate) fn truncations() -> BoxedStrategy<Mutation> {
+    any::<usize>()
+        .prop_map(|at| Mutation::Truncate { at })
+        .boxed()
+}
+
+/// The damages a text format's suite draws, each as likely: deletions and duplications
+/// shorter than `delete` and `duplicate` bytes, a byte of `syntax`, any byte, a number of
+/// `values`.
+pub(crate) fn text_damage(
+    delete: usize,
+    duplicate: usize,
+    syntax: &'static [u8],
+    values: &'static [&'static str],
+) -> BoxedStrategy<Mutation> {
+    prop_oneof![
+        deletions(delete),
+        duplications(duplicate),
+        bytes_from(syntax),
+        any_bytes(),
+        numbers_from(values),
+    ]
+    .boxed()
+}
+
+/// A parser suite's proptest configuration: `cases` cases, failing cases saved beside the
+/// suite (its `.proptest-regressions` file) and replayed first.
+pub(crate) fn config(cases: u32) -> ProptestConfig {
+    ProptestConfig {
+        cases,
+        failure_persistence: Some(Box::new(
+            proptest::test_runner::FileFailurePersistence::WithSource("proptest-regressions"),
+        )),
+        ..ProptestConfig::default()
     }
 }

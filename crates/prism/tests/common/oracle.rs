@@ -4,7 +4,7 @@
 
 use super::Rng;
 use prism::accel::Hit;
-use prism::geometry::{AaBox, Geometry, Shape, TriangleMesh};
+use prism::geometry::{AaBox, Cone, Geometry, Shape, TriangleMesh};
 use prism::math::{Aabb, Ray, TraceRay, Vec3};
 
 pub(crate) struct TestScene {
@@ -47,6 +47,48 @@ impl TestScene {
         self.features.extend(mesh.positions().iter().step_by(3));
         self.geometry.add_mesh(mesh, 0);
     }
+}
+
+/// `count` triangles, each a corner `corner(rng)` and two edges in random directions of
+/// one length `size(rng)`: from slivers to large ones, as the sizes run.
+pub(crate) fn random_triangles(
+    rng: &mut Rng,
+    count: usize,
+    corner: impl Fn(&mut Rng) -> Vec3,
+    size: impl Fn(&mut Rng) -> f32,
+) -> Vec<[Vec3; 3]> {
+    (0..count)
+        .map(|_| {
+            let a = corner(rng);
+            let size = size(rng);
+            [
+                a,
+                a + size * rng.unit_vector(),
+                a + size * rng.unit_vector(),
+            ]
+        })
+        .collect()
+}
+
+/// A cone or cylinder standing on `base`, of a height and radii up to `scale`, its axis
+/// along a coordinate axis a third of the time, a cylinder half the time, capped half the
+/// time; with a point on its base rim for rays to aim at. None where the draw is
+/// degenerate.
+pub(crate) fn random_cone(rng: &mut Rng, base: Vec3, scale: f32) -> Option<(Cone, Vec3)> {
+    let axis = if rng.chance(0.3) {
+        rng.axis_direction()
+    } else {
+        rng.unit_vector()
+    };
+    let h = scale * rng.range(0.1, 1.0);
+    let rb = scale * rng.range(0.0, 0.4);
+    let ra = if rng.chance(0.5) {
+        rb
+    } else {
+        scale * rng.range(0.0, 0.4)
+    };
+    let cone = Cone::new(base, rb, base + h * axis, ra, rng.chance(0.5))?;
+    Some((cone, base + rb * axis.any_orthonormal_vector()))
 }
 
 /// A ray of one of several kinds, chosen at random.
