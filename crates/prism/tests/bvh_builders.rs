@@ -4,7 +4,8 @@
 //! is poor, empty or one-primitive inputs work, and a tree built for rays from inside the
 //! scene spares such rays the big leaves a closed room's walls make. PLOC's trees cost
 //! little more than the binned SAH's; SBVH's spatial splits lower the cost where long
-//! triangles cross a scene, within their duplication budget.
+//! triangles cross a scene, within their duplication budget; `auto` builds the tree it
+//! names.
 
 mod common;
 
@@ -100,6 +101,50 @@ fn method_names_the_builder() {
     assert_eq!(bvh.info().method, "bvh (binned SAH)");
     let bvh = Bvh::build(&g, all_prims(&g), &options(BvhBuilder::Sweep, true));
     assert_eq!(bvh.info().method, "bvh (full-sweep SAH + reinsertion)");
+}
+
+/// `build=auto` builds the tree of the builder it names, picks by the expected rays and
+/// the kind of primitives, and says why.
+#[test]
+fn auto_builds_its_choice_and_says_why() {
+    let knot = {
+        let mut g = Geometry::default();
+        g.add_mesh(generate::torus_knot(20_000), 0);
+        g
+    };
+    let spheres = geometric_scene();
+    let auto = |rays: f64| {
+        BvhOptions {
+            builder: BvhBuilder::Auto,
+            ..BvhOptions::default()
+        }
+        .with_expected_rays(rays)
+    };
+    for (g, rays, builder, name) in [
+        (&knot, 0.0, BvhBuilder::Lbvh, "LBVH, 63-bit Morton"),
+        (&knot, 1e6, BvhBuilder::Binned, "binned SAH"),
+        (&spheres, 1e6, BvhBuilder::Lbvh, "LBVH, 63-bit Morton"),
+    ] {
+        let chosen = Bvh::build(g, all_prims(g), &auto(rays)).info();
+        let direct = Bvh::build(g, all_prims(g), &options(builder, false)).info();
+        assert_eq!(
+            (chosen.nodes, chosen.depth, chosen.sah_cost),
+            (direct.nodes, direct.depth, direct.sah_cost)
+        );
+        assert!(
+            chosen
+                .method
+                .starts_with(&format!("bvh ({name}; auto chose {name} for")),
+            "{}",
+            chosen.method
+        );
+        assert!(chosen.method.contains("estimated build + trace"));
+    }
+    // Only `auto` reads the expected rays, so other trees compare equal whatever the render.
+    assert_eq!(
+        BvhOptions::default().with_expected_rays(1e6),
+        BvhOptions::default()
+    );
 }
 
 #[test]

@@ -71,6 +71,15 @@ accel_methods! {
 }
 
 impl AccelSpec {
+    /// This spec with a BVH's `build=auto` told the rays the render will trace; every
+    /// other spec as it is.
+    pub fn with_expected_rays(&self, rays: f64) -> AccelSpec {
+        match self {
+            AccelSpec::Bvh(o) => AccelSpec::Bvh(o.with_expected_rays(rays)),
+            other => other.clone(),
+        }
+    }
+
     /// This spec with a BVH's `rays=auto` settled as `origins` (what the integrator
     /// traces, `RenderOptions::accel_to_build`); every other spec as it is.
     pub fn with_auto_rays(&self, origins: super::RayOrigins) -> AccelSpec {

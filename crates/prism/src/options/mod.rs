@@ -175,7 +175,26 @@ impl RenderOptions {
             true => RayOrigins::Inside,
             false => RayOrigins::Outside,
         };
-        self.accel.with_auto_rays(origins)
+        (self.accel.with_auto_rays(origins)).with_expected_rays(self.expected_rays())
+    }
+
+    /// The rays a render with these options is expected to trace, which a BVH's
+    /// `build=auto` weighs against its build: per sample a camera ray and two shadow rays
+    /// (Whitted; the bench scenes' mean), or a ray and a shadow ray per bounce of a path,
+    /// three bounces at most counted (most paths end by then); the beam tracer traces
+    /// none.
+    pub fn expected_rays(&self) -> f64 {
+        let pixels = self.width as f64 * self.height as f64;
+        let samples = match self.sampler {
+            SamplerKind::Centre | SamplerKind::Corners => 1.0,
+            _ => (self.samples as f64).powi(2),
+        };
+        let per_sample = match self.integrator {
+            IntegratorKind::Whitted => 3.0,
+            IntegratorKind::Path => 2.0 * self.max_depth.min(3) as f64,
+            IntegratorKind::Beam => 0.0,
+        };
+        pixels * samples * per_sample
     }
 
     /// Checks ranges; the message names the option as the CLI and scene file spell it.

@@ -103,6 +103,8 @@ pub struct Bvh {
     duplicates: bool,
     /// Whether the binned SAH expected rays from inside the scene (`RayOrigins::Inside`).
     inside: bool,
+    /// What `build=auto` chose and why (`build/auto.rs`), for `info`.
+    auto: Option<String>,
 }
 
 /// Depth the build never exceeds, so traversal can use a fixed stack.
@@ -131,6 +133,7 @@ impl Bvh {
             presplit: options.presplit > 0.0,
             duplicates: options.presplit > 0.0 || options.builder.clips_triangles(),
             inside: options.for_rays_from_inside(),
+            auto: None,
         }
     }
 
@@ -163,7 +166,7 @@ impl Bvh {
     pub fn info(&self) -> AccelInfo {
         let mut info = AccelInfo {
             method: format!(
-                "bvh ({}{}{}{})",
+                "bvh ({}{}{}{}{})",
                 self.builder.description(),
                 if self.inside {
                     " for rays from inside"
@@ -175,7 +178,8 @@ impl Bvh {
                     " + reinsertion"
                 } else {
                     ""
-                }
+                },
+                (self.auto.as_ref()).map_or(String::new(), |why| format!("; {why}"))
             ),
             primitives: self.distinct_primitives(),
             nodes: self.nodes.len(),

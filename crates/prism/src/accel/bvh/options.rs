@@ -28,6 +28,11 @@ pub enum BvhBuilder {
     /// object splits and splits of space that clip triangles, within a duplication
     /// `budget`.
     Sbvh,
+    /// Whichever of LBVH, binned SAH and binned SAH with reinsertion should cost the
+    /// render least, build and trace together, by a cost model of counts
+    /// (`build/auto.rs`): a preview of few rays per primitive gets the fastest build, a
+    /// render of many the best tree.
+    Auto,
 }
 
 impl BvhBuilder {
@@ -51,6 +56,7 @@ named_kinds! {
         Lbvh => "lbvh",
         Ploc => "ploc",
         Sbvh => "sbvh",
+        Auto => "auto",
     }
 }
 
@@ -64,6 +70,7 @@ impl BvhBuilder {
             BvhBuilder::Lbvh => "LBVH, 63-bit Morton",
             BvhBuilder::Ploc => "PLOC",
             BvhBuilder::Sbvh => "SBVH, spatial splits",
+            BvhBuilder::Auto => "auto",
         }
     }
 }
@@ -171,6 +178,10 @@ pub struct BvhOptions {
     pub avx512: Avx512,
     /// Where the binned SAH expects rays to start (the other builders ignore it).
     pub rays: RayOrigins,
+    /// Rays the render is expected to trace, which `build=auto` weighs against the build
+    /// (`RenderOptions::accel_to_build` settles it); 0 when no render is known, and then
+    /// `auto` takes the fastest build.
+    pub expected_rays: f64,
 }
 
 impl Default for BvhOptions {
@@ -190,6 +201,7 @@ impl Default for BvhOptions {
             width: NodeWidth::Auto,
             avx512: Avx512::Auto,
             rays: RayOrigins::Auto,
+            expected_rays: 0.0,
         }
     }
 }
@@ -220,6 +232,16 @@ impl BvhOptions {
         self.rays == RayOrigins::Inside && self.builder == BvhBuilder::Binned
     }
 
+    /// These options expecting `rays` rays where the builder is `auto`, which alone reads
+    /// them (so that other trees compare equal whatever the render).
+    pub fn with_expected_rays(&self, rays: f64) -> BvhOptions {
+        let mut options = self.clone();
+        if options.builder == BvhBuilder::Auto {
+            options.expected_rays = rays;
+        }
+        options
+    }
+
     /// These options with `rays=auto` settled as `origins` (the others unchanged).
     pub fn with_auto_rays(&self, origins: RayOrigins) -> BvhOptions {
         let mut options = self.clone();
@@ -245,7 +267,9 @@ impl Keyed for BvhOptions {
         field_key!("leaf" => max_leaf_size, int 1..=1024, "largest leaf"),
         field_key!("trav" => traversal_cost, number 0.0..=1000.0,
             "binary node cost relative to a primitive test (a third of it for rays from inside)"),
-        field_key!("build" => builder, choice BvhBuilder, "the builder"),
+        field_key!("build" => builder, choice BvhBuilder,
+            "the builder (auto: the one whose build and trace together cost the render least, by \
+             a model of counts)"),
         field_key!("split" => presplit, number 0.0..=4.0,
             "extra references per primitive from pre-splitting triangles (0 = off)"),
         field_key!("volume" => volume, choice NodeVolume, "the node volume"),

@@ -1,6 +1,7 @@
 //! BVH construction: per-primitive boxes and centroids, the chosen builder (one file each),
 //! the optional reinsertion pass, and the mapping from build positions to primitive ids.
 
+mod auto;
 mod binned;
 mod lbvh;
 mod median;
@@ -85,6 +86,17 @@ impl Bvh {
                 crate::geometry::Shape::Triangle { .. }
             )
         });
+        if options.builder == BvhBuilder::Auto {
+            let choice = auto::choose(prims.len(), all_triangles, options.expected_rays);
+            let chosen = BvhOptions {
+                builder: choice.builder,
+                reinsert: options.reinsert || choice.reinsert,
+                ..options.clone()
+            };
+            let mut bvh = Bvh::build(geometry, prims, &chosen);
+            bvh.auto = Some(choice.reason);
+            return bvh;
+        }
         let test_block = if all_triangles { 4 } else { 1 };
         let (prims, boxes) = if options.presplit == 0.0 && options.builder.moves_references_only() {
             // The default build: its references straight from the geometry, without the
@@ -186,7 +198,9 @@ impl Bvh {
                     let rule = median::ObjectMedian { max_leaf_size };
                     top_down(&|refs| topdown::build(&rule, &input, refs, threshold))
                 }
-                BvhBuilder::Binned => {
+                // Trees over boxes alone (`build_over_bounds`) have no model of their
+                // own for `auto`: they take the default.
+                BvhBuilder::Binned | BvhBuilder::Auto => {
                     let rule = binned::BinnedSah::new(options);
                     top_down(&|refs| topdown::build(&rule, &input, refs, threshold))
                 }
