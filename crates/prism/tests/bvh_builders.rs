@@ -120,10 +120,10 @@ fn auto_builds_its_choice_and_says_why() {
         }
         .with_expected_rays(rays)
     };
-    for (g, rays, builder, name) in [
-        (&knot, 0.0, BvhBuilder::Lbvh, "LBVH, 63-bit Morton"),
-        (&knot, 1e6, BvhBuilder::Binned, "binned SAH"),
-        (&spheres, 1e6, BvhBuilder::Lbvh, "LBVH, 63-bit Morton"),
+    for (g, rays, builder) in [
+        (&knot, 0.0, BvhBuilder::Lbvh),
+        (&knot, 1e6, BvhBuilder::Binned),
+        (&spheres, 1e6, BvhBuilder::Lbvh),
     ] {
         let chosen = Bvh::build(g, all_prims(g), &auto(rays)).info();
         let direct = Bvh::build(g, all_prims(g), &options(builder, false)).info();
@@ -132,9 +132,11 @@ fn auto_builds_its_choice_and_says_why() {
             (direct.nodes, direct.depth, direct.sah_cost)
         );
         assert!(
-            chosen
-                .method
-                .starts_with(&format!("bvh ({name}; auto chose {name} for")),
+            chosen.method.starts_with(&format!(
+                "bvh ({}; auto chose {} for",
+                builder.description(),
+                builder.name()
+            )),
             "{}",
             chosen.method
         );

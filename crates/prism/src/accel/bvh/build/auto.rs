@@ -70,7 +70,7 @@ pub(crate) fn choose(primitives: usize, triangles: bool, rays: f64) -> Choice {
         .expect("the model has rows");
     let estimates: Vec<String> = rows
         .iter()
-        .map(|c| format!("{} {:.3} ms", name(c), total_ms(c)))
+        .map(|c| format!("{} {:.2} ms", name(c), total_ms(c)))
         .collect();
     Choice {
         builder: best.builder,
@@ -84,11 +84,12 @@ pub(crate) fn choose(primitives: usize, triangles: bool, rays: f64) -> Choice {
     }
 }
 
+/// The candidate as a `bvh:` spec names it.
 fn name(c: &Candidate) -> String {
     format!(
         "{}{}",
-        c.builder.description(),
-        if c.reinsert { " + reinsertion" } else { "" }
+        c.builder.name(),
+        if c.reinsert { ",reinsert" } else { "" }
     )
 }
 
@@ -110,8 +111,8 @@ mod tests {
         );
         assert!(render
             .reason
-            .contains("auto chose binned SAH for 1000000 triangles"));
-        assert!(render.reason.contains("LBVH, 63-bit Morton"));
+            .contains("auto chose binned for 1000000 triangles"));
+        assert!(render.reason.contains("lbvh") && render.reason.contains("binned,reinsert"));
     }
 
     /// The choice changes where the estimates cross: just below that many rays per
