@@ -67,9 +67,9 @@ impl Keyed for ShadowSpec {
     const SUMMARY: &'static str = "who answers shadow rays";
     const KEYS: &'static [Key<Self>] = &[
         field_key!("res" => res as u32, int 1..=1024,
-            "cells along a light buffer face's side (0: from the primitive count)"),
+            "cells along a light buffer face's side (unset: from the primitive count)"),
         field_key!("budget" => budget_mib as u32, int 1..=1 << 20,
-            "the light buffers' memory budget in MiB (0: 256)"),
+            "the light buffers' memory budget in MiB (unset: 256)"),
     ];
 }
 
