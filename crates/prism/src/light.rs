@@ -63,6 +63,29 @@ pub struct LightSample {
 }
 
 impl Light {
+    /// The light's colour, whatever its kind.
+    pub fn color(&self) -> Color {
+        let mut light = *self;
+        *light.color_mut()
+    }
+
+    /// The light's colour to change, whatever its kind (a loader scales it to an exposure).
+    pub fn color_mut(&mut self) -> &mut Color {
+        match self {
+            Light::Point { color, .. }
+            | Light::Directional { color, .. }
+            | Light::Spot { color, .. } => color,
+        }
+    }
+
+    /// Where the light is; None for a directional light, which is infinitely far.
+    pub fn position(&self) -> Option<Vec3> {
+        match *self {
+            Light::Point { position, .. } | Light::Spot { position, .. } => Some(position),
+            Light::Directional { .. } => None,
+        }
+    }
+
     /// The direction, distance and strength of this light as seen from point `p`; `None`
     /// when `p` is at the light itself or outside a spot light's cone. `#[inline]`: the
     /// shading loops call it per light and hit, and without the hint it stayed a call

@@ -2,7 +2,7 @@
 //! same operations on the same random numbers, so images and ray counts are equal bit for
 //! bit, whatever the queue's size, the filter, the tile size or the thread count.
 
-use prism::integrator::{CameraTracer, WavefrontPathTracer};
+use prism::integrator::{CameraBatch, CameraTracer, WavefrontPathTracer};
 use prism::math::hash::Stream;
 use prism::math::{Color, Ray};
 use prism::options::IntegratorKind;
@@ -230,13 +230,8 @@ impl CameraTracer for CancellingTracer<'_> {
         true
     }
 
-    fn trace_camera_batch(
-        &self,
-        count: usize,
-        sample: &mut dyn FnMut(usize) -> Option<(Ray, Stream)>,
-        done: &mut dyn FnMut(usize, Color, u32),
-        stats: &mut Stats,
-    ) {
+    fn trace_camera_batch(&self, batch: CameraBatch<'_>, stats: &mut Stats) {
+        let sample = batch.sample;
         let mut counting = |i| {
             let asked = ASKED.fetch_add(1, Ordering::Relaxed) + 1;
             if asked > self.after {
@@ -244,8 +239,12 @@ impl CameraTracer for CancellingTracer<'_> {
             }
             sample(i)
         };
-        self.inner
-            .trace_camera_batch(count, &mut counting, done, stats)
+        let counted = CameraBatch {
+            count: batch.count,
+            sample: &mut counting,
+            done: batch.done,
+        };
+        self.inner.trace_camera_batch(counted, stats)
     }
 }
 

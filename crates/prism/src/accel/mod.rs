@@ -215,31 +215,53 @@ impl SceneIntersector {
         stats: &mut Stats,
     ) {
         let bounds = [t_max; PACKET_MAX];
-        self.intersect_packet_within(geometry, rays, &bounds[..rays.len()], answers, stats);
+        let t_max = &bounds[..rays.len()];
+        let packet = PacketQuery::new(geometry, rays, t_max, QueryMode::Nearest);
+        self.query_packet(&packet, answers, stats);
     }
 
-    /// `intersect_packet` with a bound per ray: `answers[i]` is exactly
-    /// `intersect(rays[i], t_max[i])`.
-    pub fn intersect_packet_within(
+    /// The answers of a packet query (at most `PACKET_MAX` rays), planes included: answer
+    /// i is exactly the single-ray query's, `intersect(rays[i], t_max[i])` for the nearest
+    /// hit, `any_hit(rays[i], t_max[i])` for any hit (a plane's hit where a plane blocks,
+    /// as it is tested first), but coherent rays walk the accelerator together
+    /// (`Accel::query_packet`).
+    pub fn query_packet(
         &self,
-        geometry: &Geometry,
-        rays: &[Ray],
-        t_max: &[f32],
+        packet: &PacketQuery,
         answers: &mut [Option<Hit>],
         stats: &mut Stats,
     ) {
-        let n = rays.len();
-        let t_max = &t_max[..n];
-        let mode = QueryMode::Nearest;
-        let packet = PacketQuery::new(geometry, rays, t_max, mode);
-        self.accel.query_packet(&packet, &mut answers[..n], stats);
-        // The accelerator's answers are final unless a plane may come nearer.
+        let answers = &mut answers[..packet.rays.len()];
+        self.accel.query_packet(packet, answers, stats);
+        self.add_planes(packet, answers, stats);
+    }
+
+    /// The planes added to `answers`, a packet query's answers from the accelerator (or a
+    /// part of it): a nearer plane's hit for the nearest hit, a blocking plane's for any
+    /// hit, as the single-ray queries offer them.
+    pub(crate) fn add_planes(
+        &self,
+        packet: &PacketQuery,
+        answers: &mut [Option<Hit>],
+        stats: &mut Stats,
+    ) {
+        // The accelerator's answers are final unless a plane may come nearer or block.
         if self.unbounded.is_empty() {
             return;
         }
-        for ((ray, answer), &t_max) in rays.iter().zip(answers.iter_mut()).zip(t_max) {
+        let geometry = packet.geometry;
+        for ((ray, answer), &t_max) in packet.rays.iter().zip(answers).zip(packet.t_max) {
             let tr = TraceRay::new(*ray);
-            *answer = self.nearest_with_planes(geometry, &tr, t_max, *answer, stats);
+            match packet.mode {
+                QueryMode::Nearest => {
+                    *answer = self.nearest_with_planes(geometry, &tr, t_max, *answer, stats);
+                }
+                QueryMode::Any => {
+                    if let Some(plane) = self.plane_blocker(geometry, &tr, t_max, stats) {
+                        *answer = Some(plane);
+                    }
+                }
+            }
         }
     }
 
@@ -258,33 +280,6 @@ impl SceneIntersector {
             self.accel
                 .query(&RayQuery::new(geometry, ray, t_max, mode), stats)
         })
-    }
-
-    /// For a packet of rays (at most `PACKET_MAX`), what `any_hit` answers each: `answers[i]`
-    /// is exactly `any_hit(rays[i])` (a plane's hit where a plane blocks, as it is tested
-    /// first), but coherent rays walk the accelerator together.
-    pub fn any_hit_packet(
-        &self,
-        geometry: &Geometry,
-        rays: &[Ray],
-        t_max: &[f32],
-        answers: &mut [Option<Hit>],
-        stats: &mut Stats,
-    ) {
-        let n = rays.len();
-        let t_max = &t_max[..n];
-        let mode = QueryMode::Any;
-        let packet = PacketQuery::new(geometry, rays, t_max, mode);
-        self.accel.query_packet(&packet, answers, stats);
-        if self.unbounded.is_empty() {
-            return;
-        }
-        for ((ray, answer), &t_max) in rays.iter().zip(answers.iter_mut()).zip(t_max) {
-            let tr = TraceRay::new(*ray);
-            if let Some(plane) = self.plane_blocker(geometry, &tr, t_max, stats) {
-                *answer = Some(plane);
-            }
-        }
     }
 
     /// For a packet of rays (at most `PACKET_MAX`), whether anything, planes included, is

@@ -852,23 +852,16 @@ impl LightBuffer {
         let bvh = Self::packet_bvh(accel, rays, t_max, answers, stats);
         let mut near = ArrayVec::new();
         let cell = self.packet_cell(rays, &mut near, stats);
+        let packet = PacketQuery::new(geometry, rays, t_max, QueryMode::Nearest);
         // A ray that passes the light close by needs the near node's walk and its cell's,
         // the nearer hit of the two: the packet walks from the root instead.
         let Some(entry) = cell.filter(|_| near.is_empty()) else {
-            accel.intersect_packet_within(geometry, rays, t_max, answers, stats);
+            accel.query_packet(&packet, answers, stats);
             return;
         };
-        let mode = QueryMode::Nearest;
-        let packet = PacketQuery::new(geometry, rays, t_max, mode);
         bvh.query_entry_packet(self.entries.get(entry), &packet, answers, stats);
         // The planes, as `nearest` offers them after the walk.
-        if accel.unbounded().is_empty() {
-            return;
-        }
-        for ((ray, answer), &t_max) in rays.iter().zip(answers.iter_mut()).zip(t_max) {
-            let tr = TraceRay::new(*ray);
-            *answer = accel.nearest_with_planes(geometry, &tr, t_max, *answer, stats);
-        }
+        accel.add_planes(&packet, answers, stats);
     }
 
     /// The entry node of the cell every ray of a packet looks up, where they all look up

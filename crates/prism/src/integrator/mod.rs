@@ -28,6 +28,33 @@ use crate::math::{Color, Ray};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
 
+/// A packet of camera rays (at most `accel::PACKET_MAX`) for
+/// `CameraTracer::trace_camera_packet`, and where its answers go.
+pub struct CameraPacket<'a> {
+    /// The camera rays.
+    pub rays: &'a [Ray],
+    /// Ray i's random numbers, which a stochastic integrator draws.
+    pub streams: &'a [Stream],
+    /// Radiance along ray i (at least as many slots as rays).
+    pub colors: &'a mut [Color],
+    /// Gains the rays ray i spawned after itself.
+    pub rays_of: &'a mut [u32; PACKET_MAX],
+}
+
+/// A batch of camera samples for `CameraTracer::trace_camera_batch`: how many, where each
+/// comes from and where its answer goes.
+pub struct CameraBatch<'a> {
+    /// Samples in the batch.
+    pub count: usize,
+    /// Sample i's ray and random numbers, asked once each in order of i when the tracer
+    /// has room for it; None stops the batch (a cancelled render): it is asked no more,
+    /// and the samples already begun finish.
+    pub sample: &'a mut dyn FnMut(usize) -> Option<(Ray, Stream)>,
+    /// Takes sample i's radiance and the rays it spawned after its camera ray, in any
+    /// order of i.
+    pub done: &'a mut dyn FnMut(usize, Color, u32),
+}
+
 /// What an integrator does with camera rays: radiance along one, or along a packet of
 /// them (at most `accel::PACKET_MAX`) with exactly the values one at a time gives. The
 /// renderer's samplers call it; `render::IntegratorMethod` makes one for a render.
@@ -36,21 +63,13 @@ pub trait CameraTracer: Sync {
     /// stochastic integrator draws.
     fn trace_camera_ray(&self, ray: &Ray, stream: &Stream, stats: &mut Stats) -> Color;
 
-    /// Radiance along each of `rays` into `colors`, ray i with the random numbers of
-    /// `streams[i]`; `rays_of[i]` gets the rays ray i spawned after itself. By default
-    /// one ray at a time.
-    fn trace_camera_packet(
-        &self,
-        rays: &[Ray],
-        streams: &[Stream],
-        colors: &mut [Color],
-        rays_of: &mut [u32; PACKET_MAX],
-        stats: &mut Stats,
-    ) {
-        for (i, (ray, stream)) in rays.iter().zip(streams).enumerate() {
+    /// Radiance along each of the packet's rays, with the values one at a time gives. By
+    /// default one ray at a time.
+    fn trace_camera_packet(&self, packet: CameraPacket<'_>, stats: &mut Stats) {
+        for (i, (ray, stream)) in packet.rays.iter().zip(packet.streams).enumerate() {
             let before = stats.total_rays();
-            colors[i] = self.trace_camera_ray(ray, stream, stats);
-            rays_of[i] = (stats.total_rays() - before).saturating_sub(1) as u32;
+            packet.colors[i] = self.trace_camera_ray(ray, stream, stats);
+            packet.rays_of[i] = (stats.total_rays() - before).saturating_sub(1) as u32;
         }
     }
 
@@ -60,20 +79,10 @@ pub trait CameraTracer: Sync {
         false
     }
 
-    /// Radiance of up to `count` camera samples. Sample i's ray and random numbers come
-    /// from `sample(i)`, asked once each in order of i when the tracer has room for it;
-    /// its radiance and the rays it spawned after its camera ray go to
-    /// `done(i, color, rays)`, in any order. Every value is the one `trace_camera_ray`
-    /// gives. A `sample` that answers None stops the batch (a cancelled render): it is
-    /// asked no more, and the samples already begun finish. By default packets of
-    /// `PACKET_MAX` consecutive samples.
-    fn trace_camera_batch(
-        &self,
-        count: usize,
-        sample: &mut dyn FnMut(usize) -> Option<(Ray, Stream)>,
-        done: &mut dyn FnMut(usize, Color, u32),
-        stats: &mut Stats,
-    ) {
+    /// Radiance of the batch's samples, each value the one `trace_camera_ray` gives. By
+    /// default packets of `PACKET_MAX` consecutive samples.
+    fn trace_camera_batch(&self, batch: CameraBatch<'_>, stats: &mut Stats) {
+        let (count, sample, done) = (batch.count, batch.sample, batch.done);
         let mut colors = [Color::ZERO; PACKET_MAX];
         for first in (0..count).step_by(PACKET_MAX) {
             let n = PACKET_MAX.min(count - first);
@@ -81,7 +90,13 @@ pub trait CameraTracer: Sync {
                 (first..first + n).map_while(&mut *sample).unzip();
             let n = rays.len();
             let mut rays_of = [0u32; PACKET_MAX];
-            self.trace_camera_packet(&rays, &streams, &mut colors[..n], &mut rays_of, stats);
+            let packet = CameraPacket {
+                rays: &rays,
+                streams: &streams,
+                colors: &mut colors[..n],
+                rays_of: &mut rays_of,
+            };
+            self.trace_camera_packet(packet, stats);
             for i in 0..n {
                 done(first + i, colors[i], rays_of[i]);
             }
@@ -106,18 +121,12 @@ impl CameraTracer for Whitted<'_> {
 
     /// The first hits as one packet, then each ray's tree shaded on its own with its
     /// shadow rays in packets.
-    fn trace_camera_packet(
-        &self,
-        rays: &[Ray],
-        _streams: &[Stream],
-        colors: &mut [Color],
-        rays_of: &mut [u32; PACKET_MAX],
-        stats: &mut Stats,
-    ) {
-        let n = rays.len();
+    fn trace_camera_packet(&self, packet: CameraPacket<'_>, stats: &mut Stats) {
+        let (rays, n) = (packet.rays, packet.rays.len());
         let mut hits = [None; PACKET_MAX];
         self.camera_hits(rays, &mut hits[..n], stats);
-        self.shade_camera_packet(rays, &hits[..n], &mut colors[..n], rays_of, stats);
+        let colors = &mut packet.colors[..n];
+        self.shade_camera_packet(rays, &hits[..n], colors, packet.rays_of, stats);
     }
 
     fn shadows(&self) -> Option<&Shadows<'_>> {
@@ -132,16 +141,8 @@ impl CameraTracer for PathTracer<'_> {
     }
 
     /// The packet's paths breadth first, a packet per depth.
-    fn trace_camera_packet(
-        &self,
-        rays: &[Ray],
-        streams: &[Stream],
-        colors: &mut [Color],
-        rays_of: &mut [u32; PACKET_MAX],
-        stats: &mut Stats,
-    ) {
-        let n = rays.len();
-        PathTracer::trace_camera_packet(self, rays, streams, &mut colors[..n], rays_of, stats)
+    fn trace_camera_packet(&self, packet: CameraPacket<'_>, stats: &mut Stats) {
+        PathTracer::trace_camera_packet(self, packet, stats)
     }
 }
 

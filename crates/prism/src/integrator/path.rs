@@ -29,6 +29,7 @@
 //! a path that enters a closed object leaves it again and the factors cancel.
 
 use super::emitters::Emitters;
+use super::CameraPacket;
 use crate::accel::{Hit, PACKET_MAX};
 use crate::choices::Strategy;
 use crate::geometry::SurfacePoint;
@@ -122,14 +123,9 @@ impl<'a> PathTracer<'a> {
     /// vertices' shadow rays are coherent and walk as packets; after a bounce the rays
     /// point every way, and the packet query answers them one by one.
     /// `rays_of[i]` gains the rays of path i after its camera ray.
-    pub fn trace_camera_packet(
-        &self,
-        rays: &[Ray],
-        streams: &[Stream],
-        colors: &mut [Color],
-        rays_of: &mut [u32; PACKET_MAX],
-        stats: &mut Stats,
-    ) {
+    pub fn trace_camera_packet(&self, packet: CameraPacket<'_>, stats: &mut Stats) {
+        let (rays, streams) = (packet.rays, packet.streams);
+        let (colors, rays_of) = (packet.colors, packet.rays_of);
         let n = rays.len();
         debug_assert!(n <= PACKET_MAX && streams.len() == n && colors.len() >= n);
         stats.primary_rays += n as u64;

@@ -22,7 +22,7 @@
 //!   shadow rays in packets, which beat both on every SPD scene).
 
 use super::light_buffer::{BufferParams, LightBuffer, LightBufferInfo};
-use crate::accel::{Bvh, Hit, HitSearch, QueryMode, PACKET_MAX};
+use crate::accel::{Bvh, Hit, HitSearch, PacketQuery, QueryMode, PACKET_MAX};
 pub use crate::choices::{ShadowMethod, ShadowSpec};
 use crate::geometry::{SurfacePoint, Uv};
 use crate::light::{Light, LightSample};
@@ -194,7 +194,10 @@ impl<'a> Shadows<'a> {
                 let hits = &mut hits[..m];
                 match self.query(index).buffer {
                     Some((b, _)) => b.nearest_packet(geometry, accel, these, bounds, hits, stats),
-                    None => accel.intersect_packet_within(geometry, these, bounds, hits, stats),
+                    None => {
+                        let packet = PacketQuery::new(geometry, these, bounds, QueryMode::Nearest);
+                        accel.query_packet(&packet, hits, stats)
+                    }
                 }
                 // Each ray's step, as `transmittance` takes it; the rays that go on are
                 // gathered in `next` (the segment's rays are still borrowed) and form the next
@@ -275,7 +278,10 @@ impl<'a> Shadows<'a> {
         let (geometry, accel) = (&scene.scene.geometry, &scene.intersector);
         match self.query(index).buffer {
             Some((b, _)) => b.any_hit_packet(geometry, accel, rays, distances, answers, stats),
-            None => accel.any_hit_packet(geometry, rays, distances, answers, stats),
+            None => {
+                let packet = PacketQuery::new(geometry, rays, distances, QueryMode::Any);
+                accel.query_packet(&packet, answers, stats)
+            }
         }
     }
 

@@ -16,7 +16,7 @@
 
 use super::path::{LightQuery, Path, Vertex};
 use super::stage_clock::StageClock;
-use super::{CameraTracer, PathTracer};
+use super::{CameraBatch, CameraPacket, CameraTracer, PathTracer};
 use crate::accel::{Hit, PACKET_MAX};
 use crate::math::hash::Stream;
 use crate::math::{Color, Ray};
@@ -236,30 +236,16 @@ impl CameraTracer for WavefrontPathTracer<'_> {
         self.paths.trace_camera_ray(ray, stream, stats)
     }
 
-    fn trace_camera_packet(
-        &self,
-        rays: &[Ray],
-        streams: &[Stream],
-        colors: &mut [Color],
-        rays_of: &mut [u32; PACKET_MAX],
-        stats: &mut Stats,
-    ) {
-        let n = rays.len();
-        self.paths
-            .trace_camera_packet(rays, streams, &mut colors[..n], rays_of, stats)
+    fn trace_camera_packet(&self, packet: CameraPacket<'_>, stats: &mut Stats) {
+        self.paths.trace_camera_packet(packet, stats)
     }
 
     fn traces_batches(&self) -> bool {
         true
     }
 
-    fn trace_camera_batch(
-        &self,
-        count: usize,
-        sample: &mut dyn FnMut(usize) -> Option<(Ray, Stream)>,
-        done: &mut dyn FnMut(usize, Color, u32),
-        stats: &mut Stats,
-    ) {
+    fn trace_camera_batch(&self, batch: CameraBatch<'_>, stats: &mut Stats) {
+        let (count, sample, done) = (batch.count, batch.sample, batch.done);
         let capacity = self.capacity.min(count);
         let mut queue: Vec<Lane> = Vec::with_capacity(capacity);
         let mut stages = Stages::default();

@@ -10,7 +10,7 @@
 use super::rays::{PixelRays, RayMark};
 use super::Job;
 use crate::accel::PACKET_MAX;
-use crate::integrator::CameraTracer;
+use crate::integrator::{CameraPacket, CameraTracer};
 use crate::math::hash::Stream;
 use crate::math::{Color, Ray, Vec2};
 use crate::stats::Stats;
@@ -48,7 +48,13 @@ pub(super) fn trace_camera_packet(
     let before = RayMark::of(stats);
     // Per ray, the rays of its tree or path after the camera ray.
     let mut rays_of = [0u32; PACKET_MAX];
-    tracer.trace_camera_packet(camera_rays, streams, &mut colors[..n], &mut rays_of, stats);
+    let packet = CameraPacket {
+        rays: camera_rays,
+        streams,
+        colors: &mut colors[..n],
+        rays_of: &mut rays_of,
+    };
+    tracer.trace_camera_packet(packet, stats);
     // Each ray counts in its own pixel; the traversal work is shared by the packet.
     let shared = PixelRays::since(before, stats);
     for (i, r) in rays[..n].iter_mut().enumerate() {

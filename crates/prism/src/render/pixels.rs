@@ -15,6 +15,7 @@ use super::rays::{PixelRays, RayMark};
 use super::splat::{FilmSums, SplatBuffer};
 use super::{tiles, Film, Job, PixelSamples, RenderError, Tile, TileDone, Traced};
 use crate::accel::PACKET_MAX;
+use crate::integrator::CameraBatch;
 use crate::math::{Color, Vec2};
 use crate::options::PACKET_EDGE;
 use crate::stats::Stats;
@@ -306,9 +307,9 @@ fn trace_batch(
         let mut colors = vec![Color::ZERO; at.len() * count];
         let before = RayMark::of(stats);
         let mut cancelled = false;
-        job.tracer.trace_camera_batch(
-            order.len(),
-            &mut |i| {
+        let batch = CameraBatch {
+            count: order.len(),
+            sample: &mut |i| {
                 // Asked at every sample, so that a cancel answers at once in any tile.
                 if job.cancelled() {
                     cancelled = true;
@@ -317,7 +318,7 @@ fn trace_batch(
                 let film = position(i);
                 Some((job.camera.ray(film.x, film.y), job.stream(film.x, film.y)))
             },
-            &mut |i, color, spawned| {
+            done: &mut |i, color, spawned| {
                 let (p, s) = order[i];
                 colors[p as usize * count + s as usize] = color;
                 let (x, y) = at[p as usize];
@@ -325,8 +326,8 @@ fn trace_batch(
                 r.camera += 1;
                 r.total += 1 + spawned;
             },
-            stats,
-        );
+        };
+        job.tracer.trace_camera_batch(batch, stats);
         if cancelled {
             return None;
         }

@@ -24,7 +24,7 @@ use super::rays::{PixelRays, RayMark};
 use super::{Film, RenderError};
 use crate::accel::PACKET_MAX;
 use crate::camera::CameraRays;
-use crate::integrator::{begin_piece, CameraTracer};
+use crate::integrator::{begin_piece, CameraBatch, CameraTracer};
 use crate::math::hash::Stream;
 use crate::math::{Color, Ray, Vec2};
 use crate::options::{RenderOptions, PACKET_EDGE};
@@ -360,22 +360,22 @@ impl Pass<'_, '_> {
         let mut colors = vec![Color::ZERO; band.len() * spp];
         let mut rays = vec![(0u32, 0u32); band.len() * spp];
         let mark = RayMark::of(stats);
-        self.integrator.trace_camera_batch(
-            order.len(),
-            &mut |j| {
+        let batch = CameraBatch {
+            count: order.len(),
+            sample: &mut |j| {
                 let (k, i) = order[j];
                 let (x, y) = (k % self.width, y0 + k / self.width);
                 let (at, stream) = self.sample(x, y, first + i);
                 Some((self.camera.ray(at.x, at.y), stream))
             },
-            &mut |j, color, spawned| {
+            done: &mut |j, color, spawned| {
                 let (k, i) = order[j];
                 let slot = k as usize * spp + i as usize;
                 colors[slot] = color;
                 rays[slot] = (1, 1 + spawned);
             },
-            stats,
-        );
+        };
+        self.integrator.trace_camera_batch(batch, stats);
         let shared = PixelRays::since(mark, stats);
         let n = order.len();
         for (j, &(k, i)) in order.iter().enumerate() {

@@ -21,31 +21,13 @@ use prism::math::{Aabb, Color, Vec3};
 /// treated as being this far, so one light inside an object cannot take all the exposure.
 const MIN_DISTANCE_FRACTION: f32 = 0.05;
 
-/// One light in glTF units: colour × intensity, and where it is or which way it shines.
-enum Placed {
-    Point {
-        position: Vec3,
-        color: Color,
-    },
-    Directional {
-        direction: Vec3,
-        color: Color,
-    },
-    Spot {
-        position: Vec3,
-        direction: Vec3,
-        color: Color,
-        cos_inner: f32,
-        cos_outer: f32,
-    },
-}
-
 /// Rec. 709 luminance, to weigh coloured lights in the exposure.
 fn luminance(c: Color) -> f32 {
     c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
 }
 
-fn place(root: &Root, index: usize, world: &DAffine3) -> Result<Placed, String> {
+/// Light `index` where `world` places it, its colour in glTF units (colour × intensity).
+fn place(root: &Root, index: usize, world: &DAffine3) -> Result<Light, String> {
     let lights = root
         .extensions
         .as_ref()
@@ -70,7 +52,7 @@ fn place(root: &Root, index: usize, world: &DAffine3) -> Result<Placed, String> 
         Checked::Invalid => return Err(format!("light {index} has an invalid type")),
     };
     match kind {
-        Type::Point => Ok(Placed::Point {
+        Type::Point => Ok(Light::Point {
             position: position(index, world)?,
             color,
         }),
@@ -85,7 +67,7 @@ fn place(root: &Root, index: usize, world: &DAffine3) -> Result<Placed, String> 
                      0 ≤ inner ≤ outer ≤ π/2 (radians)"
                 ));
             }
-            Ok(Placed::Spot {
+            Ok(Light::Spot {
                 position: position(index, world)?,
                 direction: direction(index, world)?,
                 color,
@@ -93,7 +75,7 @@ fn place(root: &Root, index: usize, world: &DAffine3) -> Result<Placed, String> 
                 cos_outer: outer.cos(),
             })
         }
-        Type::Directional => Ok(Placed::Directional {
+        Type::Directional => Ok(Light::Directional {
             direction: direction(index, world)?,
             color,
         }),
@@ -123,7 +105,7 @@ pub(super) fn lights(
     placed: &[(usize, DAffine3)],
     bounds: Aabb,
 ) -> Result<Vec<Light>, String> {
-    let lights = placed
+    let mut lights = placed
         .iter()
         .map(|(index, world)| place(root, *index, world))
         .collect::<Result<Vec<_>, _>>()?;
@@ -135,8 +117,8 @@ pub(super) fn lights(
     let min_distance = f64::from(MIN_DISTANCE_FRACTION * size);
     // Irradiance at the centre per unit of each light's colour. In f64: candela over
     // squared millimetres can exceed f32's range before the exposure brings it back.
-    let falloff = |l: &Placed| match l {
-        Placed::Point { position, .. } | Placed::Spot { position, .. } => {
+    let falloff = |l: &Light| match l.position() {
+        Some(position) => {
             let d = f64::from(position.distance(center)).max(min_distance);
             if d > 0.0 {
                 1.0 / (d * d)
@@ -144,50 +126,19 @@ pub(super) fn lights(
                 1.0
             }
         }
-        Placed::Directional { .. } => 1.0,
+        None => 1.0,
     };
     let total: f64 = lights
         .iter()
-        .map(|l| {
-            let color = match l {
-                Placed::Point { color, .. }
-                | Placed::Directional { color, .. }
-                | Placed::Spot { color, .. } => *color,
-            };
-            f64::from(luminance(color)) * falloff(l)
-        })
+        .map(|l| f64::from(luminance(l.color())) * falloff(l))
         .sum();
     // A total of 0 means every light is black; they stay black.
     let exposure = if total > 0.0 { 1.0 / total } else { 0.0 };
-    Ok(lights
-        .iter()
-        .map(|l| {
-            let scale = (exposure * falloff(l)) as f32;
-            match *l {
-                Placed::Point { position, color } => Light::Point {
-                    position,
-                    color: color * scale,
-                },
-                Placed::Directional { direction, color } => Light::Directional {
-                    direction,
-                    color: color * scale,
-                },
-                Placed::Spot {
-                    position,
-                    direction,
-                    color,
-                    cos_inner,
-                    cos_outer,
-                } => Light::Spot {
-                    position,
-                    direction,
-                    color: color * scale,
-                    cos_inner,
-                    cos_outer,
-                },
-            }
-        })
-        .collect())
+    for l in &mut lights {
+        let scale = (exposure * falloff(l)) as f32;
+        *l.color_mut() *= scale;
+    }
+    Ok(lights)
 }
 
 /// The light of a scene that defines none: white, directional, coming over the viewer's

@@ -83,26 +83,6 @@ pub(super) trait LeafSlots: Send {
     fn children_and_counts(&self) -> (&[u32], &[u32]);
 }
 
-impl LeafSlots for WideNode {
-    fn slots(&mut self) -> (&mut [u32], &mut [u32]) {
-        (&mut self.child, &mut self.count)
-    }
-    #[inline(always)]
-    fn children_and_counts(&self) -> (&[u32], &[u32]) {
-        (&self.child, &self.count)
-    }
-}
-
-impl LeafSlots for Wide8Node {
-    fn slots(&mut self) -> (&mut [u32], &mut [u32]) {
-        (&mut self.child, &mut self.count)
-    }
-    #[inline(always)]
-    fn children_and_counts(&self) -> (&[u32], &[u32]) {
-        (&self.child, &self.count)
-    }
-}
-
 /// A wide node's lanes one at a time, as (box, child, count) with `child` and `count` as in
 /// the node: what `subtree.rs` reads subtrees from and builds entry nodes of.
 pub(super) trait Lanes: Sized {
@@ -114,47 +94,45 @@ pub(super) trait Lanes: Sized {
     fn of_lanes(lanes: &[(Aabb, u32, u32)]) -> Self;
 }
 
-impl Lanes for WideNode {
-    const WIDTH: usize = 4;
-    fn lane(&self, k: usize) -> Option<(Aabb, u32, u32)> {
-        let b = &self.bounds;
-        let min = Vec3::new(b[0][k], b[1][k], b[2][k]);
-        let max = Vec3::new(b[3][k], b[4][k], b[5][k]);
-        (min.x < f32::INFINITY).then_some((Aabb { min, max }, self.child[k], self.count[k]))
-    }
-    fn of_lanes(lanes: &[(Aabb, u32, u32)]) -> Self {
-        let mut w = WideNode::EMPTY;
-        for (k, &(b, child, count)) in lanes.iter().enumerate() {
-            for axis in 0..3 {
-                w.bounds[axis][k] = b.min[axis];
-                w.bounds[3 + axis][k] = b.max[axis];
+/// `LeafSlots` and `Lanes` for a wide node type of `$width` lanes: both layouts index
+/// `bounds[row][lane]`, `child[lane]` and `count[lane]` alike.
+macro_rules! wide_node_lanes {
+    ($node:ident, $width:expr) => {
+        impl LeafSlots for $node {
+            fn slots(&mut self) -> (&mut [u32], &mut [u32]) {
+                (&mut self.child, &mut self.count)
             }
-            (w.child[k], w.count[k]) = (child, count);
+            #[inline(always)]
+            fn children_and_counts(&self) -> (&[u32], &[u32]) {
+                (&self.child, &self.count)
+            }
         }
-        w
-    }
+
+        impl Lanes for $node {
+            const WIDTH: usize = $width;
+            fn lane(&self, k: usize) -> Option<(Aabb, u32, u32)> {
+                let b = &self.bounds;
+                let min = Vec3::new(b[0][k], b[1][k], b[2][k]);
+                let max = Vec3::new(b[3][k], b[4][k], b[5][k]);
+                (min.x < f32::INFINITY).then_some((Aabb { min, max }, self.child[k], self.count[k]))
+            }
+            fn of_lanes(lanes: &[(Aabb, u32, u32)]) -> Self {
+                let mut w = $node::EMPTY;
+                for (k, &(b, child, count)) in lanes.iter().enumerate() {
+                    for axis in 0..3 {
+                        w.bounds[axis][k] = b.min[axis];
+                        w.bounds[3 + axis][k] = b.max[axis];
+                    }
+                    (w.child[k], w.count[k]) = (child, count);
+                }
+                w
+            }
+        }
+    };
 }
 
-impl Lanes for Wide8Node {
-    const WIDTH: usize = 8;
-    fn lane(&self, k: usize) -> Option<(Aabb, u32, u32)> {
-        let b = &self.bounds;
-        let min = Vec3::new(b[0][k], b[1][k], b[2][k]);
-        let max = Vec3::new(b[3][k], b[4][k], b[5][k]);
-        (min.x < f32::INFINITY).then_some((Aabb { min, max }, self.child[k], self.count[k]))
-    }
-    fn of_lanes(lanes: &[(Aabb, u32, u32)]) -> Self {
-        let mut w = Wide8Node::EMPTY;
-        for (k, &(b, child, count)) in lanes.iter().enumerate() {
-            for axis in 0..3 {
-                w.bounds[axis][k] = b.min[axis];
-                w.bounds[3 + axis][k] = b.max[axis];
-            }
-            (w.child[k], w.count[k]) = (child, count);
-        }
-        w
-    }
-}
+wide_node_lanes!(WideNode, 4);
+wide_node_lanes!(Wide8Node, 8);
 
 /// Up to eight children: `bounds[axis][k]` is child k's minimum on `axis` and
 /// `bounds[3 + axis][k]` its maximum; unused lanes hold an empty box (min +∞, max −∞).

@@ -5,8 +5,8 @@
 //! The ray prepares `n·o` and `1/(n·d)` for all directions once; a node test is then k/2
 //! subtract-multiply pairs, as cheap per slab as an AABB's.
 
-use super::slab::{finish, pad_outward, SlabAxis};
-use super::support::support;
+use super::slab::{finish, SlabAxis};
+use super::support::fit_slab;
 use super::volume::{magnitude, Volume};
 use crate::geometry::Geometry;
 use crate::math::{Aabb, TraceRay, Vec3};
@@ -96,16 +96,7 @@ impl<const N: usize> Volume for Dop<N> {
             hi: [0.0; N],
         };
         for (i, n) in DIRECTIONS[..N].iter().enumerate() {
-            let n = n.as_dvec3();
-            let hi = prims
-                .iter()
-                .map(|&p| support(geometry, p, n))
-                .fold(f64::MIN, f64::max);
-            let lo = prims
-                .iter()
-                .map(|&p| -support(geometry, p, -n))
-                .fold(f64::MAX, f64::min);
-            (dop.lo[i], dop.hi[i]) = pad_outward(lo, hi, scale * n.abs().element_sum());
+            (dop.lo[i], dop.hi[i]) = fit_slab(geometry, prims, n.as_dvec3(), scale);
         }
         dop
     }

@@ -8,8 +8,8 @@
 //! larger box than the world axes, the world axes are kept.
 
 use super::pca::principal_axes;
-use super::slab::{finish, pad_outward, SlabAxis};
-use super::support::{sample_points, support};
+use super::slab::{finish, SlabAxis};
+use super::support::{fit_slab, sample_points};
 use super::volume::{magnitude, Volume};
 use crate::geometry::Geometry;
 use crate::math::{Aabb, TraceRay, Vec3};
@@ -40,16 +40,7 @@ impl Obb {
             hi: [0.0; 3],
         };
         for (i, a) in axes.iter().enumerate() {
-            let n = a.as_dvec3();
-            let hi = prims
-                .iter()
-                .map(|&p| support(geometry, p, n))
-                .fold(f64::MIN, f64::max);
-            let lo = prims
-                .iter()
-                .map(|&p| -support(geometry, p, -n))
-                .fold(f64::MAX, f64::min);
-            (obb.lo[i], obb.hi[i]) = pad_outward(lo, hi, scale * n.abs().element_sum());
+            (obb.lo[i], obb.hi[i]) = fit_slab(geometry, prims, a.as_dvec3(), scale);
         }
         obb
     }

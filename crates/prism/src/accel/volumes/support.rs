@@ -6,6 +6,7 @@
 //! A truncated cone, open or capped, lies in the convex hull of its two end discs, so the
 //! discs stand for it; every other shape is bounded by its own features.
 
+use super::slab::pad_outward;
 use crate::geometry::{Geometry, Shape};
 use glam::DVec3;
 
@@ -93,6 +94,20 @@ pub(super) fn support(geometry: &Geometry, prim: u32, n: DVec3) -> f64 {
         Features::Ball { center, radius } => n.dot(center) + radius * n.length(),
         Features::Discs(d) => d[0].support(n).max(d[1].support(n)),
     }
+}
+
+/// The slab `[lo, hi]` of `n·x` over the primitives, rounded outward to f32 and padded
+/// by `pad_outward` for contents of magnitude `scale`: one face pair of a k-DOP or an OBB.
+pub(super) fn fit_slab(geometry: &Geometry, prims: &[u32], n: DVec3, scale: f64) -> (f32, f32) {
+    let hi = prims
+        .iter()
+        .map(|&p| support(geometry, p, n))
+        .fold(f64::MIN, f64::max);
+    let lo = prims
+        .iter()
+        .map(|&p| -support(geometry, p, -n))
+        .fold(f64::MAX, f64::min);
+    pad_outward(lo, hi, scale * n.abs().element_sum())
 }
 
 /// The largest distance from `p` to a point of the primitive.

@@ -37,44 +37,16 @@ pub(super) fn cornell() -> Scene {
 
     let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
     // Walls face into the box. Looking along +z with +y up, +x is on the image's left.
+    // Each is its corners on the unit cube, in order, as [x, y, z] each 0 or 1.
     let walls = [
-        (
-            v(0., 0., 0.),
-            v(0., 0., 1.),
-            v(1., 0., 1.),
-            v(1., 0., 0.),
-            white,
-        ), // floor
-        (
-            v(0., 1., 0.),
-            v(1., 1., 0.),
-            v(1., 1., 1.),
-            v(0., 1., 1.),
-            white,
-        ), // ceiling
-        (
-            v(0., 0., 1.),
-            v(0., 1., 1.),
-            v(1., 1., 1.),
-            v(1., 0., 1.),
-            white,
-        ), // back
-        (
-            v(1., 0., 0.),
-            v(1., 0., 1.),
-            v(1., 1., 1.),
-            v(1., 1., 0.),
-            red,
-        ), // left
-        (
-            v(0., 0., 0.),
-            v(0., 1., 0.),
-            v(0., 1., 1.),
-            v(0., 0., 1.),
-            green,
-        ), // right
+        ([[0, 0, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0]], white), // floor
+        ([[0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]], white), // ceiling
+        ([[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]], white), // back
+        ([[1, 0, 0], [1, 0, 1], [1, 1, 1], [1, 1, 0]], red),   // left
+        ([[0, 0, 0], [0, 1, 0], [0, 1, 1], [0, 0, 1]], green), // right
     ];
-    for (a, b, c, d, m) in walls {
+    for (corners, m) in walls {
+        let [a, b, c, d] = corners.map(|[x, y, z]: [u8; 3]| v(x.into(), y.into(), z.into()));
         scene
             .geometry
             .add_mesh(generate::quad(a, b, c, d, 1.0, 1.0), m);
