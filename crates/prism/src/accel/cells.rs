@@ -5,7 +5,6 @@
 use super::mailbox::Mailbox;
 use super::query::{HitSearch, QueryMode};
 use crate::geometry::Geometry;
-use crate::math::robust::gamma;
 use crate::math::{Aabb, TraceRay, Vec3};
 use crate::stats::Stats;
 
@@ -52,20 +51,11 @@ pub(crate) fn padded_bounds(geometry: &Geometry, prims: &[u32]) -> (Vec<Aabb>, A
     (padded, world)
 }
 
-/// The span `[t_enter, t_exit]` of the ray inside `bounds`, clipped to `[0, t_max]`: the
-/// same robust slab test as `Aabb::hit`, returning the exit too.
+/// The span `[t_enter, t_exit]` of the ray inside `bounds`, clipped to `[0, t_max]`
+/// (`Aabb::span`).
 #[inline(always)]
 pub(crate) fn ray_span(bounds: &Aabb, ray: &TraceRay, t_max: f32) -> Option<(f32, f32)> {
-    let inv_dir = ray.inv_dir;
-    let origin = ray.ray.origin;
-    let negative = inv_dir.cmplt(Vec3::ZERO);
-    let near_plane = Vec3::select(negative, bounds.max, bounds.min);
-    let far_plane = Vec3::select(negative, bounds.min, bounds.max);
-    let near = (near_plane - origin) * inv_dir;
-    let far = (far_plane - origin) * inv_dir;
-    let t_enter = near.x.max(near.y).max(near.z).max(0.0);
-    let t_exit = far.x.min(far.y).min(far.z).min(t_max) * (1.0 + 2.0 * gamma(3));
-    (t_enter <= t_exit).then_some((t_enter, t_exit))
+    bounds.span(ray.ray.origin, ray.inv_dir, t_max)
 }
 
 /// Where the ray crosses the plane `x[axis] = position`, or infinity if it runs parallel

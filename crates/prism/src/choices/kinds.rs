@@ -46,6 +46,17 @@ macro_rules! named_kinds {
             }
         }
 
+        $crate::kind_text!($kind, $what $(, $($alias => $target),+)?);
+    };
+}
+
+/// `Display` and `FromStr` for a kind that has `ALL` and `name()`, as `named_kinds!` and
+/// `method_list!` make them: a choice prints as its name, and parses from it (or from an
+/// alias) with an error that lists every name.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! kind_text {
+    ($kind:ident, $what:literal $(, $($alias:literal => $target:literal),+)?) => {
         impl ::std::fmt::Display for $kind {
             fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
                 f.write_str(self.name())
@@ -59,16 +70,14 @@ macro_rules! named_kinds {
                     $($($alias => $target,)+)?
                     other => other,
                 };
-                $kind::ALL
-                    .into_iter()
-                    .find(|k| k.name() == wanted)
-                    .ok_or_else(|| {
-                        format!(
-                            concat!("unknown ", $what, " '{}', expected one of: {}"),
-                            s,
-                            $kind::NAMES.join(", ")
-                        )
-                    })
+                $kind::ALL.into_iter().find(|k| k.name() == wanted).ok_or_else(|| {
+                    let names: Vec<_> = $kind::ALL.iter().map(|k| k.name()).collect();
+                    format!(
+                        concat!("unknown ", $what, " '{}', expected one of: {}"),
+                        s,
+                        names.join(", ")
+                    )
+                })
             }
         }
     };

@@ -56,25 +56,7 @@ macro_rules! method_list {
             }
         }
 
-        impl ::std::fmt::Display for $kind {
-            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
-                f.write_str(self.name())
-            }
-        }
-
-        impl ::std::str::FromStr for $kind {
-            type Err = String;
-            fn from_str(s: &str) -> Result<Self, String> {
-                $kind::ALL.into_iter().find(|k| k.name() == s).ok_or_else(|| {
-                    let names: Vec<_> = $kind::ALL.iter().map(|k| k.name()).collect();
-                    format!(
-                        concat!("unknown ", $what, " '{}', expected one of: {}"),
-                        s,
-                        names.join(", ")
-                    )
-                })
-            }
-        }
+        $crate::kind_text!($kind, $what);
 
         #[doc = concat!("A ", $what, " and its settings.")]
         #[derive(Clone, Debug, PartialEq)]

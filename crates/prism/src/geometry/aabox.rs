@@ -92,13 +92,7 @@ impl AaBox {
             (p[a1] - self.min[a1]) / e[a1].max(f32::MIN_POSITIVE),
             (p[a2] - self.min[a2]) / e[a2].max(f32::MIN_POSITIVE),
         );
-        SurfacePoint {
-            p,
-            p_error,
-            ng: n,
-            ns: n,
-            uv,
-        }
+        SurfacePoint::flat(p, p_error, n, uv)
     }
 
     /// The box as a bounding volume (its own extent).

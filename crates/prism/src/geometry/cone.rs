@@ -223,13 +223,7 @@ impl Cone {
         let p = self.base + self.frame.to_world(local_p);
         let n = self.frame.to_world(n_local.as_vec3()).normalize();
         let scale = self.base.abs() + Vec3::splat(local_p.abs().max_element());
-        SurfacePoint {
-            p,
-            p_error: gamma(12) * scale,
-            ng: n,
-            ns: n,
-            uv,
-        }
+        SurfacePoint::flat(p, gamma(12) * scale, n, uv)
     }
 
     /// A box around both end discs.

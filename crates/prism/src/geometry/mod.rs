@@ -66,6 +66,18 @@ pub struct SurfacePoint {
 }
 
 impl SurfacePoint {
+    /// A point of a shape without vertex normals: the shading normal is the geometric one.
+    #[inline(always)]
+    pub fn flat(p: Vec3, p_error: Vec3, n: Vec3, uv: Vec2) -> SurfacePoint {
+        SurfacePoint {
+            p,
+            p_error,
+            ng: n,
+            ns: n,
+            uv,
+        }
+    }
+
     /// Whether a ray along `dir` arrives from the side `ng` faces (enters the shape), and
     /// the geometric and shading normals turned towards that ray, as every integrator
     /// shades a hit.

@@ -48,12 +48,7 @@ impl Plane {
         let p = q - n * n.dot(q - self.point);
         let p_error = gamma(8) * (p.abs() + self.point.abs());
         let local = p - self.point;
-        SurfacePoint {
-            p,
-            p_error,
-            ng: n,
-            ns: n,
-            uv: Vec2::new(local.dot(self.frame.x), local.dot(self.frame.y)),
-        }
+        let uv = Vec2::new(local.dot(self.frame.x), local.dot(self.frame.y));
+        SurfacePoint::flat(p, p_error, n, uv)
     }
 }

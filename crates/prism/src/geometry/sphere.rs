@@ -71,13 +71,7 @@ impl Sphere {
             ),
             Uv::Skip => Vec2::ZERO,
         };
-        SurfacePoint {
-            p,
-            p_error,
-            ng: n,
-            ns: n,
-            uv,
-        }
+        SurfacePoint::flat(p, p_error, n, uv)
     }
 
     /// The cube around the sphere.

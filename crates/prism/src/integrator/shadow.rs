@@ -247,19 +247,20 @@ impl<'a> Shadows<'a> {
         let scene = self.scene;
         let (geometry, accel) = (&scene.scene.geometry, &scene.intersector);
         stats.shadow_query(n as u64, |stats| {
-            if self.spec.method.uses_cache() {
-                self.cached_packet(index, depth, rays, distances, blocked, stats);
-            } else if let Some((buffer, _)) = self.query(index).buffer {
+            let answers = if self.spec.method.uses_cache() {
+                self.cached_packet(index, depth, rays, distances, stats)
+            } else if self.query(index).buffer.is_some() {
                 let mut answers = [None; PACKET_MAX];
-                let answers = &mut answers[..n];
-                buffer.any_hit_packet(geometry, accel, rays, distances, answers, stats);
-                for (b, answer) in blocked.iter_mut().zip(answers.iter()) {
-                    *b = answer.is_some();
-                }
+                self.any_hit_packet(index, rays, distances, &mut answers[..n], stats);
+                answers
             } else {
                 // Which blocker does not matter here: planes are tested only where the
                 // accelerator found nothing.
                 accel.occluded_packet(geometry, rays, distances, blocked, stats);
+                return;
+            };
+            for (b, answer) in blocked.iter_mut().zip(&answers[..n]) {
+                *b = answer.is_some();
             }
         })
     }
@@ -290,16 +291,15 @@ impl<'a> Shadows<'a> {
     /// packet, and what is remembered afterwards is what single rays in the packet's order
     /// would leave: the last ray's blocker, or nothing where the last ray is not blocked.
     /// (Between the packet's rays it does not change, as it would ray by ray: the same
-    /// answers, a few more or fewer cache hits.)
+    /// answers, a few more or fewer cache hits.) Returns each ray's blocker.
     fn cached_packet(
         &self,
         index: usize,
         depth: u32,
         rays: &[Ray],
         distances: &[f32],
-        blocked: &mut [bool],
         stats: &mut Stats,
-    ) {
+    ) -> [Option<Hit>; PACKET_MAX] {
         let n = rays.len();
         let geometry = &self.scene.scene.geometry;
         let (slot, remembered) = remembered_blocker(index, depth);
@@ -330,9 +330,6 @@ impl<'a> Shadows<'a> {
                 answers[usize::from(i)] = hit;
             }
         }
-        for (b, answer) in blocked.iter_mut().zip(&answers[..n]) {
-            *b = answer.is_some();
-        }
         let remember = answers[..n]
             .last()
             .copied()
@@ -341,6 +338,7 @@ impl<'a> Shadows<'a> {
         if remember != u32::MAX || remembered.is_some() {
             remember_blocker(slot, remember);
         }
+        answers
     }
 
     /// The fraction of light `light` (the scene's `index`-th) that reaches surface point

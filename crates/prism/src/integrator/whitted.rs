@@ -115,12 +115,11 @@ impl<'a> Whitted<'a> {
         hits: &[Option<Hit>],
         depth: u32,
         weights: &[Color],
-        tree: Tree,
+        mut tree: Tree,
         colors: &mut [Color],
         stats: &mut Stats,
     ) {
         let scene = self.scene.scene;
-        let Tree { owners, rays_of } = tree;
         let n = rays.len();
         // Per lane: the surface its ray hit (None on a miss), written in its slot. Copies
         // of these 120-byte structs, pushed through `Option` and `ArrayVec`, were a tenth
@@ -171,7 +170,7 @@ impl<'a> Whitted<'a> {
                 // The ray `Shadows::visibility` casts.
                 let origin = offset_ray_origin(s.sp.p, s.sp.p_error, s.ng, ls.to_light);
                 batch.push(i, Ray::new(origin, ls.to_light), ls.distance);
-                rays_of[owners[i]] += 1;
+                tree.count(i, 1);
             }
             let m = batch.rays.len();
             // With transparent surfaces the packet walks through them; otherwise whether
@@ -188,7 +187,7 @@ impl<'a> Whitted<'a> {
                     stats,
                 );
                 for (&i, &n) in lit.iter().zip(&segments[..m]) {
-                    rays_of[owners[usize::from(i)]] += n;
+                    tree.count(usize::from(i), n);
                 }
             } else {
                 let mut blocked = [false; PACKET_MAX];
@@ -242,21 +241,21 @@ impl<'a> Whitted<'a> {
                 let dir = self.reflected_dir(&rays[i], s);
                 let origin = offset_ray_origin(s.sp.p, s.sp.p_error, s.ng, dir);
                 stats.reflected_rays += 1;
-                rays_of[owners[i]] += 1;
+                tree.count(i, 1);
                 batch.push(i, Ray::new(origin, dir), f32::INFINITY);
                 next_weights.push(weights[i] * w_reflect);
             }
             split[i] = Some((w, eta));
         }
+        let reflected = |i: usize| split[i].map_or(Color::ZERO, |(w, _)| Color::splat(w.reflect));
         self.trace_batch(
             &batch,
             depth,
             &next_weights,
-            owners,
-            rays_of,
+            &mut tree,
             colors,
             stats,
-            |i| split[i].map_or(Color::ZERO, |(w, _)| Color::splat(w.reflect)),
+            reflected,
         );
 
         batch.clear();
@@ -272,21 +271,21 @@ impl<'a> Whitted<'a> {
                 if let Some(dir) = refract(rays[i].dir, s.ns, eta) {
                     let origin = offset_ray_origin(s.sp.p, s.sp.p_error, s.ng, dir);
                     stats.refracted_rays += 1;
-                    rays_of[owners[i]] += 1;
+                    tree.count(i, 1);
                     batch.push(i, Ray::new(origin, dir), f32::INFINITY);
                     next_weights.push(weights[i] * w.transmit);
                 }
             }
         }
+        let refracted = |i: usize| split[i].map_or(Color::ZERO, |(w, _)| w.transmit);
         self.trace_batch(
             &batch,
             depth,
             &next_weights,
-            owners,
-            rays_of,
+            &mut tree,
             colors,
             stats,
-            |i| split[i].map_or(Color::ZERO, |(w, _)| w.transmit),
+            refracted,
         );
     }
 
@@ -299,8 +298,7 @@ impl<'a> Whitted<'a> {
         batch: &Batch,
         depth: u32,
         weights: &[Color],
-        owners: &[usize],
-        rays_of: &mut [u32; PACKET_MAX],
+        tree: &mut Tree,
         colors: &mut [Color],
         stats: &mut Stats,
         factor: impl Fn(usize) -> Color,
@@ -321,10 +319,10 @@ impl<'a> Whitted<'a> {
                 stats,
             );
             let sub_owners: ArrayVec<usize, PACKET_MAX> =
-                batch.from.iter().map(|&i| owners[i]).collect();
+                batch.from.iter().map(|&i| tree.owners[i]).collect();
             let tree = Tree {
                 owners: &sub_owners,
-                rays_of,
+                rays_of: &mut *tree.rays_of,
             };
             self.shade_packet(
                 &batch.rays,
@@ -339,7 +337,7 @@ impl<'a> Whitted<'a> {
             for k in 0..m {
                 let before = stats.total_rays();
                 radiance[k] = self.trace(&batch.rays[k], depth + 1, weights[k], stats);
-                rays_of[owners[batch.from[k]]] += (stats.total_rays() - before) as u32;
+                tree.count(batch.from[k], (stats.total_rays() - before) as u32);
             }
         }
         for (k, &i) in batch.from.iter().enumerate() {
@@ -671,6 +669,13 @@ struct Surface<'a> {
 struct Tree<'t> {
     owners: &'t [usize],
     rays_of: &'t mut [u32; PACKET_MAX],
+}
+
+impl Tree<'_> {
+    /// Counts `rays` more for the camera ray that packet ray `i` belongs to.
+    fn count(&mut self, i: usize, rays: u32) {
+        self.rays_of[self.owners[i]] += rays;
+    }
 }
 
 /// Rays gathered from a packet's hits: each with its bound and the ray it came from.

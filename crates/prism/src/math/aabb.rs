@@ -125,6 +125,14 @@ impl Aabb {
     /// missing the box.) An empty box has near > far on every axis and is never hit.
     #[inline(always)]
     pub fn hit(&self, origin: Vec3, inv_dir: Vec3, t_max: f32) -> Option<f32> {
+        self.span(origin, inv_dir, t_max)
+            .map(|(t_enter, _)| t_enter)
+    }
+
+    /// The slab test of `hit`, returning the span `[t_enter, t_exit]` of the ray inside
+    /// the box (the exit widened as `hit` says): what a walk through cells needs.
+    #[inline(always)]
+    pub fn span(&self, origin: Vec3, inv_dir: Vec3, t_max: f32) -> Option<(f32, f32)> {
         let negative = inv_dir.cmplt(Vec3::ZERO);
         let near_plane = Vec3::select(negative, self.max, self.min);
         let far_plane = Vec3::select(negative, self.min, self.max);
@@ -132,6 +140,6 @@ impl Aabb {
         let far = (far_plane - origin) * inv_dir;
         let t_enter = near.x.max(near.y).max(near.z).max(0.0);
         let t_exit = far.x.min(far.y).min(far.z).min(t_max) * (1.0 + 2.0 * gamma(3));
-        (t_enter <= t_exit).then_some(t_enter)
+        (t_enter <= t_exit).then_some((t_enter, t_exit))
     }
 }

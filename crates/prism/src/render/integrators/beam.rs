@@ -1,9 +1,10 @@
 //! The beam tracer: whole tile beams of planar polygons, not rays, so it renders the
 //! whole image its own way (`render::render_beam`).
 
+use super::whitted::WhittedMethod;
 use super::IntegratorMethod;
 use crate::integrator::beam::DEFAULT_TOLERANCE;
-use crate::integrator::{CameraTracer, Whitted};
+use crate::integrator::CameraTracer;
 use crate::options::RenderOptions;
 use crate::render::{
     ray_counts, render_beam, RenderError, RenderResult, SamplerMethod, Tile, TileDone,
@@ -22,7 +23,7 @@ impl IntegratorMethod for BeamMethod {
         scene: &'a PreparedScene<'a>,
         options: &RenderOptions,
     ) -> Box<dyn CameraTracer + 'a> {
-        Box::new(Whitted::new(scene, options))
+        WhittedMethod.tracer(scene, options)
     }
 
     /// The beam tracer cuts the view into its own tile beams and renders them all.
