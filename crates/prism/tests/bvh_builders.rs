@@ -368,6 +368,41 @@ fn ploc_trees_are_close_to_binned_sah_trees() {
     }
 }
 
+/// PHR's top-down SAH over cuts of its auxiliary LBVH makes trees near the binned SAH's
+/// and better than the LBVH it refines, for first cuts of 2^4 to 2^12 nodes and slow or
+/// fast refinement. With no refinement at all (the cut stays one node, opened only to
+/// have two members, down to nodes of a few dozen primitives) the tree is the LBVH's
+/// above them, and the sphereflake's cost shows it.
+#[test]
+fn phr_trees_are_close_to_binned_sah_trees() {
+    let phr = |g: &Geometry, cut, refine| {
+        let o = BvhOptions {
+            cut,
+            refine,
+            ..options(BvhBuilder::Phr, false)
+        };
+        sah_cost(g, &o)
+    };
+    let flake = prism::scene::builtin::find("sphereflake").unwrap().geometry;
+    let skewed = skewed_scene(50_000);
+    for (name, g) in [("skewed", &skewed), ("sphereflake", &flake)] {
+        let binned = sah_cost(g, &options(BvhBuilder::Binned, false));
+        let lbvh = sah_cost(g, &options(BvhBuilder::Lbvh, false));
+        for (cut, refine) in [(9.0, 0.5), (12.0, 1.0), (4.0, 1.0)] {
+            let phr = phr(g, cut, refine);
+            assert!(
+                phr <= 1.05 * binned && phr < lbvh,
+                "{name}, cut {cut}, refine {refine}: PHR {phr}, binned {binned}, LBVH {lbvh}"
+            );
+        }
+    }
+    let (unrefined, binned) = (
+        phr(&flake, 0.0, 0.0),
+        sah_cost(&flake, &options(BvhBuilder::Binned, false)),
+    );
+    assert!(unrefined > 2.0 * binned, "{unrefined} against {binned}");
+}
+
 /// A knot crossed by long diagonal slivers: their boxes span the scene, so object splits
 /// leave them near the root, where every ray meets them.
 fn knot_crossed_by_slivers() -> Geometry {

@@ -157,6 +157,13 @@ fn settings() -> Vec<(&'static str, BvhOptions)> {
                 ..BvhOptions::default()
             },
         ),
+        (
+            "progressive hierarchical refinement",
+            BvhOptions {
+                builder: prism::accel::BvhBuilder::Phr,
+                ..BvhOptions::default()
+            },
+        ),
     ]
 }
 

@@ -28,6 +28,10 @@ pub enum BvhBuilder {
     /// object splits and splits of space that clip triangles, within a duplication
     /// `budget`.
     Sbvh,
+    /// Progressive hierarchical refinement (Hendrich, Meister & Bittner 2017): top-down
+    /// SAH splits over a cut of an auxiliary LBVH, refined as the nodes get smaller
+    /// (`cut` sets the first cut's size, `refine` how fast it is refined).
+    Phr,
     /// Whichever of LBVH, binned SAH and binned SAH with reinsertion should cost the
     /// render least, build and trace together, by a cost model of counts
     /// (`build/auto.rs`): a preview of few rays per primitive gets the fastest build, a
@@ -56,6 +60,7 @@ named_kinds! {
         Lbvh => "lbvh",
         Ploc => "ploc",
         Sbvh => "sbvh",
+        Phr => "phr",
         Auto => "auto",
     }
 }
@@ -70,6 +75,7 @@ impl BvhBuilder {
             BvhBuilder::Lbvh => "LBVH, 63-bit Morton",
             BvhBuilder::Ploc => "PLOC",
             BvhBuilder::Sbvh => "SBVH, spatial splits",
+            BvhBuilder::Phr => "PHR, progressive hierarchical refinement",
             BvhBuilder::Auto => "auto",
         }
     }
@@ -152,6 +158,12 @@ pub struct BvhOptions {
     /// SBVH costs a spatial split where an object split's children overlap by more than
     /// this share of the root's surface area.
     pub alpha: f32,
+    /// PHR's first cut: the auxiliary nodes of at most 2^-cut of the root's area (the
+    /// paper's δ; about 2^cut nodes on a surface mesh).
+    pub cut: f32,
+    /// How fast PHR's refinement threshold falls per level of the tree: the area 2^-(cut
+    /// + refine·depth) of the root's (the paper's α).
+    pub refine: f32,
     /// Leaves never hold more primitives than this (unless they cannot be split).
     pub max_leaf_size: usize,
     /// Cost of a binary node relative to one primitive test, for rays from outside; a
@@ -192,6 +204,8 @@ impl Default for BvhOptions {
             radius: 16,
             budget: 0.3,
             alpha: 1e-5,
+            cut: 9.0,
+            refine: 0.5,
             max_leaf_size: 8,
             traversal_cost: 1.0,
             reinsert: false,
@@ -264,6 +278,12 @@ impl Keyed for BvhOptions {
         field_key!("alpha" => alpha, number 0.0..=1.0,
             "overlap of an object split's children, as a share of the root's area, above which \
              SBVH tries spatial splits"),
+        field_key!("cut" => cut, number 0.0..=24.0,
+            "PHR's first cut: the auxiliary LBVH's nodes of at most 2^-cut of the root's area \
+             (the paper's delta; about 2^cut nodes on a surface mesh)"),
+        field_key!("refine" => refine, number 0.0..=1.0,
+            "how fast PHR refines its cut: a node at depth d cuts at 2^-(cut + refine*d) of the \
+             root's area (the paper's alpha; smaller: smaller cuts below, a faster build)"),
         field_key!("leaf" => max_leaf_size, int 1..=1024, "largest leaf"),
         field_key!("trav" => traversal_cost, number 0.0..=1000.0,
             "binary node cost relative to a primitive test (a third of it for rays from inside)"),

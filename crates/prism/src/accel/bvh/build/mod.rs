@@ -5,6 +5,7 @@ mod auto;
 mod binned;
 mod lbvh;
 mod median;
+mod phr;
 mod ploc;
 mod presplit;
 mod prim_ref;
@@ -223,6 +224,16 @@ impl Bvh {
                         parallel_threshold: threshold,
                     };
                     bottom_up(&|order| ploc.build(&input, order))
+                }
+                BvhBuilder::Phr => {
+                    let phr = phr::Phr {
+                        alpha: options.refine,
+                        delta: options.cut,
+                        max_leaf_size,
+                        traversal_cost: options.node_cost(),
+                        parallel_threshold: threshold,
+                    };
+                    bottom_up(&|order| phr.build(&input, order))
                 }
                 BvhBuilder::Sbvh => {
                     let rule = sbvh::Sbvh {
