@@ -112,7 +112,7 @@ fn print_emitters(scene: &Scene) {
     use prism::geometry::Shape;
     let g = &scene.geometry;
     let emissive: Vec<usize> = (0..scene.materials.len())
-        .filter(|&i| scene.materials[i].emission.max_element() > 0.0)
+        .filter(|&i| scene.materials[i].mean_emission().max_element() > 0.0)
         .collect();
     let count = |m: usize, sampled: bool| {
         g.primitives
@@ -129,10 +129,16 @@ fn print_emitters(scene: &Scene) {
             0 => String::new(),
             n => format!(", {n} seen only (planes, boxes, cones)"),
         };
+        let material = &scene.materials[m];
+        // A textured emitter's radiance varies over it: its mean stands for it.
+        let textured = match material.emission_map {
+            Some(_) => " (texture's mean)",
+            None => "",
+        };
         println!(
-            "  {:<16} emission {}  ({sampled} primitives{seen_only})",
-            scene.materials[m].name,
-            grey_or_rgb(scene.materials[m].emission)
+            "  {:<16} emission {}{textured}  ({sampled} primitives{seen_only})",
+            material.name,
+            grey_or_rgb(material.mean_emission())
         );
     }
 }

@@ -80,6 +80,8 @@ impl Fill {
             emission: Color::ZERO,
             normal_map: None,
             occlusion: None,
+            metal_rough: None,
+            emission_map: None,
         }
     }
 }

@@ -1,16 +1,18 @@
 //! Area lights: the primitives whose material emits, sampled by area for next-event
-//! estimation. An emitter is chosen in proportion to its power (area × mean radiance), then
+//! estimation. An emitter is chosen in proportion to its power (area × mean radiance, an
+//! emissive texture's mean texel counted alike on every primitive of its material), then
 //! a point uniformly over its area, so the density of a point is
 //! P(emitter) / area, the same everywhere on one emitter, which is what MIS asks of a hit
-//! that BSDF sampling found.
+//! that BSDF sampling found. A point's radiance is that of the texel there, where the
+//! material has an emissive texture.
 //!
 //! Triangles (so quads and whole meshes) and spheres are sampled. Planes, boxes and cones
 //! that emit still shine when a path hits them, but light samples never aim at them.
 
-use crate::geometry::{Geometry, Shape, ShapeHit};
+use crate::geometry::{Geometry, Shape, ShapeHit, Uv};
 use crate::math::robust::gamma;
 use crate::math::warp::{uniform_sphere, uniform_triangle};
-use crate::math::{Color, Vec3};
+use crate::math::{Color, Ray, Vec2, Vec3};
 use crate::scene::Scene;
 
 /// Marks a primitive that light samples never choose.
@@ -53,8 +55,10 @@ impl Emitters {
         let geometry = &scene.geometry;
         let mut list = Vec::new();
         let mut power = Vec::new();
+        // Once per material: an emissive texture's mean reads every texel.
+        let mean: Vec<Color> = scene.materials.iter().map(|m| m.mean_emission()).collect();
         for (prim, p) in geometry.primitives.iter().enumerate() {
-            let radiance = scene.materials[p.material as usize].emission;
+            let radiance = mean[p.material as usize];
             if radiance.max_element() <= 0.0 {
                 continue;
             }
@@ -128,8 +132,8 @@ impl Emitters {
             return None;
         }
         let prim = &scene.geometry.primitives[emitter.prim as usize];
-        let radiance = scene.materials[prim.material as usize].emission;
-        let (p, p_error, n) = match &prim.shape {
+        let material = &scene.materials[prim.material as usize];
+        let (p, p_error, n, uv) = match &prim.shape {
             Shape::Triangle { mesh, index } => {
                 let (b1, b2) = uniform_triangle(u1, u2);
                 // The mesh's own surface rule: the same point, error bound and front
@@ -142,13 +146,25 @@ impl Emitters {
                         v: b2,
                     },
                 );
-                (sp.p, sp.p_error, sp.ng)
+                (sp.p, sp.p_error, sp.ng, sp.uv)
             }
             Shape::Sphere(s) => {
                 let d = uniform_sphere(u1, u2);
                 let p = s.center + s.radius * d;
                 let p_error = gamma(5) * (s.center.abs() + (s.radius * d).abs());
-                (p, p_error, if s.inside_out { -d } else { d })
+                // The sphere's own uv of the point, as a ray from its centre finds it.
+                let uv = match &material.emission_map {
+                    Some(_) => {
+                        let hit = ShapeHit {
+                            t: s.radius,
+                            u: 0.0,
+                            v: 0.0,
+                        };
+                        s.surface_with(&Ray::new(s.center, d), &hit, Uv::Compute).uv
+                    }
+                    None => Vec2::ZERO,
+                };
+                (p, p_error, if s.inside_out { -d } else { d }, uv)
             }
             _ => return None,
         };
@@ -156,7 +172,7 @@ impl Emitters {
             p,
             p_error,
             n,
-            radiance,
+            radiance: material.emission_at(uv),
             pdf_area,
         })
     }

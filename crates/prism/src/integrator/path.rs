@@ -234,9 +234,10 @@ impl<'a> PathTracer<'a> {
         crate::shading::normal_map::apply(material, geometry, hit.prim, &mut sp);
         let (entering, ng, ns) = sp.facing(ray.dir);
         let wo = -ray.dir;
+        let k = material.coefficients_at(sp.uv);
 
         // Emission, seen from its front side.
-        if entering && material.is_emissive() {
+        if entering && k.is_emissive() {
             let pdf_light = self.emitters.pdf_area(hit.prim);
             let weight = if path.prev_delta || pdf_light <= 0.0 {
                 1.0
@@ -251,13 +252,13 @@ impl<'a> PathTracer<'a> {
                     Strategy::BsdfOnly => 1.0,
                 }
             };
-            path.radiance += path.throughput * material.emission * weight;
+            path.radiance += path.throughput * k.emission * weight;
         }
         if depth == self.max_depth {
             return None;
         }
         let color = material.color_at(sp.uv, sp.p);
-        let bsdf = Bsdf::new(material, color, wo, ns, ng, entering);
+        let bsdf = Bsdf::new(&k, color, wo, ns, ng, entering);
         Some(Vertex { sp, ng, bsdf })
     }
 

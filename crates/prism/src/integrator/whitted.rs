@@ -19,7 +19,7 @@ use crate::math::{Color, Ray};
 use crate::options::RenderOptions;
 use crate::scene::PreparedScene;
 use crate::shading::optics::{reflect, refract};
-use crate::shading::{normal_map, Material};
+use crate::shading::{normal_map, Coefficients, Material};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
 
@@ -225,17 +225,13 @@ impl<'a> Whitted<'a> {
             let Some(s) = surface else {
                 continue;
             };
-            let eta = if s.entering {
-                1.0 / s.material.ior
-            } else {
-                s.material.ior
-            };
+            let eta = if s.entering { 1.0 / s.k.ior } else { s.k.ior };
             let cos_i = s.to_eye.dot(s.ns).clamp(0.0, 1.0);
-            let w = s.material.specular_weights(cos_i, eta);
+            let w = s.k.specular_weights(cos_i, eta);
             if w.total_internal_reflection {
                 stats.total_internal_reflections += 1;
             }
-            let has_specular = s.material.reflect > 0.0 || s.material.is_transmissive();
+            let has_specular = s.k.reflect > 0.0 || s.k.is_transmissive();
             let w_reflect = Color::splat(w.reflect);
             if self.spawns(has_specular, w_reflect, weights[i], stats) {
                 let dir = self.reflected_dir(&rays[i], s);
@@ -264,7 +260,7 @@ impl<'a> Whitted<'a> {
             let (Some(s), Some((w, eta))) = (surface, split[i]) else {
                 continue;
             };
-            let transmissive = s.material.is_transmissive();
+            let transmissive = s.k.is_transmissive();
             if !w.total_internal_reflection
                 && self.spawns(transmissive, w.transmit, weights[i], stats)
             {
@@ -408,6 +404,7 @@ impl<'a> Whitted<'a> {
         let (entering, ng, ns) = sp.facing(ray.dir);
         Surface {
             color: material.color_at(sp.uv, sp.p),
+            k: material.coefficients_at(sp.uv),
             sp,
             ng,
             ns,
@@ -483,11 +480,11 @@ impl<'a> Whitted<'a> {
     /// The surface's own radiance: ambient light, and the emission of an area light (seen
     /// directly; its light on other surfaces comes by the area lights' shadow rays).
     fn own_radiance(&self, surface: &Surface) -> Color {
-        let material = surface.material;
-        let ambient = material.ambient * material.ambient_occlusion(surface.sp.uv);
+        let k = &surface.k;
+        let ambient = k.ambient * surface.material.ambient_occlusion(surface.sp.uv);
         let mut radiance = ambient * surface.color * self.scene.scene.ambient;
-        if surface.entering && material.is_emissive() {
-            radiance += material.emission;
+        if surface.entering && k.is_emissive() {
+            radiance += k.emission;
         }
         radiance
     }
@@ -506,7 +503,7 @@ impl<'a> Whitted<'a> {
     /// is cast, the highlight's power function waits until the light is seen to get
     /// through; where it does not, the highlight is worked out here (exactly, as
     /// `light_term` would), mostly decided to be zero from bounds
-    /// (`Material::highlight_unless_nonzero`).
+    /// (`Coefficients::highlight_unless_nonzero`).
     #[inline]
     fn lit_by(
         &self,
@@ -519,13 +516,13 @@ impl<'a> Whitted<'a> {
         let ls = self.light_sample(surface, source)?;
         out.ls = ls;
         let Surface {
-            material,
+            k,
             color,
             ns,
             to_eye,
             ..
         } = *surface;
-        let diffuse = material.diffuse * ns.dot(ls.to_light).max(0.0) * color;
+        let diffuse = k.diffuse * ns.dot(ls.to_light).max(0.0) * color;
         // What the light could add to the pixel at most, per unit of reflected fraction.
         let reach = weight * ls.color;
         if self.spd_rules
@@ -538,9 +535,9 @@ impl<'a> Whitted<'a> {
             return Some(Seen::ByShadowRay);
         }
         let highlight = if diffuse != Color::ZERO {
-            material.highlight_term(ns, ls.to_light, to_eye)
+            k.highlight_term(ns, ls.to_light, to_eye)
         } else {
-            match material.highlight_unless_nonzero(ns, ls.to_light, to_eye) {
+            match k.highlight_unless_nonzero(ns, ls.to_light, to_eye) {
                 Some(0.0) => return None,
                 Some(h) => h,
                 // Not zero: with no threshold the ray is cast, and the power can wait.
@@ -551,7 +548,7 @@ impl<'a> Whitted<'a> {
                     };
                     return Some(Seen::ByShadowRay);
                 }
-                None => material.highlight_term(ns, ls.to_light, to_eye),
+                None => k.highlight_term(ns, ls.to_light, to_eye),
             }
         };
         let faint =
@@ -583,7 +580,9 @@ impl<'a> Whitted<'a> {
             return Color::ZERO;
         }
         let highlight = reflected.highlight.unwrap_or_else(|| {
-            (surface.material).highlight_term(surface.ns, ls.to_light, surface.to_eye)
+            surface
+                .k
+                .highlight_term(surface.ns, ls.to_light, surface.to_eye)
         });
         visibility * ls.color * (reflected.diffuse + Color::splat(highlight))
     }
@@ -603,7 +602,7 @@ impl<'a> Whitted<'a> {
             ng,
             ns,
             entering,
-            material,
+            k,
             to_eye,
             ..
         } = *surface;
@@ -612,18 +611,14 @@ impl<'a> Whitted<'a> {
         }
 
         // Recursive terms. η_io = η_incident / η_transmitted; the outside is vacuum.
-        let eta = if entering {
-            1.0 / material.ior
-        } else {
-            material.ior
-        };
+        let eta = if entering { 1.0 / k.ior } else { k.ior };
         let cos_i = to_eye.dot(ns).clamp(0.0, 1.0);
-        let w = material.specular_weights(cos_i, eta);
+        let w = k.specular_weights(cos_i, eta);
         if w.total_internal_reflection {
             stats.total_internal_reflections += 1;
         }
-        let transmissive = material.is_transmissive();
-        let has_specular = material.reflect > 0.0 || transmissive;
+        let transmissive = k.is_transmissive();
+        let has_specular = k.reflect > 0.0 || transmissive;
         let w_reflect = Color::splat(w.reflect);
         if self.spawns(has_specular, w_reflect, weight, stats) {
             let dir = self.reflected_dir(ray, surface);
@@ -661,6 +656,8 @@ struct Surface<'a> {
     material: &'a Material,
     /// The material's colour at the hit.
     color: Color,
+    /// The material's coefficients at the hit.
+    k: Coefficients,
     to_eye: Vec3,
 }
 

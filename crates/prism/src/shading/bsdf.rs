@@ -1,12 +1,13 @@
 //! The path tracer's view of a material: four lobes, evaluated, sampled and with their
-//! density, built from the Whitted coefficients at one hit (docs/path-tracing.md).
+//! density, built from the Whitted coefficients at one hit (`Coefficients`: a material's
+//! own, or its texel's where a texture changes them; docs/path-tracing.md).
 //!
 //! - Lambert diffuse, albedo kd·C (f = kd·C/π);
 //! - a glossy lobe, normalised Phong (Lafortune and Willems 1994) about the mirror
 //!   direction: f = ks·(n + 2)/(2π)·cosⁿα, whose albedo is at most ks, reached at normal
 //!   incidence; the Blinn–Phong exponent n maps to the Phong exponent n/4;
 //! - a perfect mirror and a smooth dielectric, weighted exactly as Whitted's reflected and
-//!   refracted rays (`Material::specular_weights`): with exact Fresnel and kt = 1 the
+//!   refracted rays (`Coefficients::specular_weights`): with exact Fresnel and kt = 1 the
 //!   interface reflects R and transmits 1 − R.
 //!
 //! Whitted's weights may add up to more than one (kd + ks + kr + kt), which a path tracer
@@ -18,7 +19,8 @@
 //! Directions all point away from the surface: `wo` towards the viewer, `wi` towards the
 //! light. The normals given to `Bsdf::new` face `wo`'s side.
 
-use super::material::{Highlight, Material};
+use super::coefficients::Coefficients;
+use super::material::Highlight;
 use super::optics::{reflect, refract};
 use crate::math::warp::{cosine_hemisphere, cosine_hemisphere_pdf, cosine_power, cosine_power_pdf};
 use crate::math::{Color, Frame, Vec3};
@@ -66,7 +68,7 @@ pub struct BsdfSample {
 /// The Phong exponent a highlight's `shininess` stands for: near the peak the half vector's
 /// angle to N is half the mirror direction's angle to V, so (N·H)ⁿ ≈ (R·V)^(n/4)
 /// (cos(θ/2)ⁿ ≈ e^(−nθ²/8) = cos(θ)^(n/4) for small θ).
-fn phong_exponent(material: &Material) -> f32 {
+fn phong_exponent(material: &Coefficients) -> f32 {
     let n = material.shininess.max(0.0);
     match material.highlight {
         Highlight::Phong => n,
@@ -75,11 +77,12 @@ fn phong_exponent(material: &Material) -> f32 {
 }
 
 impl Bsdf {
-    /// The lobes of `material` with diffuse colour `color` at a hit seen from `wo`, with
+    /// The lobes of coefficients `material` (a material's at the hit, from
+    /// `Material::coefficients_at`) with diffuse colour `color` at a hit seen from `wo`, with
     /// normals `ns` and `ng` facing `wo`; `entering` says the ray arrived from the front
     /// (outside) of the surface, which decides the refraction's η.
     pub fn new(
-        material: &Material,
+        material: &Coefficients,
         color: Color,
         wo: Vec3,
         ns: Vec3,

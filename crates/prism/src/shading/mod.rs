@@ -1,16 +1,21 @@
 //! How surfaces respond to light: the Whitted material, Fresnel reflectance, the optics of
-//! mirror reflection and Snell refraction, textures for the diffuse colour, and `Bsdf`,
-//! the path tracer's lobes built from a material.
+//! mirror reflection and Snell refraction, textures for the diffuse colour, glTF's
+//! metallic-roughness inputs, and `Bsdf`, the path tracer's lobes built from a material's
+//! coefficients at a hit.
 
 mod bsdf;
+mod coefficients;
 pub mod fresnel;
 mod material;
 pub mod normal_map;
 pub mod optics;
+mod pbr;
 mod texture;
 
 pub use bsdf::{Bsdf, BsdfSample};
+pub use coefficients::{Coefficients, SpecularWeights};
 pub use fresnel::FresnelMode;
-pub use material::{Highlight, Material, SpecularWeights};
+pub use material::{Highlight, Material};
 pub use normal_map::NormalMap;
+pub use pbr::{MetalRough, Pbr};
 pub use texture::{Checker, CheckerSpace, ImageTexture, Texture};

@@ -104,6 +104,21 @@ impl ImageTexture {
         }
     }
 
+    /// The mean of its texels: the mean of `eval` over a whole repetition of the image
+    /// (bilinear interpolation with wrap-around weighs every texel alike).
+    pub fn mean(&self) -> Color {
+        // f64: a large image's texels sum without losing the last ones.
+        let sum = self.texels.iter().fold([0.0f64; 3], |s, t| {
+            [s[0] + t.x as f64, s[1] + t.y as f64, s[2] + t.z as f64]
+        });
+        let n = self.texels.len().max(1) as f64;
+        Color::new(
+            (sum[0] / n) as f32,
+            (sum[1] / n) as f32,
+            (sum[2] / n) as f32,
+        )
+    }
+
     /// The bilinearly interpolated colour at `uv`, wrapping around at the edges.
     pub fn eval(&self, uv: Vec2) -> Color {
         if self.width == 0 || self.height == 0 {

@@ -122,7 +122,8 @@ fn describe(path: &str, finding: Finding, tree: &Value, root: &Root) -> String {
         Finding::Oversize => format!("{path} is larger than this machine can address"),
         Finding::Unsupported => format!(
             "the file requires the extension {}, which prism does not support (it reads \
-             KHR_lights_punctual, KHR_materials_transmission and KHR_materials_ior)",
+             KHR_lights_punctual, KHR_materials_transmission, KHR_materials_ior and \
+             KHR_materials_emissive_strength)",
             value.map_or_else(|| path.to_string(), |v| v.to_string())
         ),
     }

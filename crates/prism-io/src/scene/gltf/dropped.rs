@@ -2,8 +2,18 @@
 //! warning (which `--strict` makes an error), so that nothing is dropped in silence.
 
 use gltf::json::mesh::Semantic;
+use gltf::json::texture::WrappingMode;
 use gltf::json::validation::Checked;
 use gltf::json::Root;
+
+/// The extensions the loader reads and renders.
+const RENDERED_EXTENSIONS: [&str; 5] = [
+    "KHR_lights_punctual",
+    "KHR_materials_transmission",
+    "KHR_materials_ior",
+    "KHR_materials_emissive_strength",
+    "KHR_mesh_quantization",
+];
 
 /// One warning naming every feature of `root` that the picture will not show, with how
 /// many materials, meshes or items use it; None when there is none.
@@ -17,16 +27,22 @@ pub(super) fn warning(root: &Root) -> Option<String> {
     let materials = &root.materials;
     let pbr = |f: fn(&gltf::json::Material) -> bool| materials.iter().filter(|m| f(m)).count();
     count(
-        "metallicRoughnessTexture, averaged to one value per material",
+        "textures reading several TEXCOORD sets, all drawn with the first one's",
         pbr(|m| {
-            m.pbr_metallic_roughness
-                .metallic_roughness_texture
-                .is_some()
+            let sets = super::materials::texture_sets(m);
+            sets.iter().any(|&s| s != sets[0])
         }),
     );
     count(
-        "emissiveTexture, averaged to one colour per material",
-        pbr(|m| m.emissive_texture.is_some()),
+        "texture samplers that clamp or mirror, drawn repeating",
+        root.samplers
+            .iter()
+            .filter(|s| {
+                [&s.wrap_s, &s.wrap_t]
+                    .iter()
+                    .any(|w| !matches!(w, Checked::Valid(WrappingMode::Repeat)))
+            })
+            .count(),
     );
     count(
         "alphaMode MASK or BLEND, drawn opaque",
@@ -54,6 +70,13 @@ pub(super) fn warning(root: &Root) -> Option<String> {
     );
     count("skins, shown in the bind pose", root.skins.len());
     count("animations, shown at rest", root.animations.len());
+    // Extensions the file uses that the loader does not read (KHR_texture_transform,
+    // KHR_materials_clearcoat, …): named one by one, as the file names them.
+    for name in &root.extensions_used {
+        if !RENDERED_EXTENSIONS.contains(&name.as_str()) {
+            dropped.push(format!("extension {name}"));
+        }
+    }
     (!dropped.is_empty())
         .then(|| format!("read but not rendered as authored: {}", dropped.join(", ")))
 }

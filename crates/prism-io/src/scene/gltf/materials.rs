@@ -1,98 +1,23 @@
-//! glTF's metallic-roughness materials mapped onto prism's Whitted material.
-//!
-//! Whitted shading has a diffuse colour, a white highlight, a sharp mirror term and a
-//! refracted term; glTF describes a microfacet BRDF. The mapping (docs/formats.md,
-//! "glTF 2.0") keeps what a Whitted renderer can show: base colour → diffuse colour;
-//! metals and smooth surfaces → mirror reflection; roughness → highlight size and weight;
-//! KHR_materials_ior → the dielectric's reflectance; KHR_materials_transmission →
-//! Fresnel-weighted glass whose transmission the base colour tints (as the extension says).
+//! glTF's metallic-roughness materials as prism materials: the base colour as the diffuse
+//! colour (a constant or a tinted image), the metallic, roughness, transmission and ior
+//! inputs through the engine's mapping onto Whitted's coefficients (`prism::shading::Pbr`),
+//! a metallicRoughnessTexture kept for the tracers to map per texel, the emissive factor
+//! and texture, the normal and occlusion textures (docs/formats.md, "glTF 2.0").
 
 use super::images::Images;
 use gltf::json::Root;
 use prism::math::Color;
-use prism::shading::{FresnelMode, Highlight, Material, NormalMap, Texture};
+use prism::shading::{Material, MetalRough, NormalMap, Pbr, Texture};
 
-/// Highlight exponents are capped here: a mirror-smooth surface's highlight is already
-/// a single bright pixel at this exponent.
-const MAX_SHININESS: f32 = 10_000.0;
-
-/// The glTF inputs of one material, after textures' constant parts are folded in.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Pbr {
-    /// Linear RGB base colour (baseColorFactor's rgb; alpha is ignored).
-    pub base: Color,
-    pub metallic: f32,
-    pub roughness: f32,
-    /// KHR_materials_transmission's transmissionFactor (0 without the extension).
-    pub transmission: f32,
-    /// KHR_materials_ior's ior (1.5 without the extension; 0 is the extension's
-    /// "reflect everything" value).
-    pub ior: f32,
-    /// emissiveFactor, times the mean of emissiveTexture where there is one.
-    pub emission: Color,
-}
-
-impl Default for Pbr {
-    /// glTF's default material: white, fully metallic, fully rough.
-    fn default() -> Self {
-        Pbr {
-            base: Color::ONE,
-            metallic: 1.0,
-            roughness: 1.0,
-            transmission: 0.0,
-            ior: 1.5,
-            emission: Color::ZERO,
-        }
-    }
-}
-
-/// The Whitted material for `pbr`, its diffuse colour from `color` (which already holds
-/// the base colour, as a constant or a tinted image).
-pub(super) fn whitted(name: String, pbr: &Pbr, color: Texture) -> Material {
-    let m = pbr.metallic.clamp(0.0, 1.0);
-    let r = pbr.roughness.clamp(0.0, 1.0);
-    // The dielectric's reflectance at normal incidence: 0.04 for glTF's default ior 1.5.
-    let f0 = if pbr.ior == 0.0 {
-        1.0
-    } else {
-        ((pbr.ior - 1.0) / (pbr.ior + 1.0)).powi(2)
-    };
-    // Metals do not transmit; transmission takes the dielectric part only, and nothing
-    // passes a surface whose reflectance is 1.
-    let t = if f0 < 1.0 {
-        pbr.transmission.clamp(0.0, 1.0) * (1.0 - m)
-    } else {
-        0.0
-    };
-    // Sharp reflections fade out as the surface gets rough (a Whitted tracer cannot blur
-    // them); metals reflect nearly everything, dielectrics their F0.
-    let gloss = (1.0 - r) * (1.0 - r);
-    let mirror = gloss * (f0 + (1.0 - f0) * m);
-    let opaque = 1.0 - t;
-    let diffuse = opaque * (1.0 - mirror);
-    // Blinn–Phong exponent matched to a GGX lobe of width α = roughness².
-    let alpha = r * r;
-    let shininess = (2.0 / (alpha * alpha) - 2.0).clamp(1.0, MAX_SHININESS);
+/// The material for `pbr`, emitting `emission`, its diffuse colour from `color` (which
+/// already holds the base colour, as a constant or a tinted image).
+fn whitted(name: String, pbr: &Pbr, emission: Color, color: Texture) -> Material {
     Material {
         name,
         color,
-        ambient: diffuse,
-        diffuse,
-        specular: 1.0 - r,
-        shininess,
-        highlight: Highlight::BlinnPhong,
-        reflect: opaque * mirror,
-        transmit: t * pbr.base,
-        ior: if pbr.ior >= 1.0 { pbr.ior } else { 1.5 },
-        fresnel: if t > 0.0 {
-            FresnelMode::Exact
-        } else {
-            FresnelMode::Off
-        },
-        emission: pbr.emission,
-        normal_map: None,
-        occlusion: None,
+        ..Material::default()
     }
+    .with_coefficients(pbr.coefficients(emission))
 }
 
 /// Builds prism's material for glTF material `index` (`None`: the default material).
@@ -106,6 +31,7 @@ pub(super) fn material(
         return Ok(whitted(
             "gltf default".into(),
             &Pbr::default(),
+            Color::ZERO,
             Texture::Solid(Color::ONE),
         ));
     };
@@ -148,8 +74,10 @@ pub(super) fn material(
         ));
     }
 
-    // Prism's material has one metallic and one roughness value: a metallicRoughness
-    // texture contributes its average (blue = metallic, green = roughness, both linear).
+    // The tracers look the texture up per texel (blue = metallic, green = roughness, both
+    // linear, times the factors); the material's own coefficients take its mean, for
+    // what asks one value of a whole material (the beam tracer, shadow rays through it).
+    let factors = pbr;
     let metallic_roughness = match &pbr_json.metallic_roughness_texture {
         Some(info) => image_or_warn(
             images,
@@ -163,24 +91,34 @@ pub(super) fn material(
         .map_err(context)?,
         None => None,
     };
-    if let Some(img) = metallic_roughness {
-        let rgb = img.to_rgb8();
-        let n = (rgb.width() as f64 * rgb.height() as f64).max(1.0);
-        let (g, b) = rgb.pixels().fold((0.0f64, 0.0f64), |(g, b), p| {
-            (g + p[1] as f64 / 255.0, b + p[2] as f64 / 255.0)
-        });
-        pbr.roughness *= (g / n) as f32;
-        pbr.metallic *= (b / n) as f32;
+    let metal_rough = metallic_roughness.map(|img| MetalRough {
+        texture: crate::texture::from_linear(&img),
+        factors,
+    });
+    if let Some(map) = &metal_rough {
+        let mean = map.texture.mean();
+        pbr.roughness *= mean.y;
+        pbr.metallic *= mean.z;
     }
-    // Emission is one colour per material: an emissiveTexture contributes its mean
-    // (decoded from sRGB), so a textured light keeps its power but not its pattern.
-    pbr.emission = Color::from_array(json.emissive_factor.0);
-    if !pbr.emission.is_finite() || pbr.emission.min_element() < 0.0 {
+    // Emission per texel: emissiveFactor (times KHR_materials_emissive_strength) times the
+    // emissiveTexture's colour, which is sRGB-encoded like a base colour.
+    let mut emission = Color::from_array(json.emissive_factor.0);
+    if let Some(strength) = ext.and_then(|e| e.emissive_strength.as_ref()) {
+        let s = strength.emissive_strength.0;
+        if !(s.is_finite() && s >= 0.0) {
+            return Err(context(format!(
+                "KHR_materials_emissive_strength.emissiveStrength is {s}; expected a finite \
+                 number ≥ 0"
+            )));
+        }
+        emission *= s;
+    }
+    if !emission.is_finite() || emission.min_element() < 0.0 {
         return Err(context(
             "expected an emissiveFactor of finite numbers ≥ 0".into(),
         ));
     }
-    let emissive = match &json.emissive_texture {
+    let emission_map = match &json.emissive_texture {
         Some(info) => image_or_warn(
             images,
             (index, info.index.value()),
@@ -189,22 +127,8 @@ pub(super) fn material(
         )
         .map_err(context)?,
         None => None,
-    };
-    if let Some(img) = emissive {
-        let rgb = img.to_rgb8();
-        let n = (rgb.width() as f64 * rgb.height() as f64).max(1.0);
-        let mut sum = [0.0f64; 3];
-        for p in rgb.pixels() {
-            for (s, &v) in sum.iter_mut().zip(p.0.iter()) {
-                *s += prism::transfer::srgb_decode(v as f32 / 255.0) as f64;
-            }
-        }
-        pbr.emission *= Color::new(
-            (sum[0] / n) as f32,
-            (sum[1] / n) as f32,
-            (sum[2] / n) as f32,
-        );
     }
+    .map(|img| crate::texture::from_srgb(&img));
     let base_color = match &pbr_json.base_color_texture {
         Some(info) => image_or_warn(
             images,
@@ -223,7 +147,9 @@ pub(super) fn material(
         .name
         .clone()
         .unwrap_or_else(|| format!("gltf material {index}"));
-    let mut material = whitted(name, &pbr, color);
+    let mut material = whitted(name, &pbr, emission, color);
+    material.metal_rough = metal_rough;
+    material.emission_map = emission_map;
     // The normal map's texels are directions, not colours: read without the sRGB curve.
     if let Some(info) = &json.normal_texture {
         if !info.scale.is_finite() {
@@ -294,105 +220,27 @@ fn image_or_warn(
     images.texture(texture).map(Some)
 }
 
-/// The TEXCOORD set the base colour texture of material `index` reads.
+/// The TEXCOORD set the textures of material `index` read: its first texture's (base
+/// colour, metallic-roughness, normal, occlusion, emissive); 0 without textures. A mesh
+/// has one set of uvs: `dropped` warns of materials whose textures read several.
 pub(super) fn uv_set(root: &Root, index: Option<usize>) -> u32 {
     index
         .and_then(|i| root.materials.get(i))
-        .and_then(|m| m.pbr_metallic_roughness.base_color_texture.as_ref())
-        .map_or(0, |info| info.tex_coord)
+        .and_then(|m| texture_sets(m).into_iter().next())
+        .unwrap_or(0)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn pbr(metallic: f32, roughness: f32) -> Pbr {
-        Pbr {
-            base: Color::new(0.8, 0.2, 0.1),
-            metallic,
-            roughness,
-            ..Pbr::default()
-        }
-    }
-
-    fn map(p: Pbr) -> Material {
-        whitted("m".into(), &p, Texture::Solid(p.base))
-    }
-
-    #[test]
-    fn rough_dielectrics_are_matte_and_smooth_metals_are_mirrors() {
-        let matte = map(pbr(0.0, 1.0));
-        assert_eq!(
-            (matte.diffuse, matte.reflect, matte.specular),
-            (1.0, 0.0, 0.0)
-        );
-        let mirror = map(pbr(1.0, 0.0));
-        assert_eq!((mirror.diffuse, mirror.reflect), (0.0, 1.0));
-        assert_eq!(mirror.shininess, MAX_SHININESS);
-        let plastic = map(pbr(0.0, 0.0));
-        assert!((plastic.reflect - 0.04).abs() < 1e-6);
-        assert!((plastic.diffuse + plastic.reflect - 1.0).abs() < 1e-6);
-        assert_eq!(plastic.fresnel, FresnelMode::Off);
-    }
-
-    #[test]
-    fn rougher_surfaces_have_wider_weaker_highlights() {
-        let smooth = map(pbr(0.0, 0.3));
-        let rough = map(pbr(0.0, 0.7));
-        assert!(smooth.shininess > rough.shininess);
-        assert!(smooth.specular > rough.specular);
-        assert!(smooth.reflect > rough.reflect);
-    }
-
-    #[test]
-    fn transmission_makes_fresnel_glass() {
-        let glass = map(Pbr {
-            transmission: 1.0,
-            ior: 1.33,
-            roughness: 0.0,
-            metallic: 0.0,
-            ..Pbr::default()
-        });
-        assert_eq!(glass.transmit, Color::ONE);
-        assert_eq!(glass.ior, 1.33);
-        assert_eq!(glass.fresnel, FresnelMode::Exact);
-        assert_eq!((glass.diffuse, glass.reflect), (0.0, 0.0));
-    }
-
-    #[test]
-    fn the_base_colour_tints_transmission() {
-        let red = map(Pbr {
-            base: Color::new(0.9, 0.2, 0.1),
-            transmission: 0.5,
-            metallic: 0.0,
-            roughness: 0.0,
-            ..Pbr::default()
-        });
-        assert_eq!(red.transmit, Color::new(0.45, 0.1, 0.05));
-        assert_eq!(red.fresnel, FresnelMode::Exact);
-    }
-
-    #[test]
-    fn ior_sets_the_dielectric_reflectance() {
-        let diamond = map(Pbr {
-            ior: 2.42,
-            ..pbr(0.0, 0.0)
-        });
-        assert!(
-            (diamond.reflect - 0.172).abs() < 1e-3,
-            "{}",
-            diamond.reflect
-        );
-        // ior 0 is KHR_materials_ior's "Fresnel term always 1": a mirror, even for glass.
-        let mirror = map(Pbr {
-            ior: 0.0,
-            transmission: 1.0,
-            ..pbr(0.0, 0.0)
-        });
-        assert_eq!(
-            (mirror.reflect, mirror.transmit, mirror.diffuse),
-            (1.0, Color::ZERO, 0.0)
-        );
-        assert_eq!(mirror.ior, 1.5);
-    }
+/// The TEXCOORD sets of material `m`'s textures, in the order `uv_set` looks at them.
+pub(super) fn texture_sets(m: &gltf::json::Material) -> Vec<u32> {
+    let pbr = &m.pbr_metallic_roughness;
+    [
+        pbr.base_color_texture.as_ref().map(|t| t.tex_coord),
+        pbr.metallic_roughness_texture.as_ref().map(|t| t.tex_coord),
+        m.normal_texture.as_ref().map(|t| t.tex_coord),
+        m.occlusion_texture.as_ref().map(|t| t.tex_coord),
+        m.emissive_texture.as_ref().map(|t| t.tex_coord),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
 }

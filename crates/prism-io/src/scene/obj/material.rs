@@ -83,6 +83,8 @@ pub(super) fn whitted(m: &tobj::Material, extras: &Extras) -> Material {
         emission: extras.ke.unwrap_or(Color::ZERO),
         normal_map: None,
         occlusion: None,
+        metal_rough: None,
+        emission_map: None,
     }
 }
 

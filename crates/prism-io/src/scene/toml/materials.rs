@@ -44,6 +44,8 @@ pub(super) fn material(
         emission: def.emission.map_or(d.emission, |c| c.0),
         normal_map: None,
         occlusion: None,
+        metal_rough: None,
+        emission_map: None,
     })
 }
 

@@ -46,10 +46,13 @@ pub(crate) fn local(
     let sp = scene.geometry.surface(facet.prim, &ray, &hit);
     let (entering, ng, ns) = sp.facing(ray.dir);
     let to_eye = -ray.dir;
-    let mut k1 = material.ambient * scene.ambient;
+    // The texel's coefficients for the local terms; the beams' mirror and refraction
+    // weights are the material's own (a beam's child has one weight).
+    let k = material.coefficients_at(sp.uv);
+    let mut k1 = k.ambient * scene.ambient;
     let mut k2 = Color::ZERO;
-    if entering && material.is_emissive() {
-        k2 += material.emission;
+    if entering && k.is_emissive() {
+        k2 += k.emission;
     }
     for (index, light) in scene.lights.iter().enumerate() {
         let Some(ls) = light.sample(sp.p) else {
@@ -63,8 +66,8 @@ pub(crate) fn local(
         if visibility.max_element() <= 0.0 {
             continue;
         }
-        k1 += visibility * ls.color * material.diffuse * ns.dot(ls.to_light).max(0.0);
-        k2 += visibility * ls.color * material.highlight_term(ns, ls.to_light, to_eye);
+        k1 += visibility * ls.color * k.diffuse * ns.dot(ls.to_light).max(0.0);
+        k2 += visibility * ls.color * k.highlight_term(ns, ls.to_light, to_eye);
     }
     Local {
         k1,
