@@ -110,6 +110,22 @@ mod tests {
     use crate::math::hash::uniform;
     use crate::math::{Ray, TraceRay, Vec3};
 
+    /// A leaf query over `prims` (no triangle packs) for `ray`.
+    fn leaf_query<'a>(
+        geometry: &'a Geometry,
+        prims: &'a [u32],
+        ray: &'a TraceRay,
+        pack_ray: &'a PackRay,
+    ) -> LeafQuery<'a> {
+        LeafQuery {
+            prims,
+            packs: &[],
+            geometry,
+            ray,
+            pack_ray,
+        }
+    }
+
     fn point(seed: u64, scale: f32) -> Vec3 {
         let c = |k| (uniform(seed as u32, (seed >> 32) as u32, 0, k, 21) * 2.0 - 1.0) * scale;
         Vec3::new(c(0), c(1), c(2))
@@ -207,13 +223,7 @@ mod tests {
                     prims[(1 + case / 63 % 7) as usize] = 9;
                 }
                 let pack_ray = PackRay::new(&ray);
-                let leaves = LeafQuery {
-                    prims: &prims,
-                    packs: &[],
-                    geometry: &geometry,
-                    ray: &ray,
-                    pack_ray: &pack_ray,
-                };
+                let leaves = leaf_query(&geometry, &prims, &ray, &pack_ray);
                 let leaf_hit = prims[..n as usize]
                     .iter()
                     .find_map(|&p| geometry.intersect(p, &ray, f32::INFINITY).map(|h| (p, h.t)));
@@ -290,13 +300,7 @@ mod tests {
         let ray = TraceRay::new(Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z));
         let pack_ray = PackRay::new(&ray);
         let prims: Vec<u32> = (0..=MIN_SPHERES).collect();
-        let leaves = LeafQuery {
-            prims: &prims,
-            packs: &[],
-            geometry: &geometry,
-            ray: &ray,
-            pack_ray: &pack_ray,
-        };
+        let leaves = leaf_query(&geometry, &prims, &ray, &pack_ray);
         let test = |first: u32, count: u32| {
             let mut search = HitSearch::new(f32::INFINITY, QueryMode::Nearest);
             let mut stats = Stats::default();
