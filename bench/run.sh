@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the criterion benches (crates/prism/benches/trace.rs) and prints a table of medians:
+# Runs the criterion benches (crates/prism-benches/benches/trace.rs) and prints a table of medians:
 # time per iteration, throughput (Mrays/s for ray benches, Mprims/s for builds) and the
 # speed-up of all threads over one, all from this one run, plus the machine and how much
 # CPU other processes took meanwhile (on a shared machine, runs with much of it are noise).
@@ -29,7 +29,7 @@ cpu_ticks() {
 
 read -r busy0 _ < <(cpu_ticks)
 start=$(date +%s%N)
-cargo bench --bench trace -- "$@" 2>&1 | tee "$log"
+cargo bench -p prism-benches --bench trace -- "$@" 2>&1 | tee "$log"
 wall_ms=$(( ($(date +%s%N) - start) / 1000000 ))
 read -r busy1 _ < <(cpu_ticks)
 # CPU seconds this script's children used: the second line of bash's `times` (user,

@@ -117,13 +117,36 @@ fn every_module_is_named_in_its_crates_section() {
     );
 }
 
+/// The folders of the workspace's members, as paths from crates/prism: the crates of
+/// `CRATE_DIRS` and those that hold only tests or benches (crates/prism-benches).
+fn member_dirs() -> Vec<String> {
+    let manifest = fs::read_to_string("../../Cargo.toml").expect("the workspace's Cargo.toml");
+    let list = manifest
+        .split("\nmembers = [")
+        .nth(1)
+        .and_then(|rest| rest.split(']').next())
+        .expect("the workspace's Cargo.toml lists its members");
+    list.split(',')
+        .map(|m| m.trim().trim_matches('"'))
+        .filter(|m| !m.is_empty())
+        .map(|m| format!("../../{m}"))
+        .collect()
+}
+
 #[test]
 fn every_test_example_and_bench_file_is_named() {
     let doc = architecture();
     let mut missing = Vec::new();
-    for name in CRATES {
+    let members = member_dirs();
+    for (_, dir) in CRATE_DIRS {
+        assert!(
+            members.contains(&format!("../../{dir}")),
+            "the workspace's members {members:?} leave out {dir}"
+        );
+    }
+    for member in members {
         for sub in ["tests", "examples", "benches"] {
-            let dir = crate_dir(name, sub);
+            let dir = format!("{member}/{sub}");
             if Path::new(&dir).is_dir() {
                 missing.extend(
                     unnamed(&doc, &dir)
