@@ -4,5 +4,5 @@
 # every image before committing it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-PRISM_BLESS=1 cargo test --release -p prism --test golden -- --nocapture
+PRISM_BLESS=1 cargo test --release -p prism --test suites -- golden:: --nocapture
 git status --short crates/prism/tests/golden/

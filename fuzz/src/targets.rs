@@ -1,16 +1,17 @@
 //! The fuzz target bodies: bytes in, a parser run, and the scene it returns (if any)
 //! checked and traced. A panic anywhere is a finding.
 
-use crate::exercise::{self, Outcome};
+use super::exercise::{self, Outcome};
 use prism_io::scene::mesh_file::Materials;
 use std::path::Path;
 
 /// The folder the inputs are parsed as if they were in: fuzz/data, which holds a material
 /// library (`lib.mtl`) and an image (`card.png`) for inputs to name, and nothing else, so a
-/// run depends on the input alone. The crate that compiles these targets says where it is
-/// (`crate::DATA`): this crate, and prism-io's `fuzz_corpora` suite, which replays the
-/// corpora through these same bodies.
-const BASE: &str = crate::DATA;
+/// run depends on the input alone. The module that declares these targets says where it is
+/// (`super::DATA`, beside `super::exercise`): this crate's root, and prism-io's
+/// `fuzz_corpora` suite, a module of that crate's test binary, which replays the corpora
+/// through these same bodies.
+const BASE: &str = super::DATA;
 
 /// Text formats see the bytes as UTF-8 with bad sequences replaced, so that every input
 /// reaches the parser; the loaders reject non-UTF-8 files before parsing.

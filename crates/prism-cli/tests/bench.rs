@@ -2,7 +2,7 @@
 //! and what their numbers must satisfy, refusals that leave nothing behind, and a cost
 //! view that does not depend on the thread count.
 
-mod common;
+use crate::common;
 
 use common::prism;
 use std::fs;

@@ -2,7 +2,7 @@
 //! messages instead of panics, and output files that decode to the requested size with
 //! nothing left beside them.
 
-mod common;
+use crate::common;
 
 use common::prism;
 use std::fs;

@@ -2,7 +2,7 @@
 //! `prism compare`, `prism reference`, `prism sweep` and `prism patterns`; and `prism serve`
 //! (the viewer itself has its suites in crates/prism-serve/tests).
 
-mod common;
+use crate::common;
 
 use common::prism;
 use std::fs;

@@ -1,7 +1,7 @@
 //! The front door: what a newcomer types works, fails early and cleanly, or says
 //! why. Each test names the case it holds; all of them failed on the main branch before.
 
-mod common;
+use crate::common;
 
 use common::prism;
 use std::fs;

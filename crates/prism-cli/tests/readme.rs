@@ -4,7 +4,7 @@
 //! benchmarks, minutes of work); and the first screen's two commands are still the ones
 //! a newcomer needs. The Python blocks are run by python/tests/test_docs.py.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::Path;

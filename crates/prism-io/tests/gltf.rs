@@ -4,6 +4,7 @@
 //! the same as the equivalent TOML scene and at any scale; malformed files give errors that
 //! say what is wrong; and no mutation of a valid file makes the loader panic.
 
+use crate::common;
 use glam::{Quat, Vec2};
 use prism::geometry::{ShapeHit, TriangleMesh};
 use prism::light::Light;
@@ -12,9 +13,6 @@ use prism::render::{render, Film};
 use prism::shading::{FresnelMode, Highlight, Texture};
 use prism::Scene;
 use prism_io::scene::{load, LoadError};
-// The helpers every suite shares live beside the engine's tests (ARCHITECTURE.md).
-#[path = "../../prism/tests/common/mod.rs"]
-mod common;
 
 use common::mutate::{self, apply, Mutation};
 use common::scratch::ScratchDir;

@@ -3,16 +3,11 @@
 //! scenes and as TOML includes, errors located in the OBJ or MTL file for every kind of
 //! bad input, and no panic or runaway work on mutated files.
 
-// The helpers every suite shares live beside the engine's tests (ARCHITECTURE.md).
-#[path = "../../prism/tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::mesh_files::{render_at, temp_dir, write, TestMesh};
 use common::mutate::{self, apply, Mutation};
-use common::work::{allocated_by, Counting};
-
-#[global_allocator]
-static COUNTING: Counting = Counting;
+use common::work::allocated_by;
 
 /// What parsing an OBJ text may allocate per byte of it: tobj's vectors of positions,
 /// normals, uvs and indices (f32 or u32 from as little as two bytes each), prism's mesh

@@ -3,16 +3,11 @@
 //! malformed headers and bodies give errors that name the line (or byte) and what was
 //! expected; and no mutation of a valid file makes the reader panic or work without bound.
 
-// The helpers every suite shares live beside the engine's tests (ARCHITECTURE.md).
-#[path = "../../prism/tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::mesh_files::{max_difference, render_at, temp_dir, write, TestMesh};
 use common::mutate::{self, apply, Mutation};
-use common::work::{allocated_by, Counting};
-
-#[global_allocator]
-static COUNTING: Counting = Counting;
+use common::work::allocated_by;
 
 /// What refusing a small hostile file may allocate: a few pages, whatever the header claims.
 const REFUSAL_BYTES: usize = 1 << 20;

@@ -2,9 +2,7 @@
 //! is the built-in Whitted scene, malformed files give errors that point at the right line
 //! with a useful phrase, and no mutation of a valid file makes the loader panic.
 
-// The helpers every suite shares live beside the engine's tests (ARCHITECTURE.md).
-#[path = "../../prism/tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::mutate::{self, apply, Mutation};
 use common::scratch::ScratchDir;

@@ -4,9 +4,7 @@
 //! Skipped, with a message on the terminal, where the shared folder is absent (a user's
 //! clone); under CI a missing folder fails the tests instead.
 
-// The helpers every suite shares live beside the engine's tests (ARCHITECTURE.md).
-#[path = "../../prism/tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use prism::geometry::{Shape, ShapeKind};
 use prism::render::render;

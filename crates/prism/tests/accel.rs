@@ -7,7 +7,7 @@
 //! too: from inside boxes, along axes (with zero direction components of both signs), lying
 //! in the planes of box faces, grazing spheres and aimed at vertices and edges.
 
-mod common;
+use crate::common;
 
 use common::oracle::{random_cone, random_ray, random_triangles, same_nearest, TestScene};
 use common::{icosphere, lattice_cube, rotate, trace_ray, Rng};

@@ -2,7 +2,9 @@
 //! every crate is named in that crate's section, every test, example and bench file is
 //! named, every module imports only the modules that its crate's documented dependency
 //! order puts before it, and every crate depends only on the crates its order puts before
-//! it. The checks run from crates/prism, the first crate, but cover the whole workspace.
+//! it. Beside the map, every file in a crate's tests/ must be part of a test binary, since
+//! a file that no binary declares would silently never run. The checks run from
+//! crates/prism, the first crate, but cover the whole workspace.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -159,6 +161,82 @@ fn every_test_example_and_bench_file_is_named() {
     assert!(
         missing.is_empty(),
         "ARCHITECTURE.md does not name these files: {missing:?}"
+    );
+}
+
+/// The `[[test]]` targets of a member's Cargo.toml: their root files, from the member's
+/// folder (`path`, or cargo's default `tests/NAME.rs`).
+fn test_roots(manifest: &str) -> Vec<String> {
+    manifest
+        .split("\n[[test]]")
+        .skip(1)
+        .map(|target| target.split("\n[").next().unwrap_or(""))
+        .map(|target| {
+            let value = |key: &str| {
+                target.lines().find_map(|l| {
+                    let (k, v) = l.split_once('=')?;
+                    (k.trim() == key).then(|| v.trim().trim_matches('"').to_string())
+                })
+            };
+            value("path").unwrap_or_else(|| format!("tests/{}.rs", value("name").unwrap()))
+        })
+        .collect()
+}
+
+/// The modules a test root declares from files (`mod NAME;` on a line of its own).
+fn declared_modules(root: &str) -> BTreeSet<String> {
+    root.lines()
+        .filter_map(|l| l.trim().strip_prefix("mod ")?.strip_suffix(';'))
+        .map(|name| name.trim().to_string())
+        .collect()
+}
+
+#[test]
+fn every_test_file_is_part_of_a_test_binary() {
+    let mut orphans = Vec::new();
+    let mut merged = 0;
+    for member in member_dirs() {
+        let dir = Path::new(&member).join("tests");
+        let manifest = fs::read_to_string(Path::new(&member).join("Cargo.toml")).unwrap();
+        // Without `autotests = false`, cargo makes every tests/*.rs a test binary.
+        if !dir.is_dir() || !manifest.contains("\nautotests = false") {
+            continue;
+        }
+        merged += 1;
+        let roots = test_roots(&manifest);
+        let mut declared = BTreeSet::new();
+        for root in &roots {
+            let text = fs::read_to_string(Path::new(&member).join(root))
+                .unwrap_or_else(|e| panic!("{member}/{root}, a [[test]] of Cargo.toml: {e}"));
+            declared.extend(declared_modules(&text));
+        }
+        let mut files: Vec<_> = fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+            .filter(|name| name.ends_with(".rs"))
+            .collect();
+        files.sort();
+        for file in files {
+            let stem = file.trim_end_matches(".rs");
+            let is_root = roots.iter().any(|r| *r == format!("tests/{file}"));
+            if !is_root && !declared.contains(stem) {
+                let root = roots.first().map_or("a [[test]] root", String::as_str);
+                let folder = member.trim_start_matches("../../");
+                orphans.push(format!(
+                    "{folder}/tests/{file} is in no test binary, so its tests never run: \
+                     declare it with `mod {stem};` in {folder}/{root}"
+                ));
+            }
+        }
+    }
+    assert!(
+        merged >= 4,
+        "the engine, prism-io, prism-lab and the CLI build their suites as one binary each"
+    );
+    assert!(
+        orphans.is_empty(),
+        "{} (ARCHITECTURE.md, \"How to add a test suite\")",
+        orphans.join("; ")
     );
 }
 

@@ -4,7 +4,7 @@
 //! supersampling converges to the beam image; the same picture at 1e-3 and 1e3; curved
 //! shapes and exploding beam trees are refused with messages.
 
-mod common;
+use crate::common;
 
 use prism::camera::{Camera, Projection};
 use prism::geometry::TriangleMesh;

@@ -7,7 +7,7 @@
 //! triangles cross a scene, within their duplication budget; `auto` builds the tree it
 //! names.
 
-mod common;
+use crate::common;
 
 use common::{trace_ray, Rng};
 use prism::accel::{Accel, AccelSpec, BruteForce, Bvh, BvhBuilder, BvhOptions, RayOrigins};

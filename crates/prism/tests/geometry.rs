@@ -2,7 +2,7 @@
 //! out by hand (or in f64), and each shape is checked outside, inside, behind, at grazing
 //! angles and against `t_max`. Tolerances are relative and stated at each assertion.
 
-mod common;
+use crate::common;
 
 use common::{assert_rel, assert_vec_close, icosphere, lattice_cube, rotate, trace_ray, Rng};
 use prism::geometry::{

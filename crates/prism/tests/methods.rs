@@ -3,7 +3,7 @@
 //! declared here (its options, table and build, plus one line in an `accel_methods!` list)
 //! parses, prints, reports errors and answers rays like the built-in ones.
 
-mod common;
+use crate::common;
 
 use common::oracle::{random_ray, TestScene};
 use common::{icosphere, Rng};

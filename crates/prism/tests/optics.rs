@@ -2,7 +2,7 @@
 //! angle, the exact Fresnel equations (checked against their independent angle form),
 //! Schlick's error bound, and the energy bookkeeping of `Material::specular_weights`.
 
-mod common;
+use crate::common;
 
 use common::{assert_rel, assert_vec_close};
 use prism::math::{Color, Vec3};

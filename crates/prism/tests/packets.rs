@@ -5,7 +5,7 @@
 //! both node widths and both packet kernels (AVX2, AVX-512), at 1e-3 and 1e3 scale; and
 //! coherent packets do visit fewer nodes.
 
-mod common;
+use crate::common;
 
 use common::oracle::{random_triangles, TestScene};
 use common::{icosphere, Rng};

@@ -7,7 +7,7 @@
 //! other face. Such a pixel takes a colour found right next to it; acne or a lost hit does
 //! not. So differing pixels are allowed only if a neighbour in the reference explains them.
 
-mod common;
+use crate::common;
 
 use common::{icosphere, lattice_cube, rotate};
 use prism::camera::{Camera, Projection};

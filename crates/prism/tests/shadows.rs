@@ -5,7 +5,7 @@
 //! directions on cell borders and cube edges, at 1, 10⁻³ and 10³ scale, over 8- and 4-wide BVHs and one of a single
 //! leaf; and every method renders the same image.
 
-mod common;
+use crate::common;
 
 use common::oracle::{random_ray, random_triangles, TestScene};
 use common::{icosphere, Rng};

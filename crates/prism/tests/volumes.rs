@@ -4,7 +4,7 @@
 //! primitives; ray tests never miss a volume whose contents the ray hits; 26-DOPs are never
 //! looser than 14-DOPs, which are never looser than boxes.
 
-mod common;
+use crate::common;
 
 use common::oracle::{random_cone, random_ray, random_triangles, same_nearest, TestScene};
 use common::{icosphere, rotate, Rng};

@@ -1,7 +1,7 @@
 //! Helpers shared by the integration tests: a small seeded RNG, closed test meshes with
 //! exactly shared vertices, ray builders and tolerance assertions.
 //!
-//! Each test file is its own crate and uses a different subset, hence the `dead_code` allow.
+//! Each crate's test binary uses a different subset, hence the `dead_code` allow.
 #![allow(dead_code)]
 
 pub(crate) mod mesh_files;

@@ -3,7 +3,8 @@
 //! a damaged file cost no more than a constant times its size. Unlike a time limit, the
 //! count does not depend on the machine or its load, so such a test cannot flake.
 //!
-//! A suite opts in with `#[global_allocator] static COUNTING: Counting = Counting;`.
+//! A test binary opts in with `#[global_allocator] static COUNTING: Counting = Counting;`
+//! (prism-io's tests/suites.rs does, for all its suites).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;

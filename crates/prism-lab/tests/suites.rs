@@ -1,0 +1,8 @@
+//! prism-lab's test suites, built as one test binary: each suite is a file beside this one,
+//! declared here as a module, so that the suites share one compilation and one link instead
+//! of one each (ARCHITECTURE.md, "How to add a test suite"). `cargo test --release -p
+//! prism-lab --test suites -- NAME::` runs the suite of NAME.rs alone.
+
+mod adaptive_goal;
+mod flip;
+mod reference;
