@@ -73,11 +73,24 @@ fn bench_writes_the_same_results_as_csv_json_and_chart() {
         assert!(num(bvh, "primary_tests_per_ray") < prims, "{bvh:?}");
         assert!(num(bvh, "primary_nodes_per_ray") > 0.0);
         // The same rays and the same answers for both.
-        for c in ["primary_rays", "primary_hits", "shadow_rays", "shadow_hits"] {
+        for c in [
+            "primary_rays",
+            "primary_hits",
+            "shadow_rays",
+            "shadow_hits",
+            "incoherent_rays",
+            "incoherent_hits",
+        ] {
             assert_eq!(bvh[col(c)], brute[col(c)], "{c}");
         }
         assert!(num(bvh, "primary_rays") == num(bvh, "width") * num(bvh, "height"));
         assert!(num(bvh, "shadow_rays") > 0.0);
+        // One diffuse bounce from every camera ray's hit; inside the closed Cornell box
+        // and off the sphereflake's floor many of them hit something again.
+        assert_eq!(num(bvh, "incoherent_rays"), num(bvh, "primary_hits"));
+        assert!(num(bvh, "incoherent_hits") > 0.0);
+        assert_eq!(num(brute, "incoherent_tests_per_ray"), prims);
+        assert!(num(bvh, "incoherent_mrays_per_s") > 0.0);
         let best = pair.iter().filter(|r| r[col("fastest")] == "true").count();
         assert_eq!(best, 1);
         for r in pair {

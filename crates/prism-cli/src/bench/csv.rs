@@ -3,7 +3,7 @@
 
 use super::results::SceneResult;
 
-pub(super) const COLUMNS: [&str; 22] = [
+pub(super) const COLUMNS: [&str; 27] = [
     "scene",
     "primitives",
     "width",
@@ -26,6 +26,11 @@ pub(super) const COLUMNS: [&str; 22] = [
     "shadow_nodes_per_ray",
     "shadow_tests_per_ray",
     "shadow_mrays_per_s",
+    "incoherent_rays",
+    "incoherent_hits",
+    "incoherent_nodes_per_ray",
+    "incoherent_tests_per_ray",
+    "incoherent_mrays_per_s",
 ];
 
 /// The last two columns: primary throughput over the scene's fastest, and whether this is
@@ -62,7 +67,15 @@ pub(super) fn csv(scenes: &[SceneResult]) -> String {
             ];
             match row.measured() {
                 Some(m) => {
-                    let (p, sh) = (&m.primary, &m.shadow);
+                    let kind = |r: &prism_lab::bench::RayKindResult| {
+                        [
+                            r.rays.to_string(),
+                            r.hits.to_string(),
+                            format!("{:.4}", r.node_visits_per_ray),
+                            format!("{:.4}", r.primitive_tests_per_ray),
+                            format!("{:.4}", r.mrays_per_s),
+                        ]
+                    };
                     cells.extend([
                         format!("{:.3}", m.build_ms),
                         m.accel.memory_bytes.to_string(),
@@ -72,17 +85,10 @@ pub(super) fn csv(scenes: &[SceneResult]) -> String {
                         m.accel
                             .sah_cost
                             .map_or(String::new(), |c| format!("{c:.3}")),
-                        p.rays.to_string(),
-                        p.hits.to_string(),
-                        format!("{:.4}", p.node_visits_per_ray),
-                        format!("{:.4}", p.primitive_tests_per_ray),
-                        format!("{:.4}", p.mrays_per_s),
-                        sh.rays.to_string(),
-                        sh.hits.to_string(),
-                        format!("{:.4}", sh.node_visits_per_ray),
-                        format!("{:.4}", sh.primitive_tests_per_ray),
-                        format!("{:.4}", sh.mrays_per_s),
                     ]);
+                    for r in [&m.primary, &m.shadow, &m.incoherent] {
+                        cells.extend(kind(r));
+                    }
                 }
                 None => cells.extend(std::iter::repeat_n(String::new(), COLUMNS.len() - 6)),
             }

@@ -1,7 +1,7 @@
 //! `prism bench --frontier`: build time against trace time, one panel per scene and one
 //! point per method, both axes logarithmic; the methods that no other beats on both (the
 //! Pareto front) are filled and joined by a line, the others hollow. Trace time is one
-//! pass over the scene's camera and shadow rays.
+//! pass over the scene's camera, shadow and incoherent rays.
 
 use super::results::SceneResult;
 use crate::plot::{axis, escape, tick_label, PALETTE};
@@ -32,7 +32,7 @@ pub(super) fn costs(scene: &SceneResult) -> Vec<Option<Cost>> {
                 // A build under the clock's resolution still costs something: keep it on
                 // the log axis at a microsecond.
                 build_ms: m.build_ms.max(1e-3),
-                trace_ms: 1e3 * (m.primary.seconds + m.shadow.seconds),
+                trace_ms: 1e3 * (m.primary.seconds + m.shadow.seconds + m.incoherent.seconds),
             };
             (cost.trace_ms > 0.0 && cost.trace_ms.is_finite()).then_some(cost)
         })

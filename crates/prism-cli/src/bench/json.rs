@@ -39,6 +39,7 @@ pub(super) fn json(scenes: &[SceneResult], settings: &RunSettings) -> Value {
                 "primary_rays": s.rays.primary,
                 "primary_hits": s.primary_hits,
                 "shadow_rays": s.rays.shadow,
+                "incoherent_rays": s.rays.incoherent,
                 "fastest": s.fastest().map(|i| s.rows[i].method.clone()),
                 "default_vs_best": s.default_row().and_then(|i| s.vs_best(i)),
                 "methods": rows,

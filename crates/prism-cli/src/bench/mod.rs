@@ -196,12 +196,15 @@ pub(crate) fn run(args: &BenchArgs) -> Result<ExitCode> {
     };
     println!(
         "prism bench: {size} px (longer side), 1 camera ray per pixel plus shadow rays to each \
-         light; {threads} thread{}, median of {repeat} sample{} timed by {}",
+         light and a diffuse bounce from each hit; {threads} thread{}, median of {repeat} sample{} timed by {}",
         if threads == 1 { "" } else { "s" },
         if repeat == 1 { "" } else { "s" },
         options.clock.describe()
     );
-    println!("P = primary rays (nearest hit), S = shadow rays (any hit); nodes and tests per ray; * = fastest for P");
+    println!(
+        "P = primary rays (nearest hit), S = shadow rays (any hit), I = incoherent rays \
+         (nearest hit); nodes and tests per ray; * = fastest for P"
+    );
     println!("{}", table::header());
 
     let mut results = Vec::new();
@@ -327,7 +330,8 @@ fn bench_scene(
         .filter(|&i| scene.geometry.bounds(i).is_some())
         .count() as u64;
     drop(reference);
-    let work = bounded * (rays.primary.len() + rays.shadow.len()) as u64;
+    let traced = rays.primary.len() + rays.shadow.len() + rays.incoherent.len();
+    let work = bounded * traced as u64;
     let skipped =
         |spec: &AccelSpec| spec.kind() == AccelKind::BruteForce && work > BRUTE_FORCE_BUDGET;
     // The methods that run are built first and then timed in turns (`measure_all`).
@@ -342,20 +346,19 @@ fn bench_scene(
     let mut rows = Vec::new();
     for (method, spec) in methods {
         let outcome = if skipped(spec) {
-            Outcome::Skipped(format!(
-                "{bounded} primitives × {} rays is too slow",
-                rays.primary.len() + rays.shadow.len()
-            ))
+            Outcome::Skipped(format!("{bounded} primitives × {traced} rays is too slow"))
         } else {
             Outcome::Measured(Box::new(
                 measured.next().expect("one measurement per running method"),
             ))
         };
         let mismatch = match &outcome {
-            // Which primitive at which distance for every primary ray, which shadow rays
-            // are blocked: all as the reference BVH answered.
+            // Which primitive at which distance for every primary and incoherent ray,
+            // which shadow rays are blocked: all as the reference BVH answered.
             Outcome::Measured(m) => {
-                m.primary_digest != rays.primary_digest || m.shadow_digest != rays.shadow_digest
+                m.primary_digest != rays.primary_digest
+                    || m.shadow_digest != rays.shadow_digest
+                    || m.incoherent_digest != rays.incoherent_digest
             }
             Outcome::Skipped(_) => false,
         };

@@ -1,5 +1,6 @@
 //! The terminal table of `prism bench`: one block per scene, one line per method; "P" is
-//! primary rays (nearest hit), "S" shadow rays (any hit).
+//! primary rays (nearest hit), "S" shadow rays (any hit), "I" incoherent rays (nearest
+//! hit).
 
 use super::results::SceneResult;
 use prism_lab::bench::RayKindResult;
@@ -35,7 +36,8 @@ pub(super) fn header() -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{:<16} {:>8} {:<22} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
+        "{:<16} {:>8} {:<22} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} \
+         {:>8}",
         "scene",
         "prims",
         "method",
@@ -47,9 +49,12 @@ pub(super) fn header() -> String {
         "S nodes",
         "S tests",
         "S Mray/s",
+        "I nodes",
+        "I tests",
+        "I Mray/s",
         "vs best"
     );
-    let _ = write!(s, "{}", "-".repeat(16 + 9 + 23 + 10 + 9 * 8));
+    let _ = write!(s, "{}", "-".repeat(16 + 9 + 23 + 10 + 9 * 11));
     s
 }
 
@@ -77,11 +82,12 @@ pub(super) fn scene_block(scene: &SceneResult) -> String {
                     .map_or(String::from("-"), |v| format!("{:.2}", v));
                 let _ = write!(
                     s,
-                    " {:>9.1} {:>8.2} {} {} {:>8}",
+                    " {:>9.1} {:>8.2} {} {} {} {:>8}",
                     m.build_ms,
                     m.accel.memory_bytes as f64 / (1024.0 * 1024.0),
                     kind_cells(&m.primary),
                     kind_cells(&m.shadow),
+                    kind_cells(&m.incoherent),
                     vs
                 );
                 if row.mismatch {

@@ -1,6 +1,6 @@
 //! Measuring one method on one scene's `RaySet`: build time (median of several builds when
-//! a build is cheap), what was built, and for primary rays (nearest hit) and shadow rays
-//! (any hit) the node visits and primitive tests per ray and the throughput (median of the
+//! a build is cheap), what was built, and for primary rays (nearest hit), shadow rays
+//! (any hit) and incoherent rays (nearest hit) the node visits and primitive tests per ray and the throughput (median of the
 //! repetitions, the methods timed in turns).
 
 use super::rays::{RaySet, ShadowRay};
@@ -84,10 +84,14 @@ pub struct Measured {
     pub primary: RayKindResult,
     /// The shadow rays.
     pub shadow: RayKindResult,
+    /// The incoherent rays.
+    pub incoherent: RayKindResult,
     /// What the method answered (an untimed pass), to compare with the reference's.
     pub primary_digest: super::HitDigest,
     /// What the method answered for the shadow rays.
     pub shadow_digest: super::HitDigest,
+    /// What the method answered for the incoherent rays.
+    pub incoherent_digest: super::HitDigest,
 }
 
 /// Builds every method in `specs` over `scene`, then times them on `rays` in turns: sample
@@ -120,18 +124,25 @@ pub fn measure_all(
         .map(|(intersector, _)| move || trace_shadow(intersector, geometry, &rays.shadow))
         .collect();
     let shadow = interleaved(options, rays.shadow.len(), &shadow_passes);
+    let incoherent_passes: Vec<_> = built
+        .iter()
+        .map(|(intersector, _)| move || trace_primary(intersector, geometry, &rays.incoherent))
+        .collect();
+    let incoherent = interleaved(options, rays.incoherent.len(), &incoherent_passes);
     built
         .into_iter()
-        .zip(primary.into_iter().zip(shadow))
+        .zip(primary.into_iter().zip(shadow).zip(incoherent))
         .map(
-            |((intersector, mut build_times), (primary, shadow))| Measured {
+            |((intersector, mut build_times), ((primary, shadow), incoherent))| Measured {
                 primary_digest: super::digest::primary(&intersector, geometry, &rays.primary),
                 shadow_digest: super::digest::shadow(&intersector, geometry, &rays.shadow),
+                incoherent_digest: super::digest::primary(&intersector, geometry, &rays.incoherent),
                 accel: intersector.accel.info(),
                 build_ms: median(&mut build_times),
                 builds: build_times.len(),
                 primary,
                 shadow,
+                incoherent,
             },
         )
         .collect()

@@ -1,14 +1,19 @@
-//! The workload of a benchmark: one camera ray through the centre of each pixel, and one
-//! shadow ray from each primary hit point to each light in front of the surface. The
-//! hit points come from a reference accelerator, so every method is timed on exactly the
-//! same rays.
+//! The workload of a benchmark: one camera ray through the centre of each pixel, one
+//! shadow ray from each primary hit point to each light in front of the surface, and one
+//! incoherent ray from each primary hit point in a cosine-distributed direction about the
+//! surface (a diffuse bounce, as embree-bench's incoherent rays). The hit points come from
+//! a reference accelerator, so every method is timed on exactly the same rays.
 
 use prism::camera::CameraError;
 use prism::math::robust::offset_ray_origin;
-use prism::math::Ray;
+use prism::math::{hash, warp, Frame, Ray};
 use prism::scene::PreparedScene;
 use prism::stats::Stats;
 use serde::Serialize;
+
+/// The seed of the incoherent rays' directions (any fixed number: the rays only need to
+/// be the same for every method and run).
+const BOUNCE_SEED: u64 = 0x1ac0;
 
 /// A ray to a light and the distance to it (infinite for directional lights).
 #[derive(Clone, Copy, Debug)]
@@ -34,12 +39,16 @@ pub struct RaySet {
     pub primary: Vec<Ray>,
     /// The shadow rays of the camera rays' hits.
     pub shadow: Vec<ShadowRay>,
+    /// One diffuse bounce from each camera ray's hit (nearest hit, unbounded).
+    pub incoherent: Vec<Ray>,
     /// Primary rays that hit something.
     pub primary_hits: usize,
     /// The reference's answers, which every method must reproduce.
     pub primary_digest: super::HitDigest,
     /// The reference's answers for the shadow rays.
     pub shadow_digest: super::HitDigest,
+    /// The reference's answers for the incoherent rays.
+    pub incoherent_digest: super::HitDigest,
 }
 
 /// Counts for reports.
@@ -49,6 +58,8 @@ pub struct RaySetSize {
     pub primary: usize,
     /// Shadow rays.
     pub shadow: usize,
+    /// Incoherent rays.
+    pub incoherent: usize,
 }
 
 impl RaySet {
@@ -87,6 +98,13 @@ impl RaySet {
                 } else {
                     -sp.ng
                 };
+                let bounce = Frame::from_z(ng).to_world(warp::cosine_hemisphere(
+                    hash::uniform(x, y, 0, 0, BOUNCE_SEED),
+                    hash::uniform(x, y, 0, 1, BOUNCE_SEED),
+                ));
+                let bounce = bounce.normalize();
+                let origin = offset_ray_origin(sp.p, sp.p_error, ng, bounce);
+                set.incoherent.push(Ray::new(origin, bounce));
                 for (index, light) in scene.lights.iter().enumerate() {
                     let Some(ls) = light.sample(sp.p) else {
                         continue;
@@ -107,6 +125,8 @@ impl RaySet {
         let geometry = &scene.geometry;
         set.primary_digest = super::digest::primary(&reference.intersector, geometry, &set.primary);
         set.shadow_digest = super::digest::shadow(&reference.intersector, geometry, &set.shadow);
+        set.incoherent_digest =
+            super::digest::primary(&reference.intersector, geometry, &set.incoherent);
         Ok(set)
     }
 
@@ -115,6 +135,7 @@ impl RaySet {
         RaySetSize {
             primary: self.primary.len(),
             shadow: self.shadow.len(),
+            incoherent: self.incoherent.len(),
         }
     }
 }

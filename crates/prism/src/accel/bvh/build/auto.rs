@@ -1,8 +1,8 @@
 //! `bvh:build=auto`: the builder that should cost a render least, build and trace
 //! together, chosen from counts alone (the primitives, whether they are all triangles,
 //! the rays the render is expected to trace), so the tree is the same on every machine
-//! and run. The model is fitted to the build-against-trace chart
-//! (bench/results/bvh-frontier.csv, one thread, geometric means over its scenes): per
+//! and run. The model is fitted to a run of the build-against-trace chart before it traced
+//! incoherent rays (camera and shadow rays, one thread, geometric means over its scenes): per
 //! builder the build time per primitive and the trace time per ray relative to binned
 //! SAH's tree, times binned's trace time per ray. Triangles and other shapes get their
 //! own rows: binned SAH builds triangles in packs of four, which makes it cheap there,
