@@ -1088,16 +1088,7 @@ fn head_on(doc: &mut Value, dir: &Path, ambient: f32, background: f32) -> Scene 
         }
     }
     let mut scene = load(&write(dir, "quad.gltf", &pretty(doc))).unwrap();
-    scene.lights.clear();
-    scene.ambient = Color::splat(ambient);
-    scene.background = Color::splat(background);
-    scene.camera = prism::camera::Camera {
-        eye: Vec3::new(0.0, 0.0, 5.0),
-        look_at: Vec3::ZERO,
-        up: Vec3::Y,
-        fov_degrees: 20.0,
-        projection: prism::camera::Projection::Perspective,
-    };
+    common::mesh_files::head_on(&mut scene, Vec::new(), ambient, background);
     scene
 }
 

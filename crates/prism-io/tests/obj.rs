@@ -757,7 +757,7 @@ fn a_missing_texture_is_a_warning_and_unrendered_maps_are_named() {
     write(
         &dir,
         "lib.mtl",
-        "newmtl a\nKd 0.2 0.4 0.6\nmap_Kd missing.png\nmap_Bump bumps.png\nnorm n.png\n\
+        "newmtl a\nKd 0.2 0.4 0.6\nmap_Kd missing.png\nmap_Bump bumps.png\nnorm -o 1 n.png\n\
          map_Ks spec.png\n",
     );
     let obj = format!("mtllib lib.mtl\nusemtl a\n{TRIANGLE}f 1 2 3\n");
@@ -777,9 +777,105 @@ fn a_missing_texture_is_a_warning_and_unrendered_maps_are_named() {
         "{w}"
     );
     assert!(
-        w.contains("read but not rendered: map_Bump, map_Ks, norm"),
+        w.contains("lib.mtl:4:10: the map_Bump image") && w.contains("lib.mtl:5:11: the norm"),
         "{w}"
     );
+    assert!(
+        w.contains("read but not rendered: map_Ks, norm -o ("),
+        "{w}"
+    );
+}
+
+/// A quad in the z = 0 plane, u along +x and v along +y, its material `mtl` (which names
+/// its images in `images`), seen head on by Whitted's tracer with one directional light
+/// from `to_light` and nothing else: the centre pixel, at uv (0.5, 0.5), is the Lambert
+/// term of its shading normal.
+fn lambert_at_centre(
+    test: &str,
+    mtl: &str,
+    images: &[(&str, image::RgbImage)],
+    to_light: Vec3,
+) -> f32 {
+    let dir = temp_dir(test);
+    for (name, img) in images {
+        img.save(dir.join(name)).unwrap();
+    }
+    write(
+        &dir,
+        "q.mtl",
+        format!("newmtl q\nKd 1 1 1\nKa 0 0 0\nillum 1\n{mtl}\n"),
+    );
+    let obj = "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
+               vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nusemtl q\n\
+               f 1/1/1 2/2/1 3/3/1 4/4/1\n";
+    let mut scene = load(&write(&dir, "q.obj", obj)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let sun = prism::light::Light::Directional {
+        direction: -to_light.normalize(),
+        color: Color::ONE,
+    };
+    common::mesh_files::head_on(&mut scene, vec![sun], 0.0, 0.0);
+    render_at(&scene, 9, 9).get(4, 4).x
+}
+
+/// MTL's `norm` is a tangent-space normal map in the frame the triangle's uvs give (OBJ
+/// has no tangents), its texels read as data and `-bm` scaling their x and y: a map
+/// tilting the normal towards +u gives the Lambert term of the tilted normal.
+#[test]
+fn mtl_norm_is_a_normal_map() {
+    let texel = [191u8, 128, 255];
+    let img = image::RgbImage::from_pixel(2, 2, image::Rgb(texel));
+    let to_light = Vec3::new(1.0, 0.0, 1.0);
+    for (bm, option) in [(1.0, ""), (0.5, "-bm 0.5 ")] {
+        let got = lambert_at_centre(
+            "norm",
+            &format!("norm {option}n.png"),
+            &[("n.png", img.clone())],
+            to_light,
+        );
+        let c = texel.map(|v| 2.0 * v as f32 / 255.0 - 1.0);
+        let n = Vec3::new(c[0] * bm, c[1] * bm, c[2]).normalize();
+        let expected = n.dot(to_light.normalize());
+        assert!(
+            (got - expected).abs() < 1e-4,
+            "-bm {bm}: {got} against {expected}"
+        );
+    }
+    let flat = lambert_at_centre("norm-flat", "", &[], to_light);
+    assert!(
+        (flat - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-4,
+        "{flat}"
+    );
+}
+
+/// MTL's `bump` and `map_Bump` are height maps: a ramp rising by 1/15 a texel across 16
+/// texels, scaled by `-bm 0.5`, on a quad two units wide, rises 4/15 per unit of length, so
+/// it tilts the normal by atan(4/15) away from +x: lit along the tilted normal the centre
+/// shows exactly 1 (a flat quad shows cos(atan(4/15))), lit from the mirrored side
+/// cos(2·atan(4/15)).
+#[test]
+fn mtl_bump_tilts_the_normal_by_the_ramps_slope() {
+    let ramp = image::RgbImage::from_fn(16, 1, |x, _| {
+        let v = (x * 17) as u8;
+        image::Rgb([v, v, v])
+    });
+    let tilt = (4.0f32 / 15.0).atan();
+    let along = Vec3::new(-tilt.sin(), 0.0, tilt.cos());
+    let mirrored = Vec3::new(tilt.sin(), 0.0, tilt.cos());
+    for keyword in ["bump", "map_Bump"] {
+        let mtl = format!("{keyword} -bm 0.5 ramp.png");
+        let images = [("ramp.png", ramp.clone())];
+        let lit = lambert_at_centre("bump", &mtl, &images, along);
+        assert!((lit - 1.0).abs() < 1e-4, "{keyword}: {lit}");
+        let other = lambert_at_centre("bump-mirrored", &mtl, &images, mirrored);
+        let expected = (2.0 * tilt).cos();
+        assert!(
+            (other - expected).abs() < 1e-4,
+            "{keyword}: {other} against {expected}"
+        );
+    }
+    let flat = lambert_at_centre("bump-flat", "", &[], along);
+    assert!((flat - tilt.cos()).abs() < 1e-4, "{flat}");
 }
 
 /// An object whose faces all have zero area (collinear or repeated corners) is left out
@@ -805,4 +901,32 @@ fn an_object_of_zero_area_faces_is_a_warning() {
     );
     let err = load(&only).unwrap_err().to_string();
     assert!(err.contains("only faces of zero area"), "{err}");
+}
+
+/// What an OBJ file or its library holds and the picture will not show is named in one
+/// warning per file: free-form geometry, smoothing groups (faces without normals stay
+/// flat), the PBR extension's scalars; smoothing switched off is nothing dropped.
+#[test]
+fn statements_read_and_not_rendered_are_named_once_per_file() {
+    let dir = temp_dir("obj-unrendered");
+    write(&dir, "lib.mtl", "newmtl a\nKd 0.5\nPr 0.3\nPm 1\n");
+    let obj = format!(
+        "mtllib lib.mtl\nusemtl a\n{TRIANGLE}s 1\nf 1 2 3\ncstype bspline\ncurv 0 1 1 2\n\
+         curv 0 1 2 3\ns off\n"
+    );
+    let scene = load(&write(&dir, "m.obj", &obj)).unwrap();
+    let w = scene.warnings.join("\n");
+    assert_eq!(scene.warnings.len(), 2, "{w}");
+    assert!(
+        w.contains("m.obj: read but not rendered: free-form curves and surfaces")
+            && w.contains("smoothing groups (s)"),
+        "{w}"
+    );
+    assert!(
+        w.contains("lib.mtl: read but not rendered: Pm, Pr ("),
+        "{w}"
+    );
+    let quiet = format!("{TRIANGLE}s off\ns 0\nf 1 2 3\nl 1 2\n");
+    let scene = load(&write(&dir, "quiet.obj", &quiet)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
 }

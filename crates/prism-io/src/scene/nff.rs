@@ -79,6 +79,7 @@ impl Fill {
             fresnel: FresnelMode::Off,
             emission: Color::ZERO,
             normal_map: None,
+            bump_map: None,
             occlusion: None,
             metal_rough: None,
             emission_map: None,

@@ -24,13 +24,22 @@ pub enum TextureError {
 
 /// Loads a PNG or JPEG, read through `reader`; 8-bit values are taken as sRGB-encoded.
 pub fn load(path: &Path, reader: &mut Reader) -> Result<ImageTexture, TextureError> {
+    read_image(path, reader).map(|img| from_srgb(&img))
+}
+
+/// Loads a PNG or JPEG of data (normals, heights), read through `reader`: 8-bit values
+/// taken as they are, v/255.
+pub fn load_data(path: &Path, reader: &mut Reader) -> Result<ImageTexture, TextureError> {
+    read_image(path, reader).map(|img| from_linear(&img))
+}
+
+fn read_image(path: &Path, reader: &mut Reader) -> Result<image::DynamicImage, TextureError> {
     let read_error = |message: String| TextureError::Read {
         path: path.display().to_string(),
         message,
     };
     let bytes = reader.read(path).map_err(|e| read_error(e.to_string()))?;
-    let img = decode(&bytes).map_err(read_error)?;
-    Ok(from_srgb(&img))
+    decode(&bytes).map_err(read_error)
 }
 
 /// Converts a decoded image whose 8-bit values are sRGB-encoded (as PNG and JPEG colour

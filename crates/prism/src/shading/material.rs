@@ -58,6 +58,9 @@ pub struct Material {
     /// A normal map turning the shading normal per texel (triangles with uvs); None for
     /// the interpolated normal alone.
     pub normal_map: Option<super::NormalMap>,
+    /// A bump map turning the shading normal by the gradient of its heights (triangles
+    /// with uvs); None for no bumps.
+    pub bump_map: Option<super::BumpMap>,
     /// How much of the ambient light reaches each texel (glTF's `occlusionTexture`, its
     /// strength applied; the red channel counts): it scales the ambient term. None: all.
     pub occlusion: Option<super::ImageTexture>,
@@ -86,6 +89,7 @@ impl Default for Material {
             fresnel: FresnelMode::Off,
             emission: Color::ZERO,
             normal_map: None,
+            bump_map: None,
             occlusion: None,
             metal_rough: None,
             emission_map: None,
@@ -224,10 +228,12 @@ impl Material {
         self.coefficients().highlight_term(n, l, v)
     }
 
-    /// Whether `color_at` reads the surface's uv (see `geometry::Uv`).
+    /// Whether shading a hit on it reads the surface's uv (see `geometry::Uv`): for its
+    /// colour, maps or per-texel coefficients.
     pub fn uv_need(&self) -> Uv {
         if self.color.reads_uv()
             || self.normal_map.is_some()
+            || self.bump_map.is_some()
             || self.occlusion.is_some()
             || self.metal_rough.is_some()
             || self.emission_map.is_some()

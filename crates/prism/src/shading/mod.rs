@@ -16,6 +16,6 @@ pub use bsdf::{Bsdf, BsdfSample};
 pub use coefficients::{Coefficients, SpecularWeights};
 pub use fresnel::FresnelMode;
 pub use material::{Highlight, Material};
-pub use normal_map::NormalMap;
+pub use normal_map::{BumpMap, NormalMap};
 pub use pbr::{MetalRough, Pbr};
 pub use texture::{Checker, CheckerSpace, ImageTexture, Texture};

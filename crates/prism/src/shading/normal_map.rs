@@ -6,6 +6,11 @@
 //! frame is each triangle's own, as MikkTSpace's is before it averages across vertices:
 //! seams between triangles with different uv directions can show where a map was baked
 //! against averaged tangents.
+//!
+//! Bump maps (MTL's `bump` and `map_Bump`) hold heights instead: the surface is taken as
+//! displaced along its normal by the height times a scale, and the shading normal becomes
+//! the displaced surface's, n − ∇h (Blinn 1978), with ∇h the height's gradient on the
+//! tangent plane found from differences of the texture one texel apart in u and in v.
 
 use super::{ImageTexture, Material};
 use crate::geometry::{Geometry, Shape, SurfacePoint};
@@ -43,21 +48,66 @@ impl NormalMap {
     }
 }
 
-/// Turns `sp`'s shading normal by `material`'s normal map, where it has one and the hit
-/// primitive `prim` is a triangle with uvs; the normal stays in the geometric normal's
-/// hemisphere (a map cannot turn a surface's shading past its silhouette).
+/// A height texture and the scale that turns its values into lengths along the normal.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BumpMap {
+    /// The heights, linear, in the red channel.
+    pub texture: ImageTexture,
+    /// MTL's `-bm`: a texel's value times this is its height in the scene's units.
+    pub scale: f32,
+}
+
+impl BumpMap {
+    /// `ns` turned as the displaced surface's normal at `uv`, with ∂p/∂u and ∂p/∂v of
+    /// the undisplaced one; `ns` itself where the frame degenerates.
+    pub fn perturb(&self, ns: Vec3, dpdu: Vec3, dpdv: Vec3, uv: Vec2) -> Vec3 {
+        // One texel apart, as the image repeats in uv: central differences, exact for
+        // heights that vary linearly between texel centres.
+        let (w, h) = self.texture.size();
+        let step = Vec2::ONE / (Vec2::new(w as f32, h as f32) * self.texture.scale);
+        let height = |d: Vec2| self.texture.eval(uv + d).x;
+        let dhdu =
+            (height(Vec2::new(step.x, 0.0)) - height(Vec2::new(-step.x, 0.0))) / (2.0 * step.x);
+        let dhdv =
+            (height(Vec2::new(0.0, step.y)) - height(Vec2::new(0.0, -step.y))) / (2.0 * step.y);
+        // The gradients of u and v on the tangent plane: the dual basis of ∂p/∂u and
+        // ∂p/∂v projected onto it.
+        let a = dpdu - ns * ns.dot(dpdu);
+        let b = dpdv - ns * ns.dot(dpdv);
+        let (aa, ab, bb) = (a.dot(a), a.dot(b), b.dot(b));
+        let det = aa * bb - ab * ab;
+        if !(det > 0.0 && det.is_finite()) {
+            return ns;
+        }
+        let grad_u = (a * bb - b * ab) / det;
+        let grad_v = (b * aa - a * ab) / det;
+        let gradient = self.scale * (dhdu * grad_u + dhdv * grad_v);
+        (ns - gradient).try_normalize().unwrap_or(ns)
+    }
+}
+
+/// Turns `sp`'s shading normal by `material`'s normal map or bump map, where it has one
+/// and the hit primitive `prim` is a triangle with uvs (a bump map after a normal map,
+/// where it has both); the normal stays in the geometric normal's hemisphere (a map
+/// cannot turn a surface's shading past its silhouette).
 #[inline]
 pub fn apply(material: &Material, geometry: &Geometry, prim: u32, sp: &mut SurfacePoint) {
-    let Some(map) = &material.normal_map else {
+    if material.normal_map.is_none() && material.bump_map.is_none() {
         return;
-    };
+    }
     let Shape::Triangle { mesh, index } = geometry.primitives[prim as usize].shape else {
         return;
     };
     let Some((dpdu, dpdv)) = geometry.meshes[mesh as usize].uv_derivatives(index) else {
         return;
     };
-    let n = map.perturb(sp.ns, dpdu, dpdv, sp.uv);
+    let mut n = sp.ns;
+    if let Some(map) = &material.normal_map {
+        n = map.perturb(n, dpdu, dpdv, sp.uv);
+    }
+    if let Some(map) = &material.bump_map {
+        n = map.perturb(n, dpdu, dpdv, sp.uv);
+    }
     // Keep it on the front side of the geometric normal, as interpolated normals are kept.
     let d = n.dot(sp.ng);
     sp.ns = if d > 0.0 {

@@ -87,8 +87,13 @@ impl ImageTexture {
     /// The same image with every texel multiplied by `factor` (a tint, such as glTF's
     /// baseColorFactor).
     pub fn tinted(&self, factor: Color) -> Self {
+        self.map_texels(|t| t * factor)
+    }
+
+    /// The same image with `f` applied to every texel.
+    pub fn map_texels(&self, f: impl Fn(Color) -> Color) -> Self {
         ImageTexture {
-            texels: Arc::new(self.texels.iter().map(|&t| t * factor).collect()),
+            texels: Arc::new(self.texels.iter().map(|&t| f(t)).collect()),
             ..self.clone()
         }
     }
@@ -102,6 +107,11 @@ impl ImageTexture {
             texels: Arc::new(texels),
             scale: Vec2::ONE,
         }
+    }
+
+    /// Its width and height in texels.
+    pub fn size(&self) -> (usize, usize) {
+        (self.width, self.height)
     }
 
     /// The mean of its texels: the mean of `eval` over a whole repetition of the image

@@ -196,6 +196,29 @@ pub(crate) fn render_at(scene: &Scene, width: u32, height: u32) -> Film {
         .film
 }
 
+/// `scene` with nothing in it lit but by `lights`, `ambient` and `background`, seen head
+/// on from z = 5 (a 20° view, 1.76 units wide at z = 0) looking at the origin: where the
+/// loader suites' per-texel tests put a unit quad in the z = 0 plane, so that its pixels
+/// have closed forms.
+pub(crate) fn head_on(
+    scene: &mut Scene,
+    lights: Vec<prism::light::Light>,
+    ambient: f32,
+    background: f32,
+) {
+    use prism::math::{Color, Vec3};
+    scene.lights = lights;
+    scene.ambient = Color::splat(ambient);
+    scene.background = Color::splat(background);
+    scene.camera = prism::camera::Camera {
+        eye: Vec3::new(0.0, 0.0, 5.0),
+        look_at: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_degrees: 20.0,
+        projection: prism::camera::Projection::Perspective,
+    };
+}
+
 /// The largest difference of any channel of any pixel.
 pub(crate) fn max_difference(a: &Film, b: &Film) -> f32 {
     assert_eq!(a.pixels.len(), b.pixels.len());

@@ -5,7 +5,7 @@
 //! table; the comments below say why each choice.
 
 use prism::math::Color;
-use prism::shading::{FresnelMode, Highlight, ImageTexture, Material, Texture};
+use prism::shading::{BumpMap, FresnelMode, Highlight, ImageTexture, Material, NormalMap, Texture};
 
 /// What prism reads from an MTL material beside tobj.
 #[derive(Clone, Debug, Default)]
@@ -18,6 +18,10 @@ pub(super) struct Extras {
     pub tr: Option<f32>,
     /// `Ke`: the emitted radiance (an area light).
     pub ke: Option<Color>,
+    /// `norm`: a tangent-space normal map.
+    pub normal_map: Option<NormalMap>,
+    /// `bump` or `map_Bump`: a height map.
+    pub bump_map: Option<BumpMap>,
 }
 
 fn mean(c: [f32; 3]) -> f32 {
@@ -81,7 +85,8 @@ pub(super) fn whitted(m: &tobj::Material, extras: &Extras) -> Material {
         ior,
         fresnel,
         emission: extras.ke.unwrap_or(Color::ZERO),
-        normal_map: None,
+        normal_map: extras.normal_map.clone(),
+        bump_map: extras.bump_map.clone(),
         occlusion: None,
         metal_rough: None,
         emission_map: None,

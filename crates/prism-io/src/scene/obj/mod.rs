@@ -56,7 +56,13 @@ fn parse_with(
         Materials::Ignore => scan::check(text, &name, None)?,
     };
     let libraries = opener.libraries;
-    let warnings = opener.warnings;
+    let mut warnings = opener.warnings;
+    if !checked.skipped.is_empty() {
+        warnings.push(format!(
+            "{name}: read but not rendered: {}",
+            checked.skipped.join("; ")
+        ));
+    }
 
     let options = tobj::LoadOptions {
         single_index: true,

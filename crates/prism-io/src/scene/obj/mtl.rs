@@ -1,20 +1,30 @@
 //! MTL material libraries. Each line is checked here with file:line:column errors (tobj
 //! gives no positions, and panics on a colour of fewer than three numbers), then tobj reads
 //! the plain statements it knows (newmtl, Ka, Kd, Ks, Ns, Ni, d, illum); what it does not
-//! read is taken here: `Tf`, `Tr` and the `map_Kd` image with its `-s` scale.
-//! `material::whitted` turns the result into prism materials.
+//! read is taken here: `Tf`, `Tr`, `Ke`, the `map_Kd` image with its `-s` scale, the `norm`
+//! normal map and the `bump`/`map_Bump` height map with their `-s` and `-bm`. What is read
+//! and not rendered (other maps, the options that do not change the picture) is named in
+//! one warning per library. `material::whitted` turns the result into prism materials.
 
 use super::material::{whitted, Extras};
 use super::scan::Words;
 use crate::source::{LoadError, Reader};
 use prism::math::{Color, Vec2};
-use prism::shading::{ImageTexture, Material};
+use prism::shading::{BumpMap, ImageTexture, Material, NormalMap};
 use std::collections::HashMap;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
-/// Images already read while loading one OBJ file, so materials sharing one load it once.
-pub(super) type TextureCache = HashMap<PathBuf, ImageTexture>;
+/// Images already read while loading one OBJ file, so materials sharing one load it once:
+/// by file and by whether its values are data (normals, heights) rather than sRGB colours.
+pub(super) type TextureCache = HashMap<(PathBuf, bool), ImageTexture>;
+
+/// An image a map statement names, with its options.
+struct Map {
+    image: ImageTexture,
+    /// `-bm`: the bump multiplier (1 without it).
+    bm: f32,
+}
 
 /// tobj's own reading of a library: its materials and their names' indices.
 pub(super) type TobjMaterials = (Vec<tobj::Material>, HashMap<String, usize>);
@@ -112,7 +122,8 @@ pub(super) fn parse(
     if !checker.unrendered.is_empty() {
         let names: Vec<&str> = checker.unrendered.iter().map(String::as_str).collect();
         checker.warnings.push(format!(
-            "{}: read but not rendered: {} (prism's materials use map_Kd's colour image only)",
+            "{}: read but not rendered: {} (prism renders map_Kd's colour, norm's normals and \
+             bump's or map_Bump's heights, with their -s, and -bm for norm and bump)",
             path.display(),
             names.join(", ")
         ));
@@ -141,8 +152,8 @@ struct Checker<'a> {
     reader: &'a mut Reader,
     out: String,
     warnings: Vec<String>,
-    /// Texture statements read and not rendered (`map_Bump`, `norm`, …), named once in a
-    /// warning.
+    /// Texture statements and options read and not rendered (`map_Ks`, `disp`, `map_Kd
+    /// -o`, …), named once in a warning.
     unrendered: std::collections::BTreeSet<String>,
 }
 
@@ -176,7 +187,20 @@ impl Checker<'_> {
         }
         let known = matches!(
             keyword,
-            "Ka" | "Kd" | "Ks" | "Ke" | "Tf" | "Ns" | "Ni" | "d" | "Tr" | "illum" | "map_Kd"
+            "Ka" | "Kd"
+                | "Ks"
+                | "Ke"
+                | "Tf"
+                | "Ns"
+                | "Ni"
+                | "d"
+                | "Tr"
+                | "illum"
+                | "map_Kd"
+                | "norm"
+                | "bump"
+                | "map_Bump"
+                | "map_bump"
         );
         if known && self.extras.is_empty() {
             return Err(self.error(
@@ -237,19 +261,43 @@ impl Checker<'_> {
                 }
             }
             "map_Kd" => {
-                if let Some(texture) = self.texture(&words)? {
-                    self.current().texture = Some(texture);
+                if let Some(map) = self.texture(&words, false)? {
+                    if map.bm != 1.0 {
+                        self.unrendered.insert("map_Kd -bm".into());
+                    }
+                    self.current().texture = Some(map.image);
+                }
+            }
+            // A tangent-space normal map, read as glTF's normalTexture is; -bm scales its
+            // x and y as glTF's scale does.
+            "norm" => {
+                if let Some(map) = self.texture(&words, true)? {
+                    self.current().normal_map = Some(NormalMap {
+                        texture: map.image,
+                        scale: map.bm,
+                    });
+                }
+            }
+            // Heights (the MTL specification's bump map), scaled by -bm.
+            "bump" | "map_Bump" | "map_bump" => {
+                if let Some(map) = self.texture(&words, true)? {
+                    self.current().bump_map = Some(BumpMap {
+                        texture: grey(&map.image),
+                        scale: map.bm,
+                    });
                 }
             }
             // Other texture maps: said once in a warning, so a model is not drawn
             // differently from how it was authored without a word.
-            other
-                if other.starts_with("map_")
-                    || matches!(other, "bump" | "norm" | "disp" | "decal" | "refl") =>
-            {
+            other if other.starts_with("map_") || matches!(other, "disp" | "decal" | "refl") => {
                 self.unrendered.insert(other.to_string());
             }
-            // The PBR scalars and the rest: prism's Whitted model has no use for them.
+            // The PBR extension's scalars: read by other renderers, drawn as the Whitted
+            // terms above here.
+            other @ ("Pr" | "Pm" | "Ps" | "Pc" | "Pcr" | "aniso" | "anisor" | "sharpness") => {
+                self.unrendered.insert(other.to_string());
+            }
+            // Anything else is no MTL statement prism knows of.
             _ => {}
         }
         Ok(())
@@ -333,10 +381,15 @@ impl Checker<'_> {
         Ok(v)
     }
 
-    /// `map_Kd [options] file`: the options' arguments are skipped, `-s` kept as the scale.
-    fn texture(&mut self, words: &Words) -> Result<Option<ImageTexture>, LoadError> {
+    /// `map_Kd [options] file` (or `norm`, `bump`, …: the statement's keyword): `-s` kept
+    /// as the scale and `-bm` as the multiplier, the other options' arguments skipped and
+    /// the options named in the warning of what is not rendered. `data`: the image holds
+    /// normals or heights, read without the sRGB curve.
+    fn texture(&mut self, words: &Words, data: bool) -> Result<Option<Map>, LoadError> {
         let w = &words.words;
+        let keyword = w[0].1;
         let mut scale = Vec2::ONE;
+        let mut bm = 1.0;
         let mut i = 1;
         while let Some(&(at, option)) = w.get(i).filter(|(_, t)| t.starts_with('-')) {
             i += 1;
@@ -349,8 +402,8 @@ impl Checker<'_> {
                     return Err(self.error(
                         at,
                         format!(
-                            "unknown map_Kd option '{option}'; expected -blendu, -blendv, -bm, \
-                             -boost, -cc, -clamp, -imfchan, -mm, -o, -s, -t or -texres"
+                            "unknown {keyword} option '{option}'; expected -blendu, -blendv, \
+                             -bm, -boost, -cc, -clamp, -imfchan, -mm, -o, -s, -t or -texres"
                         ),
                     ))
                 }
@@ -372,26 +425,32 @@ impl Checker<'_> {
             if args.len() < min {
                 return Err(self.error(
                     self.end(),
-                    format!("the map_Kd option {option} needs {min} argument(s)"),
+                    format!("the {keyword} option {option} needs {min} argument(s)"),
                 ));
             }
-            if option == "-s" {
-                scale = Vec2::new(args[0], args.get(1).copied().unwrap_or(1.0));
-                if scale.min_element() <= 0.0 {
-                    return Err(self.error(
-                        at,
-                        format!(
-                            "expected a map_Kd scale -s > 0, found {} {}",
-                            scale.x, scale.y
-                        ),
-                    ));
+            match option {
+                "-s" => {
+                    scale = Vec2::new(args[0], args.get(1).copied().unwrap_or(1.0));
+                    if scale.min_element() <= 0.0 {
+                        return Err(self.error(
+                            at,
+                            format!(
+                                "expected a {keyword} scale -s > 0, found {} {}",
+                                scale.x, scale.y
+                            ),
+                        ));
+                    }
+                }
+                "-bm" => bm = args[0],
+                _ => {
+                    self.unrendered.insert(format!("{keyword} {option}"));
                 }
             }
         }
         let Some(&(file_at, _)) = w.get(i) else {
             return Err(self.error(
                 self.end(),
-                "expected an image file name after map_Kd".into(),
+                format!("expected an image file name after {keyword}"),
             ));
         };
         // Files written on Windows name folders with backslashes.
@@ -400,7 +459,7 @@ impl Checker<'_> {
         if !file.exists() {
             // As a missing material library: render with the material's colour, and say so.
             self.warnings.push(format!(
-                "{}:{}:{}: the map_Kd image {} is missing; the material keeps its colour",
+                "{}:{}:{}: the {keyword} image {} is missing; the material does without it",
                 self.path.display(),
                 self.line_number,
                 self.line
@@ -413,21 +472,33 @@ impl Checker<'_> {
             ));
             return Ok(None);
         }
-        let image = match self.textures.get(&file) {
+        let key = (file, data);
+        let image = match self.textures.get(&key) {
             Some(image) => image.clone(),
             None => {
-                let image = crate::texture::load(&file, self.reader).map_err(|e| {
+                let loaded = if data {
+                    crate::texture::load_data(&key.0, self.reader)
+                } else {
+                    crate::texture::load(&key.0, self.reader)
+                };
+                let image = loaded.map_err(|e| {
                     self.error(
                         file_at,
-                        format!("expected a readable PNG or JPEG image for map_Kd: {e}"),
+                        format!("expected a readable PNG or JPEG image for {keyword}: {e}"),
                     )
                 })?;
-                self.textures.insert(file, image.clone());
+                self.textures.insert(key, image.clone());
                 image
             }
         };
         let mut image = image;
         image.scale = scale;
-        Ok(Some(image))
+        Ok(Some(Map { image, bm }))
     }
+}
+
+/// A height image as one value per texel: the mean of its channels (MTL's default channel
+/// for bump maps is the luminance; a grey image has it in every channel).
+fn grey(image: &ImageTexture) -> ImageTexture {
+    image.map_texels(|c| Color::splat((c.x + c.y + c.z) / 3.0))
 }

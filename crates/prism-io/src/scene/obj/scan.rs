@@ -79,12 +79,15 @@ struct Scanner<'a, 'l> {
     libraries: Option<&'l mut dyn Libraries>,
     known_materials: Vec<String>,
     out: String,
+    skipped: std::collections::BTreeSet<&'static str>,
 }
 
-/// The OBJ text rewritten for tobj, and how many positions (`v`) the file defines.
+/// The OBJ text rewritten for tobj, how many positions (`v`) the file defines, and what
+/// it holds that the picture will not show (one phrase each).
 pub(super) struct Checked {
     pub text: String,
     pub positions: usize,
+    pub skipped: Vec<&'static str>,
 }
 
 /// Checks the OBJ `text` (read from `path`) and rewrites it for tobj. Without
@@ -103,6 +106,7 @@ pub(super) fn check(
         libraries,
         known_materials: Vec::new(),
         out: String::with_capacity(text.len() + text.len() / 8),
+        skipped: std::collections::BTreeSet::new(),
     };
     for (i, raw) in text.split('\n').enumerate() {
         scanner.line_number = i + 1;
@@ -115,6 +119,7 @@ pub(super) fn check(
     Ok(Checked {
         text: scanner.out,
         positions: scanner.defined.positions,
+        skipped: scanner.skipped.into_iter().collect(),
     })
 }
 
@@ -177,8 +182,26 @@ impl<'a> Scanner<'a, '_> {
             }
             "mtllib" => self.mtllib(&words),
             "usemtl" => self.usemtl(&words),
-            // Polylines, points, smoothing groups, free-form curves and surfaces, and the
-            // rest of the format prism does not render: skipped.
+            // What would change the picture and is not drawn: said once per file.
+            "cstype" | "curv" | "curv2" | "surf" | "parm" | "trim" | "hole" | "scrv" | "sp"
+            | "con" => {
+                self.skipped
+                    .insert("free-form curves and surfaces (cstype, curv, surf, …)");
+                Ok(())
+            }
+            "s" if !matches!(words.rest_after(0).1, "off" | "0" | "") => {
+                self.skipped.insert(
+                    "smoothing groups (s): faces without vertex normals (vn) are drawn flat",
+                );
+                Ok(())
+            }
+            "usemap" | "maplib" => {
+                self.skipped
+                    .insert("texture map libraries (maplib, usemap)");
+                Ok(())
+            }
+            // Polylines and points (no area for a ray to hit), smoothing groups switched
+            // off, and the rest of the format that does not change the picture: skipped.
             _ => Ok(()),
         }
     }

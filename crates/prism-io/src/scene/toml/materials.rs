@@ -43,6 +43,7 @@ pub(super) fn material(
         fresnel: def.fresnel.unwrap_or(d.fresnel),
         emission: def.emission.map_or(d.emission, |c| c.0),
         normal_map: None,
+        bump_map: None,
         occlusion: None,
         metal_rough: None,
         emission_map: None,
