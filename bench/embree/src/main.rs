@@ -16,13 +16,16 @@ use std::path::PathBuf;
 
 const USAGE: &str = "usage:
   embree-bench run --mesh NAME [--meshes DIR] [--repeats N] [--builds N] [--threads 1,2] [--csv FILE]
-                   [--ray-file FILE]
+                   [--ray-file FILE] [--builders NAME,...] [--rays primary,incoherent,shadow]
       DIR: where the bunny (stanford-bunny.obj) is read from; default ../shared/meshes,
       beside the repository when run from its root (as run.sh does)
       NAME: bunny, blob, sphereflake or soup, or cornell (prism's cornell-light as it is, seen
       by its camera, lit at its light; prism's tree for rays from inside); CSV rows are appended
       to FILE; --ray-file: trace FILE's rays (six little-endian f32s each: origin, direction;
-      nearest hit) instead of the generated sets
+      nearest hit) instead of the generated sets; --builders: prism's other BVH builders
+      (`bvh:build=NAME`, e.g. sbvh,ploc,phr), built and traced (single rays) beside its default
+      (binned) tree and Embree MEDIUM and HIGH; --rays: only these ray sets (primary, incoherent,
+      shadow)
   embree-bench builds --mesh NAME [--builds N] [--prism-only 1]
       builds alone: prism's default BVH and Embree MEDIUM in turns, medians of wall and process CPU ms
       (--prism-only 1: prism alone, for a profiler)
@@ -39,8 +42,10 @@ struct Options {
     builds: usize,
     threads: Vec<usize>,
     csv: Option<PathBuf>,
-    /// `profile` only: trace just this ray set.
+    /// `profile`: trace just this ray set; `run`: these ray sets (comma-separated).
     rays: Option<String>,
+    /// `run` only: prism's other builders, beside its default tree.
+    builders: Vec<String>,
     /// `profile` only: trace in packets of this many rays.
     packets: Option<usize>,
     /// `builds` only: time prism's build alone.
@@ -86,6 +91,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         threads: vec![1, 2],
         csv: None,
         rays: None,
+        builders: Vec::new(),
         packets: None,
         prism_only: false,
         ray_file: None,
@@ -111,6 +117,13 @@ fn parse(args: &[String]) -> Result<Options, String> {
             }
             "--csv" => o.csv = Some(PathBuf::from(value)),
             "--rays" => o.rays = Some(value.clone()),
+            "--builders" => {
+                o.builders = value
+                    .split(',')
+                    .filter(|b| !b.is_empty() && *b != "none")
+                    .map(String::from)
+                    .collect()
+            }
             "--ray-file" => o.ray_file = Some(PathBuf::from(value)),
             "--prism-only" => o.prism_only = number()? != 0,
             "--packets" => o.packets = Some(number()?.clamp(1, prism::accel::PACKET_MAX)),
@@ -147,6 +160,17 @@ fn spec_for(mesh: &str) -> AccelSpec {
     } else {
         AccelSpec::default()
     }
+}
+
+/// prism's tree by another builder: `spec_for`'s with `build=NAME`.
+fn builder_spec(mesh: &str, builder: &str) -> Result<AccelSpec, String> {
+    let spec = if mesh == meshes::CORNELL {
+        format!("bvh:rays=inside,build={builder}")
+    } else {
+        format!("bvh:build={builder}")
+    };
+    spec.parse()
+        .map_err(|e| format!("--builders {builder}: {e}"))
 }
 
 /// prism's geometry for a mesh (one `TriangleMesh`, so primitive = triangle index).
@@ -336,37 +360,50 @@ fn run(o: &Options) -> Result<(), String> {
     );
 
     // Builds, in turns: prism's default BVH (SceneIntersector::build, as Scene::prepare
-    // does) and Embree's rtcCommitScene at both qualities (the copy into Embree's buffers
-    // is not timed). Both use every core: prism through rayon, Embree through TBB.
+    // does), its other builders (`--builders`) and Embree's rtcCommitScene at both
+    // qualities (the copy into Embree's buffers is not timed). All use every core where
+    // they are parallel: prism through rayon, Embree through TBB.
     let device = embree::Device::new();
-    let spec = spec_for(mesh.name);
+    // prism's trees: the default first, then one per builder.
+    let mut specs = vec![("prism".to_string(), spec_for(mesh.name))];
+    for b in &o.builders {
+        specs.push((format!("prism-{b}"), builder_spec(mesh.name, b)?));
+    }
     let qualities = [embree::Quality::Medium, embree::Quality::High];
-    let mut build_samples: [Vec<Sample>; 3] = Default::default();
-    let mut intersector = None;
+    let mut build_samples: Vec<Vec<Sample>> = vec![Vec::new(); specs.len() + qualities.len()];
+    let mut intersectors: Vec<SceneIntersector> = Vec::new();
     let mut scenes = Vec::new();
     for _ in 0..o.builds {
         // Drop the previous round's structures first, so no build runs next to their memory.
-        drop(intersector.take());
+        intersectors.clear();
         scenes.clear();
-        let mut built = None;
-        build_samples[0].push(time(|| {
-            built = Some(SceneIntersector::build(&geometry, &spec))
-        }));
-        intersector = built;
+        for (k, (_, spec)) in specs.iter().enumerate() {
+            let mut built = None;
+            build_samples[k].push(time(|| {
+                built = Some(SceneIntersector::build(&geometry, spec))
+            }));
+            intersectors.extend(built);
+        }
         for (k, &q) in qualities.iter().enumerate() {
             let scene = embree::Scene::new(&device, &positions, &mesh.indices, q);
-            build_samples[k + 1].push(time(|| scene.commit()));
+            build_samples[specs.len() + k].push(time(|| scene.commit()));
             scenes.push(scene);
         }
     }
-    let intersector = intersector.expect("built at least once");
-    let info = intersector.accel.info();
-    let sah = info.sah_cost.unwrap_or(f64::NAN);
+    let intersector = &intersectors[0];
+    let sahs: Vec<f64> = intersectors
+        .iter()
+        .map(|i| i.accel.info().sah_cost.unwrap_or(f64::NAN))
+        .collect();
     println!("build, median of {} (wall ms / process CPU ms):", o.builds);
-    let build_names = ["prism", "embree-M", "embree-H"];
-    for (name, samples) in build_names.iter().zip(&build_samples) {
+    let build_names: Vec<&str> = specs
+        .iter()
+        .map(|(name, _)| name.as_str())
+        .chain(["embree-M", "embree-H"])
+        .collect();
+    for (k, (name, samples)) in build_names.iter().zip(&build_samples).enumerate() {
         let m = median(samples);
-        println!("  {name:<10} {:8.1} / {:8.1}", ms(m.wall), ms(m.cpu));
+        println!("  {name:<12} {:8.1} / {:8.1}", ms(m.wall), ms(m.cpu));
         csv.row(&[
             "build",
             mesh.name,
@@ -383,22 +420,24 @@ fn run(o: &Options) -> Result<(), String> {
             "",
             "",
             &samples.len().to_string(),
-            &if *name == "prism" {
-                format!("{sah:.3}")
-            } else {
-                String::new()
-            },
+            &sahs.get(k).map_or(String::new(), |sah| format!("{sah:.3}")),
             "",
         ])?;
     }
-    println!("  prism: {info}\n");
+    for ((name, _), i) in specs.iter().zip(&intersectors) {
+        println!("  {name}: {}", i.accel.info());
+    }
+    println!();
 
     let widths = packet_widths(&device);
     let mut methods = vec![
-        Method::Prism(&intersector, &geometry),
-        Method::PrismPackets(&intersector, &geometry, 16),
-        Method::PrismPackets(&intersector, &geometry, 64),
+        Method::Prism(intersector, &geometry),
+        Method::PrismPackets(intersector, &geometry, 16),
+        Method::PrismPackets(intersector, &geometry, 64),
     ];
+    for (b, i) in o.builders.iter().zip(&intersectors[1..]) {
+        methods.push(Method::PrismBuilder(i, &geometry, b));
+    }
     for (scene, &q) in scenes.iter().zip(&qualities) {
         for &w in &widths {
             methods.push(Method::Embree(scene, q, w));
@@ -409,10 +448,15 @@ fn run(o: &Options) -> Result<(), String> {
         Some(set) => vec![set],
         None => {
             let view = workload::View::of(mesh.name, &geometry);
-            workload::generate(&geometry, &intersector, &view).into()
+            workload::generate(&geometry, intersector, &view).into()
         }
     };
-    for set in &sets {
+    let wanted = |set: &&workload::RaySet| {
+        o.rays
+            .as_deref()
+            .is_none_or(|r| r.split(',').any(|name| name == set.name))
+    };
+    for set in sets.iter().filter(wanted) {
         let n = set.len();
         // An untimed run of each method: it warms the caches and gives the answers that
         // are compared with prism's.

@@ -17,6 +17,8 @@ const CHUNK: usize = 4096;
 pub enum Method<'a> {
     /// prism's default BVH through its public single-ray API.
     Prism(&'a SceneIntersector, &'a Geometry),
+    /// Another of prism's BVH builders (`bvh:build=NAME`), single rays as `Prism`.
+    PrismBuilder(&'a SceneIntersector, &'a Geometry, &'a str),
     /// The same through its packet API (`intersect_packet`, `occluded_packet`), this many
     /// consecutive rays to a packet.
     PrismPackets(&'a SceneIntersector, &'a Geometry, usize),
@@ -27,6 +29,7 @@ impl Method<'_> {
     pub fn label(&self) -> String {
         match self {
             Method::Prism(..) => "prism".into(),
+            Method::PrismBuilder(_, _, name) => format!("prism-{name}"),
             Method::PrismPackets(_, _, n) => format!("prism-p{n}"),
             Method::Embree(_, q, w) => {
                 let q = match q {
@@ -42,7 +45,8 @@ impl Method<'_> {
     fn trace(&self, set: &RaySet, job: Job<'_>) {
         let range = job.start..job.start + job.len();
         match *self {
-            Method::Prism(intersector, geometry) => {
+            Method::Prism(intersector, geometry)
+            | Method::PrismBuilder(intersector, geometry, _) => {
                 let mut stats = Stats::default();
                 for (k, i) in range.enumerate() {
                     let (ray, t_max) = (&set.rays[i], set.t_max[i]);

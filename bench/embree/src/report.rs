@@ -95,6 +95,78 @@ fn median(sorted: &[f64]) -> Option<f64> {
     sorted.get(sorted.len() / 2).copied()
 }
 
+/// prism's builders beside Embree's two qualities, when the run had `--builders`: build
+/// time and single-ray throughput of each tree, prism's relative to its default (binned
+/// SAH) tree and Embree HIGH's relative to MEDIUM, so the two steps up in quality can be
+/// set side by side.
+fn builders(t: &Table, w: &mut String) {
+    let mut trees: Vec<&str> = Vec::new();
+    for r in &t.rows {
+        let m = r.get("method");
+        if r.get("kind") == "build" && m.starts_with("prism-") && !trees.contains(&m) {
+            trees.push(m);
+        }
+    }
+    if trees.is_empty() {
+        return;
+    }
+    let _ = writeln!(w, "\nprism's builders beside Embree MEDIUM and HIGH: builds on both cores where the builder is parallel, ms of process CPU time (wall in brackets); single rays on 1 thread, Mrays/s by process CPU time; medians; `vs` is prism's tree against its binned SAH tree (`prism`), Embree HIGH against MEDIUM: build time ratio (above 1: slower), ray speed ratios (above 1: faster).\n");
+    let _ = writeln!(w, "| mesh | tree | build ms | SAH cost | primary | incoherent | build vs | primary vs | incoherent vs |");
+    let _ = writeln!(w, "|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    for (mesh, _) in &t.meshes {
+        if t.build(mesh, "prism", "cpu_ms").is_none() {
+            continue;
+        }
+        // (label, build row's method, trace row's method, reference's build and trace)
+        let mut rows = vec![("binned (default)", "prism", "prism", "prism", "prism")];
+        for m in &trees {
+            rows.push((&m["prism-".len()..], m, m, "prism", "prism"));
+        }
+        rows.push((
+            "Embree MEDIUM",
+            "embree-M",
+            "embree-M1",
+            "embree-M",
+            "embree-M1",
+        ));
+        rows.push((
+            "Embree HIGH",
+            "embree-H",
+            "embree-H1",
+            "embree-M",
+            "embree-M1",
+        ));
+        for (label, build, trace, ref_build, ref_trace) in rows {
+            let rate = |m: &str, rays: &str| t.rate(mesh, rays, m, "1", "mrays_cpu");
+            let (cpu, wall) = (
+                t.build(mesh, build, "cpu_ms"),
+                t.build(mesh, build, "wall_ms"),
+            );
+            let built = match (cpu, wall) {
+                (Some(cpu), Some(wall)) => format!("{cpu:.0} ({wall:.0})"),
+                _ => "–".into(),
+            };
+            let sah = t
+                .find("build", mesh, "", build, "")
+                .map_or(f64::NAN, |r| r.num("sah_cost"));
+            let sah = if sah.is_finite() {
+                format!("{sah:.1}")
+            } else {
+                "–".into()
+            };
+            let _ = writeln!(
+                w,
+                "| {mesh} | {label} | {built} | {sah} | {} | {} | {} | {} | {} |",
+                f(rate(trace, "primary")),
+                f(rate(trace, "incoherent")),
+                ratio(cpu, t.build(mesh, ref_build, "cpu_ms")),
+                ratio(rate(trace, "primary"), rate(ref_trace, "primary")),
+                ratio(rate(trace, "incoherent"), rate(ref_trace, "incoherent")),
+            );
+        }
+    }
+}
+
 fn read(path: &Path) -> Result<Table, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut lines = text.lines();
@@ -278,6 +350,8 @@ pub fn markdown(path: &Path) -> Result<String, String> {
             ratio(t.build(mesh, "embree-M", "wall_ms"), Some(prism)),
         );
     }
+
+    builders(&t, w);
 
     // How much a process run moves the figures: each process's median, lowest to highest.
     let runs = t
