@@ -3,10 +3,13 @@
 //! when a script started it in the background), then says so and stops the server.
 
 use crate::args::RenderArgs;
+use crate::flags::setting_help;
 use crate::scene_args::{SceneArgs, SizeArgs};
 use anyhow::{Context, Result};
 use clap::Args;
+use prism::options::Setting;
 use prism::sampling::SamplerKind;
+use prism_serve::controls::{self, Control, ControlKind};
 use std::net::IpAddr;
 use std::process::ExitCode;
 
@@ -24,7 +27,7 @@ pub(crate) struct ServeArgs {
     #[arg(long, value_name = "N", default_value_t = 8000)]
     pub port: u16,
 
-    /// Image width in pixels at the start (the page can change it).
+    /// Image width in pixels at the start (the page's resolution control can change it).
     #[arg(short = 'W', long, value_name = "PIXELS", default_value_t = 640)]
     pub width: u32,
 
@@ -32,32 +35,123 @@ pub(crate) struct ServeArgs {
     #[arg(short = 'H', long, value_name = "PIXELS", default_value_t = 360)]
     pub height: u32,
 
-    /// Acceleration structure at the start, as `render --accel` takes it [default: the
-    /// scene's].
-    #[arg(long, value_name = "SPEC")]
-    pub accel: Option<prism::accel::AccelSpec>,
+    #[command(flatten)]
+    pub controls: ControlFlags,
 
-    /// Shadow-ray method at the start, as `render --shadows` takes it [default: the
-    /// scene's].
-    #[arg(long, value_name = "SPEC")]
-    pub shadows: Option<prism::integrator::ShadowSpec>,
+    #[arg(short, long, value_name = "N", help = setting_help("threads"))]
+    pub threads: Option<usize>,
+}
 
-    /// Maximum ray-tree depth at the start [default: the scene's].
-    #[arg(short, long, value_name = "N")]
-    pub depth: Option<u32>,
+/// The render settings the page's controls change, as flags: one for each control of
+/// `prism_serve::controls` that sets a setting of the settings table
+/// (`prism::options::SETTINGS`), under the table's flag with `render`'s short name and
+/// value name, its help the table's sentence and what the page takes. A control added to
+/// the page is a flag here without a line of its own; each value is checked as the page
+/// checks it (`controls::parse`).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ControlFlags {
+    /// (control, value as typed), in the page's order.
+    pub given: Vec<(&'static str, String)>,
+}
 
-    /// Adaptive depth control and adaptive shadow testing at the start, as `render
-    /// --min-weight` takes it (0 to 1 here, as the page's control) [default: the scene's].
-    #[arg(long, value_name = "W", allow_negative_numbers = true)]
-    pub min_weight: Option<f32>,
+/// The page's controls that set a setting of the table, with that setting.
+fn setting_controls() -> Vec<(Control, &'static Setting)> {
+    controls::controls()
+        .into_iter()
+        .filter_map(|c| {
+            let setting = prism::options::setting(controls::setting_key(c.name)?)?;
+            setting.flag.is_some().then_some((c, setting))
+        })
+        .collect()
+}
 
-    /// Where each frame's one sample per pixel goes: jittered, random or centre.
-    #[arg(long, value_name = "NAME", default_value = "jittered")]
-    pub sampler: SamplerKind,
+/// The sampler a frame uses unless `--sampler` says otherwise: the scene's usually takes
+/// many samples per pixel at once, the viewer one a frame.
+const SAMPLER: SamplerKind = SamplerKind::Jittered;
 
-    /// Worker threads; 0 uses every core.
-    #[arg(short, long, value_name = "N", default_value_t = 0)]
-    pub threads: usize,
+/// A control's flag help: the table's sentence, what the page takes and the default.
+fn control_help(c: &Control, setting: &Setting) -> String {
+    let takes = match c.kind {
+        ControlKind::Choice => format!("one of {}", c.choices.join(", ")),
+        ControlKind::Text => format!("e.g. {}", c.choices.join(", ")),
+        ControlKind::Number => format!(
+            "{} to {}",
+            c.min.unwrap_or_default(),
+            c.max.unwrap_or(u32::MAX)
+        ),
+    };
+    let default = match setting.key {
+        "sampler" => SAMPLER.name(),
+        _ => "the scene's",
+    };
+    format!(
+        "{}. At the start; the page's {} control takes {takes} [default: {default}]",
+        setting.help.trim_end_matches('.'),
+        c.label
+    )
+}
+
+impl clap::FromArgMatches for ControlFlags {
+    fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut flags = ControlFlags::default();
+        flags.update_from_arg_matches(matches)?;
+        Ok(flags)
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
+        self.given = setting_controls()
+            .into_iter()
+            .filter_map(|(c, _)| Some((c.name, matches.get_one::<String>(c.name)?.clone())))
+            .collect();
+        Ok(())
+    }
+}
+
+impl Args for ControlFlags {
+    fn augment_args(mut cmd: clap::Command) -> clap::Command {
+        // `render`'s flag of the same setting, for its short name and value name.
+        let render = RenderArgs::augment_args(clap::Command::new("render"));
+        for (c, setting) in setting_controls() {
+            let flag = setting.flag.expect("setting_controls keeps flags only");
+            let mut arg = clap::Arg::new(c.name)
+                .long(flag)
+                .value_parser(clap::value_parser!(String))
+                .allow_negative_numbers(true)
+                .help(control_help(&c, setting));
+            if let Some(twin) = render.get_arguments().find(|a| a.get_long() == Some(flag)) {
+                if let Some(short) = twin.get_short() {
+                    arg = arg.short(short);
+                }
+                if let Some(names) = twin.get_value_names() {
+                    arg = arg.value_names(names.to_vec());
+                }
+            }
+            cmd = cmd.arg(arg);
+        }
+        cmd
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
+}
+
+impl ControlFlags {
+    /// The flags given, checked as the page checks its controls, on top of `options`.
+    fn apply(&self, options: &mut prism::RenderOptions) -> Result<()> {
+        let settings = setting_controls();
+        for (name, value) in &self.given {
+            let flag = settings
+                .iter()
+                .find(|(c, _)| c.name == *name)
+                .and_then(|(_, s)| s.flag)
+                .unwrap_or(name);
+            controls::parse(name, value)
+                .map_err(|e| anyhow::anyhow!("--{flag}: {e}"))?
+                .apply(options);
+        }
+        Ok(())
+    }
 }
 
 pub(crate) fn run(args: &ServeArgs) -> Result<ExitCode> {
@@ -67,11 +161,7 @@ pub(crate) fn run(args: &ServeArgs) -> Result<ExitCode> {
             width: Some(args.width),
             height: Some(args.height),
         },
-        accel: args.accel.clone(),
-        shadows: args.shadows,
-        depth: args.depth,
-        min_weight: args.min_weight,
-        threads: Some(args.threads),
+        threads: args.threads,
         ..RenderArgs::default()
     };
     let (mut scene, name) = render.load_scene()?;
@@ -79,19 +169,16 @@ pub(crate) fn run(args: &ServeArgs) -> Result<ExitCode> {
         eprintln!("prism: warning: {warning}");
     }
     scene.validate().context("the scene is not valid")?;
-    let options = render.options(&scene.options)?;
-    // The page's controls take the same values; checking here names the option.
+    let mut options = prism::RenderOptions {
+        sampler: SAMPLER,
+        ..render.options(&scene.options)?
+    };
+    args.controls.apply(&mut options)?;
+    // The page's resolution control takes the same sizes; checking here names the flags.
     let resolution = format!("{}x{}", options.width, options.height);
-    for (flag, control, value) in [
-        ("sampler", "sampler", args.sampler.to_string()),
-        ("width and --height", "resolution", resolution),
-        ("min-weight", "min_weight", options.min_weight.to_string()),
-    ] {
-        prism_serve::controls::parse(control, &value)
-            .map_err(|e| anyhow::anyhow!("--{flag}: {e}"))?;
-    }
+    controls::parse("resolution", &resolution)
+        .map_err(|e| anyhow::anyhow!("--width and --height: {e}"))?;
     let options = prism::RenderOptions {
-        sampler: args.sampler,
         samples: 1,
         ..options
     };

@@ -743,9 +743,13 @@ fn a_bad_depth_names_the_flag_not_the_setting_key() {
     let err = expect_exit(&out, 1, "-d 0");
     assert!(err.contains("--depth must be between 1"), "{err}");
     assert!(!err.contains("max_depth"), "{err}");
+    // The viewer checks it as its page's depth control does.
     let out = prism(&dir, &["serve", "-d", "0", "--port", "0"]);
     let err = expect_exit(&out, 1, "serve -d 0");
-    assert!(err.contains("--depth must be between 1"), "{err}");
+    assert!(
+        err.contains("--depth: depth must be a whole number from 1"),
+        "{err}"
+    );
     assert!(!err.contains("max_depth"), "{err}");
     let out = prism(&dir, &["render", "--tile-size", "0", "-q"]);
     let err = expect_exit(&out, 1, "--tile-size 0");
@@ -820,4 +824,83 @@ fn an_output_named_by_a_symbolic_link_is_written_to_its_target() {
     let mut names = listing(&dir.join("renders"));
     names.sort();
     assert_eq!(names, ["latest.png", "stats.json"]);
+}
+
+/// `prism serve` takes a flag for every render setting its page's controls change, as
+/// `render` names it (the settings table's flag, `render`'s short name and value name)
+/// with the table's help: a control added to the page without its flag fails here. A value
+/// the page would refuse is refused before listening, naming the flag.
+#[test]
+fn serve_takes_a_flag_for_every_setting_its_page_offers() {
+    let dir = work_dir("serve-flags");
+    let out = prism(&dir, &["serve", "--help"]);
+    expect_exit(&out, 0, "serve --help");
+    let help = String::from_utf8_lossy(&out.stdout).to_string();
+    // Help texts are wrapped: compare with the line breaks folded.
+    let folded: String = help.split_whitespace().collect::<Vec<_>>().join(" ");
+    let render = prism(&dir, &["render", "--help"]);
+    let render = String::from_utf8_lossy(&render.stdout).to_string();
+    let mut offered = Vec::new();
+    for c in prism_serve::controls::controls() {
+        let Some(key) = prism_serve::controls::setting_key(c.name) else {
+            // The viewer's own: what the picture shows, and the size (-W and -H).
+            match c.name {
+                "resolution" => assert!(
+                    help.contains("-W, --width <PIXELS>") && help.contains("-H, --height"),
+                    "{help}"
+                ),
+                other => assert_eq!(other, "view", "a control of no setting"),
+            }
+            continue;
+        };
+        let setting = prism::options::setting(key).unwrap();
+        let flag = setting.flag.unwrap_or_else(|| panic!("{key} has no flag"));
+        // The flag as `render --help` lists it: the same short name and value name.
+        let listed = render
+            .lines()
+            .map(str::trim)
+            .find(|l| l.contains(&format!("--{flag} ")))
+            .and_then(|l| l.split("  ").next())
+            .unwrap_or_else(|| panic!("--{flag} not in render --help"))
+            .to_string();
+        assert!(
+            help.contains(&listed),
+            "'{listed}' not in serve --help:\n{help}"
+        );
+        let sentence: String = setting
+            .help
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ");
+        assert!(
+            folded.contains(&sentence),
+            "--{flag}: '{sentence}' not in:\n{help}"
+        );
+        offered.push(flag);
+    }
+    for flag in [
+        "integrator",
+        "accel",
+        "sampler",
+        "depth",
+        "min-weight",
+        "shadows",
+    ] {
+        assert!(
+            offered.contains(&flag),
+            "the page offers no {flag}: {offered:?}"
+        );
+    }
+    // Checked as the page checks it, before listening, the flag named.
+    for (args, said) in [
+        (&["--integrator", "beam"][..], "whitted, path"),
+        (&["--min-weight", "2"][..], "0 to 1"),
+        (&["--shadows", "nope"][..], "nope"),
+    ] {
+        let out = prism(&dir, &[&["serve", "--port", "0"][..], args].concat());
+        let err = expect_exit(&out, 1, &args.join(" "));
+        assert!(err.contains(&format!("{}: ", args[0])), "{err}");
+        assert!(err.contains(said), "{err}");
+    }
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
 }

@@ -7,6 +7,7 @@ use crate::limits::{MAX_DEPTH, MAX_PIXELS, MAX_SIDE, MIN_SIDE};
 use prism::accel::AccelSpec;
 use prism::integrator::{ShadowMethod, ShadowSpec};
 use prism::sampling::SamplerKind;
+use prism::RenderOptions;
 use serde::Serialize;
 
 /// The integrators the viewer offers, by their `RenderOptions::integrator` names.
@@ -78,6 +79,28 @@ pub enum Setting {
     View(View),
     /// Width and height in pixels.
     Resolution(u32, u32),
+}
+
+impl Setting {
+    /// Puts the setting on `options`, as a render reads it; `view`, which changes only
+    /// what the picture shows, leaves them as they are.
+    pub fn apply(&self, options: &mut RenderOptions) {
+        match self {
+            // `parse` accepts only the names in INTEGRATORS, which all parse.
+            Setting::Integrator(name) => {
+                if let Ok(kind) = name.parse() {
+                    options.integrator = kind;
+                }
+            }
+            Setting::Accel(spec) => options.accel = spec.clone(),
+            Setting::Sampler(kind) => options.sampler = *kind,
+            Setting::Depth(depth) => options.max_depth = *depth,
+            Setting::MinWeight(w) => options.min_weight = *w,
+            Setting::Shadows(spec) => options.shadows = *spec,
+            Setting::View(_) => {}
+            Setting::Resolution(w, h) => (options.width, options.height) = (*w, *h),
+        }
+    }
 }
 
 /// How the page shows a control.

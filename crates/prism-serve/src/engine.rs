@@ -153,7 +153,6 @@ struct Engine {
     /// The scene's own camera, for reset and the zoom range.
     home: Camera,
     options: RenderOptions,
-    integrator: String,
     view: View,
     source: Frames,
     encoder: Encoder,
@@ -178,11 +177,17 @@ impl Engine {
     fn new(
         scene: Scene,
         name: &str,
-        options: RenderOptions,
+        mut options: RenderOptions,
         frames_tx: watch::Sender<Option<Bytes>>,
         events: broadcast::Sender<String>,
         shared: Arc<Shared>,
     ) -> Self {
+        // The viewer traces camera rays: an integrator it does not offer (the beam tracer,
+        // which renders whole beams) would give its camera rays to Whitted's tracer, so
+        // that is what the page shows and renders.
+        if !controls::INTEGRATORS.contains(&options.integrator.name()) {
+            options.integrator = prism::options::IntegratorKind::Whitted;
+        }
         let mut engine = Engine {
             home: scene.camera,
             stage: Stage {
@@ -191,7 +196,6 @@ impl Engine {
                 has_transmissive: false,
             },
             name: name.to_string(),
-            integrator: controls::INTEGRATORS[0].to_string(),
             view: View::Image,
             source: Frames::new(),
             encoder: Encoder::new(options.transfer),
@@ -394,31 +398,15 @@ impl Engine {
 
     fn set(&mut self, setting: Setting) {
         let restart = !matches!(setting, Setting::View(_));
-        match setting {
-            Setting::Integrator(name) => {
-                // `controls` accepts only the names in INTEGRATORS, which all parse.
-                if let Ok(kind) = name.parse() {
-                    let built = self.options.accel_to_build();
-                    self.options.integrator = kind;
-                    // A BVH left at rays=auto is built for the integrator's rays.
-                    if self.options.accel_to_build() != built {
-                        self.rebuild();
-                    }
-                }
-                self.integrator = name;
-            }
-            Setting::Accel(spec) => {
-                if spec != self.options.accel {
-                    self.options.accel = spec;
-                    self.rebuild();
-                }
-            }
-            Setting::Sampler(kind) => self.options.sampler = kind,
-            Setting::Depth(depth) => self.options.max_depth = depth,
-            Setting::MinWeight(w) => self.options.min_weight = w,
-            Setting::Shadows(spec) => self.options.shadows = spec,
-            Setting::View(view) => self.view = view,
-            Setting::Resolution(w, h) => (self.options.width, self.options.height) = (w, h),
+        if let Setting::View(view) = setting {
+            self.view = view;
+        }
+        // A new accelerator, or a BVH left at rays=auto under another integrator, whose
+        // rays it is built for, is built anew.
+        let built = self.options.accel_to_build();
+        setting.apply(&mut self.options);
+        if self.options.accel_to_build() != built {
+            self.rebuild();
         }
         self.changed(restart);
         if !restart && self.source.samples() > 0 {
@@ -446,7 +434,7 @@ impl Engine {
     fn state(&self) -> String {
         let o = &self.options;
         let values: BTreeMap<String, String> = [
-            ("integrator", self.integrator.clone()),
+            ("integrator", o.integrator.to_string()),
             ("accel", o.accel.to_string()),
             ("sampler", o.sampler.to_string()),
             ("depth", o.max_depth.to_string()),

@@ -331,6 +331,44 @@ fn several_tabs_watch_one_render_and_steer_it_together() {
     assert!(fa2.generation > fa.generation);
 }
 
+/// The page's controls show the settings the server started with (the scene's, or
+/// `prism serve --integrator path`'s): a path-traced scene shows `path`, not the first
+/// integrator of the list. The beam tracer, which the viewer does not offer, is shown as
+/// what the viewer renders in its place, Whitted's tracer.
+#[test]
+fn the_page_shows_the_settings_the_server_started_with() {
+    use prism::options::IntegratorKind;
+    for (scene, integrator, shown) in [
+        ("cornell-light", None, "path"),
+        ("whitted", Some(IntegratorKind::Path), "path"),
+        ("whitted", Some(IntegratorKind::Beam), "whitted"),
+    ] {
+        let scene = prism::scene::builtin::find(scene).unwrap();
+        let mut options = prism::RenderOptions {
+            width: 64,
+            height: 36,
+            samples: 1,
+            sampler: prism::sampling::SamplerKind::Random,
+            max_depth: 3,
+            ..scene.options.clone()
+        };
+        if let Some(kind) = integrator {
+            options.integrator = kind;
+        }
+        let config = prism_serve::ServerConfig {
+            bind: std::net::Ipv4Addr::LOCALHOST.into(),
+            port: 0,
+        };
+        let s = prism_serve::Server::start(scene, "test", options, &config).unwrap();
+        let mut c = Client::connect(&s);
+        let state = c.text("state");
+        assert_eq!(state["values"]["integrator"], shown, "{state}");
+        assert_eq!(state["values"]["depth"], "3", "{state}");
+        assert_eq!(state["values"]["sampler"], "random", "{state}");
+        c.frame();
+    }
+}
+
 /// A site whose name was made to resolve to 127.0.0.1 (DNS rebinding) sends its own name
 /// as Host: refused, for the page and the WebSocket alike.
 #[test]
