@@ -2,7 +2,7 @@
 //! the default.
 
 use crate::args::RenderArgs;
-use crate::scene_args::SceneArgs;
+use crate::scene_args::{scene_help, SceneArgs};
 use clap::{Args, Parser, Subcommand};
 use prism::accel::AccelSpec;
 use std::path::PathBuf;
@@ -66,10 +66,18 @@ pub(crate) enum Command {
     Bench(crate::bench::BenchArgs),
     /// Compare two images: RMSE, PSNR, SSIM and FLIP of TEST against REFERENCE.
     Compare(crate::compare::CompareArgs),
-    /// Write the exact box-filtered image of the checkerboard scene (no sampling).
+    /// Write the exact box-filtered image of a scene of planar polygons, with no sampling
+    /// (the checkerboard, the default, in closed form; others by the beam tracer).
+    #[command(mut_arg("scene", |a| a.help(scene_help(
+        "`checkerboard` scene. Any scene of planar polygons (curved shapes are refused)"
+    ))))]
     Reference(crate::reference::ReferenceArgs),
-    /// Render a scene with each sampling pattern at several sample counts and plot the
-    /// error against the rays per pixel.
+    /// Render a scene (the checkerboard by default) with each sampling pattern at several
+    /// sample counts, measure each image against a reference (exact, --reference FILE, or
+    /// a render of many samples) and plot the error against the rays per pixel.
+    #[command(mut_arg("scene", |a| a.help(scene_help(
+        "`checkerboard` scene, whose reference is exact"
+    ))))]
     Sweep(crate::sweep::SweepArgs),
     /// Draw each sampling pattern's points (SVG).
     Patterns(crate::patterns::PatternsArgs),
@@ -80,10 +88,12 @@ pub(crate) enum Command {
 
 #[derive(Args, Debug)]
 pub(crate) struct InfoArgs {
-    // Not `SceneArgs`: here the scene is required, and its help says so.
+    // Not `SceneArgs`: here the scene is required, and its help says so. Required, not
+    // `required_unless_present`, so that the help lists it as <SCENE>; --builtin, which
+    // conflicts with it, stands in for it all the same.
     /// Scene file (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply), or builtin:NAME for
     /// a built-in scene. Required unless --builtin is given.
-    #[arg(required_unless_present = "builtin", value_name = "SCENE")]
+    #[arg(required = true, value_name = "SCENE")]
     pub scene: Option<PathBuf>,
 
     /// Built-in scene to describe instead of a file, as `render --builtin` takes it.

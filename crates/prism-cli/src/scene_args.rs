@@ -11,10 +11,8 @@ use std::path::PathBuf;
 
 #[derive(Args, Clone, Debug, Default)]
 pub(crate) struct SceneArgs {
-    /// Scene file (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply: framed by a default
-    /// camera and light), or builtin:NAME for a built-in scene (as --builtin NAME). Without
-    /// either, the built-in `whitted` scene (`checkerboard` for reference and sweep).
-    #[arg(id = "scene", value_name = "SCENE")]
+    // A command whose default scene is another names it with `scene_help` (`mut_arg`).
+    #[arg(id = "scene", value_name = "SCENE", help = scene_help("`whitted` scene"))]
     pub path: Option<PathBuf>,
 
     /// Built-in scene instead of a file (see `prism list`).
@@ -36,6 +34,16 @@ impl SceneArgs {
         let name = self.builtin.as_deref().unwrap_or(default);
         Ok((find_builtin(name)?, format!("builtin:{name}")))
     }
+}
+
+/// The scene argument's help, with the built-in scene a command takes without one (and
+/// what else it says of the scenes it takes).
+pub(crate) fn scene_help(default: &str) -> String {
+    format!(
+        "Scene file (.toml, .nff, .gltf, .glb) or mesh file (.obj, .ply: framed by a default \
+         camera and light), or builtin:NAME for a built-in scene (as --builtin NAME). Without \
+         either, the built-in {default}"
+    )
 }
 
 /// The picture's size, where a command renders one; each left out keeps the scene's.

@@ -715,6 +715,55 @@ fn info_help_says_the_scene_is_required_unless_builtin_is_given() {
         help.contains("prism info [OPTIONS] --builtin <NAME>"),
         "{help}"
     );
+    // The argument list shows it as required too, not as `[SCENE]`.
+    assert!(help.contains("\n  <SCENE>  "), "{help}");
+    assert!(!help.contains("[SCENE]"), "{help}");
+}
+
+/// `prism --help`'s one-line summaries of `reference` and `sweep` say what they take, and
+/// each command's scene argument names that command's own default scene.
+#[test]
+fn reference_and_sweep_say_what_they_take() {
+    let dir = work_dir("summaries");
+    let out = prism(&dir, &["--help"]);
+    expect_exit(&out, 0, "--help");
+    let help = String::from_utf8_lossy(&out.stdout).to_string();
+    let summary = |command: &str| {
+        help.lines()
+            .find(|l| l.trim_start().starts_with(&format!("{command} ")))
+            .unwrap_or_else(|| panic!("no {command} in {help}"))
+            .to_string()
+    };
+    assert!(
+        summary("reference").contains("of a scene of planar polygons"),
+        "{help}"
+    );
+    assert!(
+        summary("sweep").contains("a scene (the checkerboard by default)"),
+        "{help}"
+    );
+    for (command, default) in [
+        ("render", "the built-in `whitted` scene"),
+        ("serve", "the built-in `whitted` scene"),
+        (
+            "reference",
+            "the built-in `checkerboard` scene. Any scene of planar polygons",
+        ),
+        (
+            "sweep",
+            "the built-in `checkerboard` scene, whose reference is exact",
+        ),
+    ] {
+        let out = prism(&dir, &[command, "--help"]);
+        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        let folded: String = text.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(folded.contains(default), "{command}: {text}");
+        assert!(
+            !folded.contains("for reference and sweep"),
+            "{command}: {text}"
+        );
+    }
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
 }
 
 #[test]
@@ -901,6 +950,40 @@ fn serve_takes_a_flag_for_every_setting_its_page_offers() {
         let err = expect_exit(&out, 1, &args.join(" "));
         assert!(err.contains(&format!("{}: ", args[0])), "{err}");
         assert!(err.contains(said), "{err}");
+    }
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
+}
+
+/// What a newcomer reads points only at what a clone has: no command's help and not
+/// docs/formats.md name a path in `../shared/`, the data folder beside the maintainers'
+/// checkout (the suites that use it skip it with a message).
+#[test]
+fn help_and_the_formats_page_name_no_path_outside_the_clone() {
+    let dir = work_dir("no-shared-paths");
+    for command in [
+        "render",
+        "list",
+        "info",
+        "bench",
+        "compare",
+        "reference",
+        "sweep",
+        "patterns",
+        "serve",
+    ] {
+        let out = prism(&dir, &[command, "--help"]);
+        expect_exit(&out, 0, command);
+        let help = String::from_utf8_lossy(&out.stdout);
+        assert!(!help.contains("shared/"), "{command} --help: {help}");
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let formats = fs::read_to_string(root.join("docs/formats.md")).unwrap();
+    for (n, line) in formats.lines().enumerate() {
+        assert!(
+            !line.contains("shared/"),
+            "docs/formats.md:{}: {line}",
+            n + 1
+        );
     }
     assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
 }
