@@ -169,21 +169,26 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     )?;
     bar.finish();
 
-    let mut written = vec![args.output.clone()];
-    // An interrupted render writes only the rows its finished tiles reached (those below
-    // are black): at once at any size, rather than encoding a mostly black full image.
+    // The image and the views made of its rays, in the order they are written.
+    let mut targets = vec![args.output.clone()];
+    targets.extend(args.density.iter().cloned());
+    targets.extend(args.cost.iter().cloned());
+    // An interrupted render writes only the rows its finished work reached (those below
+    // are black, their counts zero): at once at any size, rather than encoding a mostly
+    // black full image. Its views keep the same rows, so that they lie over it.
     let rows = result.rows_reached.unwrap_or(options.height);
     if !result.complete {
         let what = match rows {
-            0 => "no tile was finished: the image is not written".to_string(),
+            0 if targets.len() == 1 => "no tile was finished: the image is not written".into(),
+            0 => "no tile was finished: the image and its views are not written".into(),
             n if n < options.height => format!(
                 "writing the {n} rows of {} that finished tiles reached (an image {}×{n}) \
                  to {}",
                 options.height,
                 options.width,
-                args.output.display()
+                names(&targets)
             ),
-            _ => format!("writing the finished tiles to {}", args.output.display()),
+            _ => format!("writing the finished tiles to {}", names(&targets)),
         };
         eprintln!(
             "prism: {} at {:.0} %; {what}",
@@ -191,17 +196,18 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
             bar.fraction_done() * 100.0
         );
     }
-    if rows == 0 {
-        written.clear();
-    } else {
-        keep_top_rows(&mut result.film, rows);
+    let mut written = Vec::new();
+    if rows > 0 {
+        result.film.keep_top_rows(rows);
+        result.rays.keep_top_rows(rows);
         prism_io::output::write_image_as(&image_file, &result.film, format)?;
+        written.push(args.output.clone());
     }
-    if let (Some(path), Some(name)) = (&density_file, &args.density) {
+    if let (Some(path), Some(name), true) = (&density_file, &args.density, rows > 0) {
         density::write(path, &result.rays, args.density_rays)?;
         written.push(name.clone());
     }
-    if let (Some(path), Some(name)) = (&cost_file, &args.cost) {
+    if let (Some(path), Some(name), true) = (&cost_file, &args.cost, rows > 0) {
         let accel = options.accel_to_build();
         let method = match args.cost_rays {
             cost::CostRays::All => accel.to_string(),
@@ -248,13 +254,6 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
         );
     }
     Ok(ExitCode::SUCCESS)
-}
-
-/// Cuts the film to its first `rows` rows.
-fn keep_top_rows(film: &mut prism::render::Film, rows: u32) {
-    film.height = film.height.min(rows);
-    film.pixels
-        .truncate(film.height as usize * film.width as usize);
 }
 
 /// A note (not a warning: harmless, and machine-dependent) when more threads are asked for

@@ -145,6 +145,114 @@ fn ctrl_c_at_the_start_of_a_huge_render_writes_only_the_rows_reached() {
     let _ = fs::remove_dir_all(&dir);
 }
 
+/// Renders the sphereflake on one thread at `size`² with `extra` arguments, signals SIGINT
+/// once the progress bar shows work done, and returns the folder and what the terminal
+/// showed, after checking that the render stopped as interrupted.
+fn interrupted_sphereflake(name: &str, size: u32, extra: &[&str]) -> (std::path::PathBuf, String) {
+    let dir = common::work_dir("signals", name);
+    let size = size.to_string();
+    let mut args = vec![
+        "render",
+        "-b",
+        "sphereflake",
+        "-W",
+        &size,
+        "-H",
+        &size,
+        "--threads",
+        "1",
+    ];
+    args.extend(extra);
+    let mut render = OnTerminal::spawn(&dir, &args);
+    assert!(render.wait_for_work_done(), "no progress: {}", render.seen);
+    render.signal("INT");
+    let (code, seen) = render.finish();
+    assert_eq!(code, Some(130), "{seen}");
+    (dir, seen)
+}
+
+/// The width and height in a PFM file's header.
+fn pfm_size(path: &std::path::Path) -> (u32, u32) {
+    let bytes = fs::read(path).unwrap();
+    let header = String::from_utf8_lossy(&bytes[..bytes.len().min(64)]).to_string();
+    let mut words = header.split_whitespace().skip(1);
+    let mut next = || words.next().unwrap().parse::<u32>().unwrap();
+    (next(), next())
+}
+
+#[test]
+fn an_interrupted_render_writes_its_views_with_the_rows_of_its_image() {
+    let (dir, seen) = interrupted_sphereflake(
+        "views",
+        1200,
+        &[
+            "--spp",
+            "16",
+            "-o",
+            "out.pfm",
+            "--density",
+            "density.pfm",
+            "--cost",
+            "cost.png",
+        ],
+    );
+    // Said before anything is written, naming every file it goes to.
+    let at = seen.find("writing the ").expect(&seen);
+    assert!(
+        seen[at..].contains("to out.pfm, density.pfm and cost.png"),
+        "{seen}"
+    );
+    assert!(
+        seen.contains("prism: wrote out.pfm, density.pfm and cost.png"),
+        "{seen}"
+    );
+    let image = pfm_size(&dir.join("out.pfm"));
+    assert_eq!(image.0, 1200);
+    assert!(image.1 < 1200, "only the rows reached, not {}", image.1);
+    // The views lie over the image: the same rows, not the full height.
+    assert_eq!(pfm_size(&dir.join("density.pfm")), image, "{seen}");
+    // The cost view is a picture with a legend beside and a caption below its map, which
+    // a full-height map alone would make taller than the image.
+    let (_, cost_height) = image::image_dimensions(dir.join("cost.png")).unwrap();
+    assert!(
+        cost_height < 1200,
+        "the cost view's map has every row: {cost_height}"
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_interrupted_corners_pass_writes_only_the_rows_reached() {
+    // Both lattice samplers trace every pixel corner first, from the top; a Ctrl-C in
+    // that pass leaves the rows below the corners reached black, so they are not written.
+    for sampler in ["corners", "adaptive"] {
+        let (dir, seen) = interrupted_sphereflake(
+            &format!("corners-{sampler}"),
+            2400,
+            &["--sampler", sampler, "-o", "out.pfm"],
+        );
+        let at = seen.find("writing the ").expect(&seen);
+        assert!(seen[at..].contains("rows of 2400"), "{sampler}: {seen}");
+        let (width, height) = pfm_size(&dir.join("out.pfm"));
+        assert_eq!(width, 2400);
+        assert!(height > 0 && height < 2400, "{sampler}: {height} rows");
+        // Every row written holds the render's work: the sphereflake's background is
+        // not black, so a row of zeros would be one no corner reached.
+        let bytes = fs::read(dir.join("out.pfm")).unwrap();
+        let floats: Vec<f32> = bytes[bytes.len() - (width * height * 12) as usize..]
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        for (y, row) in floats.chunks_exact(width as usize * 3).enumerate() {
+            assert!(
+                row.iter().any(|&v| v > 0.0),
+                "{sampler}: row {y} of {height} black"
+            );
+        }
+        let _ = fs::remove_dir_all(&dir);
+    }
+}
+
 /// `prism serve` started as a script starts it, in the background of a shell without job
 /// control (which starts it with SIGINT ignored), ends on SIGINT and on SIGTERM, saying so.
 #[test]

@@ -29,6 +29,13 @@ impl Film {
         }
     }
 
+    /// Cuts the film to its first `rows` rows: what an interrupted render reached.
+    pub fn keep_top_rows(&mut self, rows: u32) {
+        self.height = self.height.min(rows);
+        self.pixels
+            .truncate(self.height as usize * self.width as usize);
+    }
+
     /// The linear light a display shows for each pixel (`Transfer::to_linear`): the film
     /// itself when it is linear, a converted copy when it holds display values.
     pub fn displayed_linear(&self) -> Cow<'_, Film> {

@@ -71,6 +71,12 @@ impl Corners {
     fn complete(&self) -> bool {
         self.traced.iter().all(|&t| t)
     }
+
+    /// The rows of corners from the top traced without a gap: where a cancelled pass
+    /// stopped, since rows are handed out from the top.
+    fn rows_reached(&self) -> u32 {
+        self.traced.iter().take_while(|&&t| t).count() as u32
+    }
 }
 
 /// One row's output of a tracing pass.
@@ -87,6 +93,10 @@ pub(super) fn render_corners(job: &Job) -> Result<Traced, RenderError> {
     let mut centres = try_filled(w as usize * h as usize, None, "sample lattice")?;
     if trace_corners(job, &mut corners, 1, |x, y| (x as f32, y as f32), &mut out) {
         trace_centres(job, &mut centres, &mut out);
+    } else {
+        // Pixel row y holds corner row y's samples (and the centres none): the rows
+        // above the first corner row not traced.
+        out.rows_reached = Some(job.rows_reached(Tile::full(w, h), corners.rows_reached()));
     }
     let film = reconstruct(job, |buffer, x, y| {
         if let Some(c) = centres[(y * job.width + x) as usize] {
@@ -124,6 +134,12 @@ pub(super) fn render_adaptive(job: &Job, rule: &Refinement) -> Result<Traced, Re
         |x, y| rule.position(x, y),
         &mut out,
     );
+    if !refine {
+        // A pixel without its refinement is its four corners' mean, so it needs the
+        // corner rows above and below it.
+        let bottom = corners.rows_reached().saturating_sub(1);
+        out.rows_reached = Some(job.rows_reached(Tile::full(w, h), bottom));
+    }
     // Each corner encoded once: a pixel's verdict compares 16 of them, its walk 4.
     let mut encoded = try_filled(corners.colours.len(), [0.0; 3], "sample lattice")?;
     let row = w as usize + 1;
@@ -690,9 +706,12 @@ fn trace_corners(
     let s = steps as f32;
     // Rows are merged as they finish, so that their buffers are reused, not all held.
     let merge = Mutex::new((&mut corners.traced, out));
+    // Rows are handed out from the top (not split in halves as a parallel slice is), so
+    // that a cancelled pass has traced a band of rows from the top.
     (corners.colours)
-        .par_chunks_mut(w as usize + 1)
+        .chunks_mut(w as usize + 1)
         .enumerate()
+        .par_bridge()
         .for_each_init(Vec::new, |rays, (j, values)| {
             if job.cancelled() {
                 return;

@@ -263,6 +263,20 @@ impl Job<'_> {
     fn cancelled(&self) -> bool {
         self.cancel.load(Ordering::Relaxed)
     }
+
+    /// The rows of `area`, from its top, that finished work reaching down to image row
+    /// `bottom` wrote into: its own and those the filter spreads its samples over.
+    fn rows_reached(&self, area: Tile, bottom: u32) -> u32 {
+        if bottom == 0 {
+            return 0;
+        }
+        let reach = if self.filter.is_pixel_box() {
+            0
+        } else {
+            self.filter.radius.ceil() as u32
+        };
+        (bottom + reach).saturating_sub(area.y0).min(area.height())
+    }
 }
 
 /// What a sampler's render produces: the area's film, statistics and ray counts.

@@ -161,7 +161,7 @@ pub(super) fn render(
             }
         }
     });
-    out.rows_reached = Some(rows_reached(job, area, reached.into_inner()));
+    out.rows_reached = Some(job.rows_reached(area, reached.into_inner()));
     if let Some(sums) = sums {
         out.film = sums
             .into_inner()
@@ -169,20 +169,6 @@ pub(super) fn render(
             .into_film(area)?;
     }
     Ok(out)
-}
-
-/// The rows of `area`, from its top, that finished tiles reaching down to image row
-/// `bottom` wrote into: theirs and those the filter spreads their samples over.
-fn rows_reached(job: &Job, area: Tile, bottom: u32) -> u32 {
-    if bottom == 0 {
-        return 0;
-    }
-    let reach = if job.filter.is_pixel_box() {
-        0
-    } else {
-        job.filter.radius.ceil() as u32
-    };
-    (bottom + reach).saturating_sub(area.y0).min(area.height())
 }
 
 /// Traces `tile` block by block with packets of camera rays; returns per pixel (row-major

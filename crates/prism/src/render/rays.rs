@@ -57,6 +57,18 @@ impl RayCounts {
         self.camera.len() == self.width as usize * self.height as usize
     }
 
+    /// Cuts the counts to their first `rows` rows, as `Film::keep_top_rows` the image.
+    pub fn keep_top_rows(&mut self, rows: u32) {
+        self.height = self.height.min(rows);
+        let n = self.height as usize * self.width as usize;
+        self.camera.truncate(n);
+        self.total.truncate(n);
+        self.node_visits.truncate(n);
+        self.primitive_tests.truncate(n);
+        self.shadow_node_visits.truncate(n);
+        self.shadow_tests.truncate(n);
+    }
+
     /// Adds rays to pixel (x, y) (nothing where counts are not kept).
     pub fn add(&mut self, x: u32, y: u32, rays: PixelRays) {
         if self.camera.is_empty() {
