@@ -40,10 +40,10 @@ def local_seconds(settings, repeat):
 
 def distributed_seconds(client, settings, tiles, repeat, reference):
     # One warm-up render ships the bundle and loads the scene on every worker.
-    dist.render(SCENE, client, tiles=tiles, threads=1, **settings)
+    dist.render(SCENE, client, tile_edge=tiles, threads=1, **settings)
     times = []
     for _ in range(repeat):
-        image, stats = dist.render(SCENE, client, tiles=tiles, threads=1, **settings)
+        image, stats = dist.render(SCENE, client, tile_edge=tiles, threads=1, **settings)
         times.append((stats["wall_seconds"], sum(stats["tile_seconds"])))
         assert np.array_equal(image.view(np.uint32), reference.view(np.uint32))
     wall, traced = min(times)

@@ -40,7 +40,7 @@ def main(out):
 
     # The same render, tile by tile, on two local worker processes.
     tiled, dstats = prism.distributed.render(
-        "scenes/whitted.toml", width=320, height=240, spp=4, tiles=64, workers=2
+        "scenes/whitted.toml", width=320, height=240, spp=4, tile_edge=64, workers=2
     )
     same = np.array_equal(tiled.view(np.uint32), image.view(np.uint32))
     print(f"dask: {dstats['tiles']} tiles on {dstats['workers']} workers, identical: {same}")

@@ -2,10 +2,10 @@
 
     import prism.distributed
     image, stats = prism.distributed.render("scenes/whitted.toml", width=1920, height=1080,
-                                            spp=16, tiles=128)
+                                            spp=16, tile_edge=128)
 
-The image is cut into square tiles `tiles` pixels on a side (tiles=128: tiles of 128 × 128
-pixels, not 128 tiles); each tile is a Dask task that renders
+The image is cut into square tiles `tile_edge` pixels on a side (tile_edge=128: tiles of
+128 × 128 pixels); each tile is a Dask task that renders
 that region with `Scene.render(region=...)`, and the client assembles them. prism renders
 every pixel as a pure function of scene, settings and position, so the result is
 bit-identical to one local render whatever the tile size and however many workers took
@@ -29,6 +29,7 @@ import os
 import sys
 import threading
 import time
+import warnings
 
 import numpy as np
 from distributed.diagnostics.plugin import WorkerPlugin
@@ -38,6 +39,9 @@ from .bundle import SceneBundle
 from .progress import TileBar
 
 __all__ = ["render", "tile_grid", "SceneBundle", "main"]
+
+#: The edge in pixels of the square tiles, one Dask task each, unless told otherwise.
+TILE_EDGE = 64
 
 #: Tiles this process has started rendering, as a worker (the fault tests count them).
 attempts = 0
@@ -55,7 +59,7 @@ def tile_grid(width, height, size):
     """The regions (x0, y0, x1, y1) of `size`-pixel square tiles covering the image,
     row by row."""
     if size < 1:
-        raise ValueError(f"tiles must be at least 1 pixel, got {size}")
+        raise ValueError(f"tile_edge must be at least 1 pixel, got {size}")
     return [
         (x0, y0, min(x0 + size, width), min(y0 + size, height))
         for y0 in range(0, height, size)
@@ -175,7 +179,8 @@ def render(
     scene,
     client=None,
     *,
-    tiles=64,
+    tile_edge=None,
+    tiles=None,
     frames=None,
     materials=None,
     shared=False,
@@ -188,8 +193,9 @@ def render(
     images, one per frame, and the stats.
 
     client: a `distributed.Client`; None starts a `LocalCluster` of `workers` processes
-    of one thread each, closed at the end. tiles: the edge of a tile in pixels (tiles=64:
-    tiles of 64 × 64 pixels, however many that makes; not a count of tiles). materials:
+    of one thread each, closed at the end. tile_edge: the edge of a tile in pixels
+    (default 64: tiles of 64 × 64 pixels, however many that makes); tiles= is its deprecated
+    old name, the same edge, not a count of tiles. materials:
     {name: {coefficient: value}} overrides, as `Scene.set_material` takes them. shared:
     the workers open the scene at its path (a shared file system) instead of receiving
     its files. progress: called as progress(done, total) after each tile. Every other
@@ -202,6 +208,17 @@ def render(
     """
     from distributed import Client, LocalCluster, as_completed
 
+    if tiles is not None:
+        if tile_edge is not None:
+            raise ValueError("tiles= and tile_edge= name the same edge: give tile_edge= only")
+        warnings.warn(
+            "tiles= is deprecated: use tile_edge=, the same edge of a tile in pixels",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        tile_edge = tiles
+    if tile_edge is None:
+        tile_edge = TILE_EDGE
     for reserved in ("region",):
         if reserved in settings:
             raise ValueError(f"{reserved}= is chosen per tile by prism.distributed")
@@ -209,7 +226,7 @@ def render(
     width = settings.get("width") or bundle.size[0]
     height = settings.get("height") or bundle.size[1]
     settings = dict(settings, width=width, height=height)
-    regions = tile_grid(width, height, int(tiles))
+    regions = tile_grid(width, height, int(tile_edge))
     cameras = [None] if frames is None else list(frames)
 
     own = None
@@ -288,11 +305,12 @@ def _arguments():
     p.add_argument("--scheduler", help="address of a running scheduler, e.g. tcp://HOST:8786")
     p.add_argument("--workers", type=int, default=2, help="local worker processes without --scheduler")
     p.add_argument(
-        "--tiles",
+        "--tile-edge",
         type=int,
-        default=64,
-        help="edge of a tile in pixels, not a count of tiles (default 64: 64 × 64-pixel tiles)",
+        help=f"edge of a tile in pixels (default {TILE_EDGE}: {TILE_EDGE} × {TILE_EDGE}-pixel tiles)",
     )
+    # The old name of --tile-edge, which read as a count of tiles.
+    p.add_argument("--tiles", type=int, help=argparse.SUPPRESS)
     p.add_argument("--shared", action="store_true", help="workers open the scene at its path")
     p.add_argument("-W", "--width", type=int)
     p.add_argument("-H", "--height", type=int)
@@ -310,6 +328,14 @@ def _arguments():
 
 def main(argv=None):
     args = _arguments().parse_args(argv)
+    if args.tiles is not None:
+        if args.tile_edge is not None:
+            print("prism.distributed: error: --tiles is --tile-edge's old name: give --tile-edge only",
+                  file=sys.stderr)
+            return 2
+        print("prism.distributed: warning: --tiles is deprecated: use --tile-edge, the same edge "
+              "of a tile in pixels", file=sys.stderr)
+        args.tile_edge = args.tiles
     settings = {
         k: getattr(args, k)
         for k in ("width", "height", "spp", "sampler", "filter", "accel", "integrator", "seed", "depth", "threads")
@@ -325,7 +351,7 @@ def main(argv=None):
         image, stats = render(
             args.scene,
             client,
-            tiles=args.tiles,
+            tile_edge=args.tile_edge,
             shared=args.shared,
             workers=args.workers,
             progress=None if bar is None else bar.update,

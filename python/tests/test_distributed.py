@@ -39,7 +39,7 @@ def local(scene, **settings):
 @pytest.mark.parametrize("tiles", [7, 32, 200])
 def test_tiles_assemble_into_the_local_render(client, tiles):
     settings = {"width": 90, "height": 50, "spp": 4, "filter": "mitchell"}
-    image, stats = dist.render("builtin:whitted", client, tiles=tiles, **settings)
+    image, stats = dist.render("builtin:whitted", client, tile_edge=tiles, **settings)
     assert stats["tiles"] == len(dist.tile_grid(90, 50, tiles))
     assert stats["workers"] == 2
     assert same_bits(image, local("builtin:whitted", **settings))
@@ -62,7 +62,7 @@ def test_a_scene_with_meshes_and_textures_reaches_workers_as_a_bundle(client, tm
         "textures/testcard.png",
     ]
     shutil.rmtree(copy)
-    image, stats = dist.render(bundle_scene(bundle), client, tiles=16, **settings)
+    image, stats = dist.render(bundle_scene(bundle), client, tile_edge=16, **settings)
     assert stats["shipped_bytes"] == bundle.bytes > 0
     assert same_bits(image, expected)
 
@@ -74,7 +74,7 @@ def bundle_scene(bundle):
 
 def test_one_worker_and_two_give_the_same_image(tmp_path):
     settings = {"width": 48, "height": 32, "spp": 4, "integrator": "path"}
-    one, _ = dist.render("builtin:cornell-light", tiles=16, workers=1, **settings)
+    one, _ = dist.render("builtin:cornell-light", tile_edge=16, workers=1, **settings)
     assert same_bits(one, local("builtin:cornell-light", **settings))
 
 
@@ -82,7 +82,7 @@ def test_frames_follow_their_cameras(client):
     scene = prism.builtin("whitted")
     camera = scene.camera
     frames = [{"fov": camera["fov"]}, {"fov": camera["fov"] * 0.6}]
-    images, stats = dist.render("builtin:whitted", client, tiles=24, frames=frames, width=40, height=30)
+    images, stats = dist.render("builtin:whitted", client, tile_edge=24, frames=frames, width=40, height=30)
     assert stats["frames"] == 2 and len(images) == 2
     for image, frame in zip(images, frames):
         scene.set_camera(**frame)
@@ -93,7 +93,7 @@ def test_material_overrides_reach_the_workers(client):
     scene = prism.builtin("whitted")
     name = scene.materials[0]["name"]
     change = {name: {"color": [0.1, 0.8, 0.2]}}
-    image, _ = dist.render("builtin:whitted", client, tiles=16, materials=change, width=32, height=24)
+    image, _ = dist.render("builtin:whitted", client, tile_edge=16, materials=change, width=32, height=24)
     scene.set_material(name, **change[name])
     assert same_bits(image, scene.render(width=32, height=24)[0])
 
@@ -111,7 +111,7 @@ def test_a_killed_worker_costs_only_its_tiles(client):
             killed.append(victim)
 
     image, stats = dist.render(
-        "builtin:sphereflake", client, tiles=12, progress=kill_after_some_tiles, **settings
+        "builtin:sphereflake", client, tile_edge=12, progress=kill_after_some_tiles, **settings
     )
     assert killed, "the worker was killed during the render"
     assert stats["tiles"] == 64
@@ -131,7 +131,7 @@ def test_a_scene_error_fails_the_render_once(client, tmp_path):
     )
     before = sum(client.run(lambda: __import__("prism.distributed").distributed.attempts).values())
     with pytest.raises(prism.SceneError, match=r"broken\.toml:3:"):
-        dist.render(broken, client, tiles=8)
+        dist.render(broken, client, tile_edge=8)
     client.wait_for_workers(2, timeout=60)
     after = sum(client.run(lambda: __import__("prism.distributed").distributed.attempts).values())
     # 16 tiles; each tried at most once (no retries of a deterministic error), and the
@@ -141,7 +141,21 @@ def test_a_scene_error_fails_the_render_once(client, tmp_path):
 
 def test_bad_settings_fail_once_with_value_error(client):
     with pytest.raises(ValueError, match="whole image"):
-        dist.render("builtin:whitted", client, tiles=8, width=16, height=16, sampler="adaptive")
+        dist.render("builtin:whitted", client, tile_edge=8, width=16, height=16, sampler="adaptive")
+
+
+def test_tile_edge_names_the_edge_and_tiles_is_its_deprecated_old_name(client):
+    # tile_edge=16 on 40 × 30: tiles of 16 × 16 pixels, 3 × 2 of them, not 16 tiles.
+    settings = {"width": 40, "height": 30}
+    image, stats = dist.render("builtin:whitted", client, tile_edge=16, **settings)
+    assert stats["tiles"] == 6
+    with pytest.warns(DeprecationWarning, match="tile_edge="):
+        old, old_stats = dist.render("builtin:whitted", client, tiles=16, **settings)
+    assert old_stats["tiles"] == 6 and same_bits(old, image)
+    with pytest.raises(ValueError, match="give tile_edge= only"):
+        dist.render("builtin:whitted", client, tiles=16, tile_edge=16, **settings)
+    with pytest.raises(ValueError, match="tile_edge must be at least 1 pixel"):
+        dist.render("builtin:whitted", client, tile_edge=0, **settings)
 
 
 def test_an_unknown_scene_fails_on_the_client():
@@ -155,7 +169,7 @@ def test_the_command_line_writes_the_image(tmp_path):
     out = tmp_path / "flake.pfm"
     run = subprocess.run(
         [sys.executable, "-m", "prism.distributed", "builtin:sphereflake:1", "-W", "40", "-H", "30",
-         "--tiles", "16", "--workers", "2", "-o", str(out)],
+         "--tile-edge", "16", "--workers", "2", "-o", str(out)],
         capture_output=True, text=True, timeout=300,
     )
     assert run.returncode == 0, run.stderr
@@ -166,3 +180,9 @@ def test_the_command_line_writes_the_image(tmp_path):
         capture_output=True, text=True, timeout=300,
     )
     assert bad.returncode == 1 and "cannot read" in bad.stderr
+    old = subprocess.run(
+        [sys.executable, "-m", "prism.distributed", "builtin:sphereflake:1", "-W", "40", "-H", "30",
+         "--tiles", "16", "--workers", "2", "-q", "-o", str(out)],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert old.returncode == 0 and "--tiles is deprecated: use --tile-edge" in old.stderr, old.stderr
