@@ -6,6 +6,7 @@
 
 mod area_lights;
 pub mod beam;
+mod diffuse_lanes;
 mod emitters;
 mod light_buffer;
 mod path;

@@ -38,7 +38,7 @@ use crate::math::robust::{gamma, offset_ray_origin};
 use crate::math::{Color, Ray, Vec3};
 use crate::options::RenderOptions;
 use crate::scene::PreparedScene;
-use crate::shading::Bsdf;
+use crate::shading::{Bsdf, BsdfSample};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
 use std::f32::consts::PI;
@@ -359,8 +359,16 @@ impl<'a> PathTracer<'a> {
         stream: &Stream,
         stats: &mut Stats,
     ) -> bool {
-        let (bsdf, sp, ng) = (&v.bsdf, &v.sp, v.ng);
-        if bsdf.has_smooth_lobe() {
+        Self::add_light(path, v, lights);
+        let [u_lobe, u1, u2] = Self::bsdf_numbers(depth, stream);
+        let sample = v.bsdf.sample(u_lobe, u1, u2);
+        Self::scatter(path, v, sample, depth, stream, stats)
+    }
+
+    /// `leave`'s first step: the light of the unblocked light samples at `v`.
+    #[inline(always)]
+    pub(super) fn add_light(path: &mut Path, v: &Vertex, lights: &[LightQuery]) {
+        if v.bsdf.has_smooth_lobe() {
             // Summed in the order the samples were drawn: delta lights, then the area light.
             let mut sum = Color::ZERO;
             for q in lights.iter().filter(|q| !q.blocked) {
@@ -368,12 +376,32 @@ impl<'a> PathTracer<'a> {
             }
             path.radiance += path.throughput * sum;
         }
+    }
 
-        let Some(s) = bsdf.sample(
+    /// The numbers vertex `depth` draws its BSDF sample with: the lobe's, then the
+    /// direction's two.
+    #[inline(always)]
+    pub(super) fn bsdf_numbers(depth: u32, stream: &Stream) -> [f32; 3] {
+        [
             stream.uniform(Self::dim(depth, 3)),
             stream.uniform(Self::dim(depth, 4)),
             stream.uniform(Self::dim(depth, 5)),
-        ) else {
+        ]
+    }
+
+    /// `leave`'s last step, with the BSDF's sample drawn (`None`: the path ends): the
+    /// throughput, Russian roulette and the next ray. False when the path ends here.
+    #[inline(always)]
+    pub(super) fn scatter(
+        path: &mut Path,
+        v: &Vertex,
+        sample: Option<BsdfSample>,
+        depth: u32,
+        stream: &Stream,
+        stats: &mut Stats,
+    ) -> bool {
+        let (sp, ng) = (&v.sp, v.ng);
+        let Some(s) = sample else {
             return false;
         };
         path.throughput *= s.weight;
@@ -446,7 +474,7 @@ impl Path {
 pub(super) struct Vertex {
     sp: SurfacePoint,
     ng: Vec3,
-    bsdf: Bsdf,
+    pub(super) bsdf: Bsdf,
 }
 
 /// A light sample's shadow ray, the light it adds if nothing blocks it, and whether

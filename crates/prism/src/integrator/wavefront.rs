@@ -14,6 +14,7 @@
 //! in the same order, with its own random numbers: every sample's value is the one-path
 //! tracer's bit for bit, whatever the queue's size, and the image with it.
 
+use super::diffuse_lanes::DiffuseBlock;
 use super::path::{LightQuery, Path, Vertex};
 use super::stage_clock::StageClock;
 use super::{CameraBatch, CameraPacket, CameraTracer, PathTracer};
@@ -22,6 +23,7 @@ use crate::math::hash::Stream;
 use crate::math::{Color, Ray};
 use crate::options::RenderOptions;
 use crate::scene::PreparedScene;
+use crate::shading::BsdfSample;
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
 use std::ops::Range;
@@ -64,6 +66,10 @@ struct Stages {
     spans: Vec<Range<usize>>,
     /// A stage's queries in the order they go to the accelerator (`sort_by_key`).
     order: Vec<u64>,
+    /// Each path's BSDF sample in the leave stage.
+    samples: Vec<Option<BsdfSample>>,
+    /// The leave stage's diffuse bounces waiting for their lanes.
+    diffuse: Box<DiffuseBlock>,
 }
 
 impl<'a> WavefrontPathTracer<'a> {
@@ -198,23 +204,55 @@ impl<'a> WavefrontPathTracer<'a> {
     }
 
     /// Every path leaves its vertex or ends; the ended ones hand their radiance to `done`
-    /// and the living close ranks in queue order.
+    /// and the living close ranks in queue order. The light samples' light is added and
+    /// the BSDFs sampled first, the diffuse bounces in lanes (`diffuse_lanes.rs`), then
+    /// every path scatters or ends.
     fn leave(
         &self,
         queue: &mut Vec<Lane>,
-        stages: &Stages,
+        stages: &mut Stages,
         done: &mut dyn FnMut(usize, Color, u32),
         stats: &mut Stats,
     ) {
+        let Stages {
+            vertices,
+            lights,
+            spans,
+            samples,
+            diffuse,
+            ..
+        } = stages;
+        samples.clear();
+        for (i, lane) in queue.iter_mut().enumerate() {
+            let Some(v) = &vertices[i] else {
+                samples.push(None);
+                continue;
+            };
+            PathTracer::add_light(&mut lane.path, v, &lights[spans[i].clone()]);
+            let [u_lobe, u1, u2] = PathTracer::bsdf_numbers(lane.depth, &lane.stream);
+            match v.bsdf.diffuse_only() {
+                Some(lobe) if u_lobe < lobe.p_diffuse => {
+                    samples.push(None);
+                    if diffuse.push(i, &lobe, u1, u2) {
+                        diffuse.run(samples);
+                    }
+                }
+                _ => samples.push(v.bsdf.sample(u_lobe, u1, u2)),
+            }
+        }
+        diffuse.run(samples);
         let mut alive = 0;
         for i in 0..queue.len() {
             let lane = &mut queue[i];
-            let goes_on = match &stages.vertices[i] {
-                Some(v) => {
-                    let lights = &stages.lights[stages.spans[i].clone()];
-                    self.paths
-                        .leave(&mut lane.path, v, lights, lane.depth, &lane.stream, stats)
-                }
+            let goes_on = match &vertices[i] {
+                Some(v) => PathTracer::scatter(
+                    &mut lane.path,
+                    v,
+                    samples[i],
+                    lane.depth,
+                    &lane.stream,
+                    stats,
+                ),
                 None => false,
             };
             if goes_on {
@@ -279,7 +317,7 @@ impl CameraTracer for WavefrontPathTracer<'_> {
             lap(SHADE, stats);
             self.answer_shadow_rays(&queue, &mut stages, stats);
             lap(SHADOW, stats);
-            self.leave(&mut queue, &stages, done, stats);
+            self.leave(&mut queue, &mut stages, done, stats);
             lap(LEAVE, stats);
         }
     }

@@ -2,6 +2,7 @@
 //! cosine-weighted hemisphere, a cosine-power lobe, the sphere and the triangle. Each
 //! comes with the density it samples, so estimators divide by exactly what they drew.
 
+use super::lanes::{sincos, FloatLanes};
 use glam::Vec3;
 use std::f32::consts::{FRAC_1_PI, PI};
 
@@ -9,10 +10,46 @@ use std::f32::consts::{FRAC_1_PI, PI};
 /// disc lifted to the hemisphere), so the cosine of the rendering equation cancels.
 #[inline]
 pub fn cosine_hemisphere(u1: f32, u2: f32) -> Vec3 {
+    let [x, y, z] = cosine_hemisphere_lanes(u1, u2);
+    Vec3::new(x, y, z)
+}
+
+/// `cosine_hemisphere` lane by lane, with `lanes::sincos`: one lane is the scalar warp.
+#[inline(always)]
+pub(crate) fn cosine_hemisphere_lanes<L: FloatLanes>(u1: L, u2: L) -> [L; 3] {
     let r = u1.sqrt();
-    let phi = 2.0 * PI * u2;
-    let z = (1.0 - u1).max(0.0).sqrt();
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    let phi = L::splat(2.0 * PI) * u2;
+    let z = (L::splat(1.0) - u1).max(L::splat(0.0)).sqrt();
+    let (sin, cos) = sincos(phi);
+    [r * cos, r * sin, z]
+}
+
+/// `cosine_hemisphere` about the unit normal `n` (in `Frame::from_z(n)`'s axes), made unit
+/// again, lane by lane: exactly `Frame::from_z(n).to_world(cosine_hemisphere(u1,
+/// u2)).normalize()`'s operations in its order, so that the diffuse lobe's direction in
+/// lanes (the wavefront's) and in the scalar `Bsdf::sample` are the same bits.
+#[inline(always)]
+pub(crate) fn cosine_direction<L: FloatLanes>(n: [L; 3], u1: L, u2: L) -> [L; 3] {
+    let [lx, ly, lz] = cosine_hemisphere_lanes(u1, u2);
+    let [nx, ny, nz] = n;
+    // Frame::from_z (Duff et al. 2017).
+    let sign = L::splat(1.0).copysign(nz);
+    let a = L::splat(-1.0) / (sign + nz);
+    let b = nx * ny * a;
+    let x = [
+        L::splat(1.0) + sign * nx * nx * a,
+        sign * b,
+        sign.neg() * nx,
+    ];
+    let y = [b, sign + ny * ny * a, ny.neg()];
+    // Frame::to_world, then Vec3::normalize (a multiplication by 1 / length).
+    let w = [
+        lx * x[0] + ly * y[0] + lz * nx,
+        lx * x[1] + ly * y[1] + lz * ny,
+        lx * x[2] + ly * y[2] + lz * nz,
+    ];
+    let inv = L::splat(1.0) / (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+    [w[0] * inv, w[1] * inv, w[2] * inv]
 }
 
 /// The density of `cosine_hemisphere` for a direction with cosine `cos` to +z.

@@ -22,7 +22,7 @@
 use super::coefficients::Coefficients;
 use super::material::Highlight;
 use super::optics::{reflect, refract};
-use crate::math::warp::{cosine_hemisphere, cosine_hemisphere_pdf, cosine_power, cosine_power_pdf};
+use crate::math::warp::{cosine_direction, cosine_hemisphere_pdf, cosine_power, cosine_power_pdf};
 use crate::math::{Color, Frame, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
@@ -63,6 +63,21 @@ pub struct BsdfSample {
     pub delta: bool,
     /// It went through the surface (refraction).
     pub transmitted: bool,
+}
+
+/// What `Bsdf::sample` reads when it draws from the diffuse lobe of a BSDF without a
+/// glossy one: the direction is `warp::cosine_direction` about `ns`, its density
+/// `p_diffuse`·cos θ/π (zero below `ns` or `ng`), its weight (`diffuse`/π)·(cos θ / pdf).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct DiffuseLobe {
+    /// Shading normal, on `wo`'s side.
+    pub(crate) ns: Vec3,
+    /// Geometric normal, on `wo`'s side.
+    pub(crate) ng: Vec3,
+    /// The lobe's albedo.
+    pub(crate) diffuse: Color,
+    /// The probability of drawing from it.
+    pub(crate) p_diffuse: f32,
 }
 
 /// The Phong exponent a highlight's `shininess` stands for: near the peak the half vector's
@@ -134,6 +149,18 @@ impl Bsdf {
         }
     }
 
+    /// The diffuse lobe of a BSDF with no glossy lobe, for the wavefront's diffuse
+    /// bounces in lanes (`integrator/diffuse_lanes.rs`): `sample` draws from it exactly when
+    /// `u_lobe < p_diffuse`, and then its answer is `DiffuseLobe`'s arithmetic.
+    pub(crate) fn diffuse_only(&self) -> Option<DiffuseLobe> {
+        (self.glossy == 0.0).then_some(DiffuseLobe {
+            ns: self.ns,
+            ng: self.ng,
+            diffuse: self.diffuse,
+            p_diffuse: self.p_diffuse,
+        })
+    }
+
     /// Whether some lobe is not a delta: only then can a light sample find a direction.
     pub fn has_smooth_lobe(&self) -> bool {
         self.p_diffuse + self.p_glossy > 0.0
@@ -182,12 +209,14 @@ impl Bsdf {
     pub fn sample(&self, u_lobe: f32, u1: f32, u2: f32) -> Option<BsdfSample> {
         let smooth = self.p_diffuse + self.p_glossy;
         if u_lobe < smooth {
-            let local = if u_lobe < self.p_diffuse {
-                Frame::from_z(self.ns).to_world(cosine_hemisphere(u1, u2))
+            let wi = if u_lobe < self.p_diffuse {
+                let [x, y, z] = cosine_direction(self.ns.to_array(), u1, u2);
+                Vec3::new(x, y, z)
             } else {
-                Frame::from_z(self.mirrored).to_world(cosine_power(u1, u2, self.exponent))
+                Frame::from_z(self.mirrored)
+                    .to_world(cosine_power(u1, u2, self.exponent))
+                    .normalize()
             };
-            let wi = local.normalize();
             let pdf = self.pdf(wi);
             if pdf <= 0.0 {
                 return None;

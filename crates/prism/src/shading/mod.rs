@@ -12,6 +12,7 @@ pub mod optics;
 mod pbr;
 mod texture;
 
+pub(crate) use bsdf::DiffuseLobe;
 pub use bsdf::{Bsdf, BsdfSample};
 pub use coefficients::{Coefficients, SpecularWeights};
 pub use fresnel::FresnelMode;

@@ -25,8 +25,11 @@
 mod avx2;
 #[cfg(target_arch = "x86_64")]
 mod avx512;
+mod trig;
 #[cfg(target_arch = "x86_64")]
 mod x86;
+
+pub(crate) use trig::sincos;
 
 #[cfg(target_arch = "x86_64")]
 pub(crate) use x86::{F32x16, F32x8};
