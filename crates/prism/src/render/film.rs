@@ -58,7 +58,7 @@ impl Film {
         Ok(Film {
             width,
             height,
-            pixels: super::memory::try_filled(n, Color::ZERO, "film")?,
+            pixels: super::memory::try_zeroed(n, "film")?,
             transfer: Transfer::Srgb,
         })
     }

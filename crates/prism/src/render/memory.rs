@@ -1,6 +1,10 @@
 //! The memory a render needs, known before it starts, and the fallible allocation of its
 //! big buffers. An image of 65536 × 65536 pixels needs hundreds of gigabytes; the process
 //! must refuse it with a message that names the bytes, not abort inside the allocator.
+//! Zeroed buffers come from the allocator's zeroed memory (`try_zeroed`, the module's one
+//! unsafe call, listed with the workspace's exceptions in Cargo.toml).
+
+#![allow(unsafe_code)]
 
 use super::RenderError;
 use crate::options::RenderOptions;
@@ -91,6 +95,46 @@ pub(crate) fn try_filled<T: Clone>(
     Ok(v)
 }
 
+/// A type whose all-zero bit pattern is a valid value (its zero), so that a buffer of
+/// them may come zeroed from the allocator.
+///
+/// # Safety
+///
+/// Implement it only for types of which every byte zero is a valid value.
+pub(crate) unsafe trait ZeroBits: Copy {}
+
+// SAFETY: integers and floats of all zero bits are 0 and 0.0; `Color` (glam's `Vec3`) is
+// three f32.
+unsafe impl ZeroBits for u32 {}
+unsafe impl ZeroBits for u64 {}
+unsafe impl ZeroBits for crate::math::Color {}
+
+/// A vector of `n` zeros straight from the allocator's zeroed memory, or an out-of-memory
+/// error naming `what` and the bytes it would have taken. Unlike `try_filled` nothing is
+/// written here: a large buffer comes as fresh pages the system zeroes when they are first
+/// touched, so a render of 20000 × 20000 pixels starts its tiles at once instead of first
+/// writing gigabytes of zeros (seconds in which Ctrl-C could not stop it), and a render
+/// stopped early gives back only the pages its tiles touched.
+pub(crate) fn try_zeroed<T: ZeroBits>(n: usize, what: &'static str) -> Result<Vec<T>, RenderError> {
+    let out_of_memory = || RenderError::OutOfMemory {
+        what,
+        bytes: (n as u64).saturating_mul(std::mem::size_of::<T>() as u64),
+    };
+    let layout = std::alloc::Layout::array::<T>(n).map_err(|_| out_of_memory())?;
+    if layout.size() == 0 {
+        return Ok(Vec::new());
+    }
+    // SAFETY: the layout's size is not zero (checked above).
+    let ptr = unsafe { std::alloc::alloc_zeroed(layout) }.cast::<T>();
+    if ptr.is_null() {
+        return Err(out_of_memory());
+    }
+    // SAFETY: `ptr` comes from the global allocator with the layout of `n` values of `T`
+    // (so capacity `n` and `T`'s alignment), and all its `n` values are zero bits, which
+    // `ZeroBits` promises are valid values of `T`.
+    Ok(unsafe { Vec::from_raw_parts(ptr, n, n) })
+}
+
 /// Bytes in decimal units with three significant digits: "812 MB", "51.5 GB".
 pub fn format_bytes(bytes: u64) -> String {
     const UNITS: [&str; 5] = ["B", "kB", "MB", "GB", "TB"];
@@ -166,6 +210,27 @@ mod tests {
     fn an_impossible_vector_is_an_error_not_an_abort() {
         let r = try_filled(usize::MAX / 2, 0u64, "test buffer");
         match r {
+            Err(RenderError::OutOfMemory { what, bytes }) => {
+                assert_eq!(what, "test buffer");
+                assert!(bytes > 1 << 62);
+            }
+            other => panic!(
+                "expected an out-of-memory error, got {:?}",
+                other.map(|v| v.len())
+            ),
+        }
+    }
+
+    #[test]
+    fn zeroed_vectors_are_zeros_and_an_impossible_one_is_an_error() {
+        let v: Vec<crate::math::Color> = try_zeroed(100_003, "test buffer").unwrap();
+        assert_eq!(v.len(), 100_003);
+        assert!(v.iter().all(|c| *c == crate::math::Color::ZERO));
+        let mut counts: Vec<u64> = try_zeroed(5, "test buffer").unwrap();
+        counts.push(7);
+        assert_eq!(counts, [0, 0, 0, 0, 0, 7]);
+        assert!(try_zeroed::<u32>(0, "test buffer").unwrap().is_empty());
+        match try_zeroed::<u64>(usize::MAX / 2, "test buffer") {
             Err(RenderError::OutOfMemory { what, bytes }) => {
                 assert_eq!(what, "test buffer");
                 assert!(bytes > 1 << 62);

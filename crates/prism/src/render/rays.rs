@@ -28,17 +28,17 @@ pub struct RayCounts {
 impl RayCounts {
     /// Zero counts, or an out-of-memory error instead of an abort.
     pub fn try_new(width: u32, height: u32) -> Result<Self, super::RenderError> {
-        use super::memory::try_filled;
+        use super::memory::try_zeroed;
         let n = width as usize * height as usize;
         Ok(RayCounts {
             width,
             height,
-            camera: try_filled(n, 0, "ray counts")?,
-            total: try_filled(n, 0, "ray counts")?,
-            node_visits: try_filled(n, 0, "ray counts")?,
-            primitive_tests: try_filled(n, 0, "ray counts")?,
-            shadow_node_visits: try_filled(n, 0, "ray counts")?,
-            shadow_tests: try_filled(n, 0, "ray counts")?,
+            camera: try_zeroed(n, "ray counts")?,
+            total: try_zeroed(n, "ray counts")?,
+            node_visits: try_zeroed(n, "ray counts")?,
+            primitive_tests: try_zeroed(n, "ray counts")?,
+            shadow_node_visits: try_zeroed(n, "ray counts")?,
+            shadow_tests: try_zeroed(n, "ray counts")?,
         })
     }
 
