@@ -359,6 +359,58 @@ fn an_obj_without_its_mtl_renders_with_a_warning_unless_strict() {
     assert_eq!(listing(&dir), ["model.obj"]);
 }
 
+/// A missing texture image, in an MTL library or a TOML scene, is a warning naming the
+/// file, line and column; the material keeps its colour (the MTL's Kd: a red triangle
+/// stays red), and --strict makes it an error that writes nothing.
+#[test]
+fn a_missing_texture_warns_keeps_the_colour_and_fails_under_strict() {
+    let dir = work_dir("missing-texture");
+    let obj = "mtllib m.mtl\nusemtl red\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n\
+               f 1/1 2/2 3/3\n";
+    fs::write(dir.join("tri.obj"), obj).unwrap();
+    fs::write(dir.join("m.mtl"), "newmtl red\nKd 1 0 0\nmap_Kd gone.png\n").unwrap();
+    let toml = "[materials.m]\ntexture = { type = \"image\", path = \"gone.png\" }\n\n\
+                [[objects]]\ntype = \"sphere\"\ncenter = [0, 0, -5]\nradius = 1\nmaterial = \"m\"\n";
+    fs::write(dir.join("s.toml"), toml).unwrap();
+    let out = prism(
+        &dir,
+        &["tri.obj", "-q", "-W", "9", "-H", "9", "-o", "t.pfm"],
+    );
+    let err = expect_exit(&out, 0, "tri.obj without its texture");
+    assert!(
+        err.contains("warning: m.mtl:3:8: the map_Kd image gone.png is missing"),
+        "{err}"
+    );
+    // The centre pixel, on the triangle, is red: Kd kept.
+    let pfm = fs::read(dir.join("t.pfm")).unwrap();
+    let floats: Vec<f32> = pfm[pfm.len() - 9 * 9 * 12..]
+        .chunks(4)
+        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    let centre = &floats[(4 * 9 + 4) * 3..][..3];
+    assert!(
+        centre[0] > 0.1 && centre[1] == 0.0 && centre[2] == 0.0,
+        "{centre:?}"
+    );
+    let out = prism(&dir, &["s.toml", "-q", "-W", "9", "-H", "9", "-o", "s.png"]);
+    let err = expect_exit(&out, 0, "s.toml without its texture");
+    assert!(
+        err.contains("warning: s.toml:2:36: the texture image")
+            && err.contains("gone.png is missing"),
+        "{err}"
+    );
+    for scene in ["tri.obj", "s.toml"] {
+        let out = prism(&dir, &[scene, "--strict", "-q", "-o", "strict.png"]);
+        let err = expect_exit(&out, 1, "--strict");
+        assert!(err.contains("gone.png is missing"), "{err}");
+        assert!(err.contains("1 warning and --strict"), "{err}");
+    }
+    assert_eq!(
+        listing(&dir),
+        ["m.mtl", "s.png", "s.toml", "t.pfm", "tri.obj"]
+    );
+}
+
 /// An OBJ object whose faces all have zero area is left out with a warning; --strict
 /// makes it an error.
 #[test]
