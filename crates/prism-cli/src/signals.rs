@@ -99,6 +99,8 @@ fn install(interrupt: &Interrupt) {
                 // A second signal once the first was answered: the user does not want to
                 // wait for the tiles in flight.
                 Some(at) if at.elapsed() >= SECOND_SIGNAL_AFTER => {
+                    // An output being written is half a file: it goes too.
+                    prism_io::output::abandon_writes();
                     eprintln!("\nprism: stopped at once on a second signal; nothing written");
                     std::process::exit(code as i32);
                 }
@@ -169,6 +171,7 @@ fn install(interrupt: &Interrupt) {
                 eprintln!("{STOPPING}");
             }
             Some(at) if at.elapsed() >= SECOND_SIGNAL_AFTER => {
+                prism_io::output::abandon_writes();
                 eprintln!("\nprism: stopped at once on a second Ctrl-C; nothing written");
                 std::process::exit(130);
             }

@@ -1083,3 +1083,62 @@ fn ctrl_c_in_a_huge_render_exits_within_a_second_saying_what_it_writes() {
         "{seen}"
     );
 }
+
+#[cfg(unix)]
+mod long_tier {
+    use super::*;
+
+    /// A second Ctrl-C while the first one's image is being written ends the program at
+    /// once and leaves no half-written temporary file (on the main branch before, a
+    /// gigabyte of `.out.pfm.PID.tmp` stayed behind after "nothing written"). The band
+    /// written must take long enough to catch its temporary file: a gigabyte-sized PFM of
+    /// an empty scene, some twenty seconds and a gigabyte of disk, hence the long tier.
+    #[test]
+    #[ignore = "long tier: a second Ctrl-C in the middle of writing a gigabyte image"]
+    fn a_second_ctrl_c_while_writing_leaves_no_temporary_file() {
+        let dir = work_dir("second-ctrl-c-writing");
+        fs::write(
+            dir.join("empty.toml"),
+            "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n",
+        )
+        .unwrap();
+        let mut render = common::terminal::OnTerminal::spawn(
+            &dir,
+            &[
+                "empty.toml",
+                "-W",
+                "20000",
+                "-H",
+                "20000",
+                "--threads",
+                "2",
+                "-o",
+                "out.pfm",
+            ],
+        );
+        assert!(render.wait_for_work_done(), "no progress: {}", render.seen);
+        // Rows enough for a write of seconds.
+        std::thread::sleep(Duration::from_secs(4));
+        render.signal("INT");
+        let first = std::time::Instant::now();
+        let writing = |dir: &Path| listing(dir).iter().any(|n| n.ends_with(".tmp"));
+        while !writing(&dir) {
+            assert!(
+                first.elapsed() < Duration::from_secs(120),
+                "no temporary file"
+            );
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        // The rule: a second signal counts once the first was answered.
+        std::thread::sleep(Duration::from_millis(600).saturating_sub(first.elapsed()));
+        render.signal("INT");
+        let (code, seen) = render.finish();
+        assert_eq!(code, Some(130), "{seen}");
+        assert!(
+            seen.contains("stopped at once on a second signal; nothing written"),
+            "the write was over before the second signal: {seen}"
+        );
+        assert_eq!(listing(&dir), ["empty.toml"], "{seen}");
+        let _ = fs::remove_dir_all(&dir);
+    }
+}

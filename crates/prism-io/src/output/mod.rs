@@ -120,6 +120,26 @@ pub fn png_rgb8_bytes(data: &[u8], width: u32, height: u32) -> Result<Vec<u8>, S
     encode::png_rgb8(data, width, height)
 }
 
+/// The temporary files of the writes in progress, for `abandon_writes`.
+static UNFINISHED: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+fn unfinished() -> std::sync::MutexGuard<'static, Vec<std::path::PathBuf>> {
+    UNFINISHED.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Removes the temporary files of the writes in progress, for a process about to end at
+/// once (`std::process::exit`, which runs no destructors: a second Ctrl-C), so that it
+/// leaves no half-written file behind; call it just before the exit. No write starts
+/// after it: one that tries waits for the exit.
+pub fn abandon_writes() {
+    let files = unfinished();
+    for tmp in files.iter() {
+        let _ = std::fs::remove_file(tmp);
+    }
+    // Held until the process ends, so that no write registers (and creates) a new file.
+    std::mem::forget(files);
+}
+
 /// Writes `bytes` to a temporary name beside `path` and renames it into place.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     let err = |message: String| OutputError::Write {
@@ -135,7 +155,14 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     let tmp = path.with_file_name(tmp_name);
     // Whatever fails (a full disk mid-write, a rename across devices), the temporary file
     // goes: a retry must not leave one more truncated file behind each time.
+    unfinished().push(tmp.clone());
     let written = write_all_synced(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
+    {
+        let mut files = unfinished();
+        if let Some(at) = files.iter().position(|f| *f == tmp) {
+            files.swap_remove(at);
+        }
+    }
     written.map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         err(e.to_string())
