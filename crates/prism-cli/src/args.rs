@@ -2,7 +2,7 @@
 //! not given keep the scene's value, and the scene's defaults come from the library.
 
 use crate::density::DensityRays;
-use crate::flags::{per_axis, setting_help};
+use crate::flags::{per_axis, setting_help, whole};
 use crate::scene_args::{SceneArgs, SizeArgs};
 use anyhow::{bail, Result};
 use clap::Args;
@@ -37,7 +37,7 @@ pub(crate) struct RenderArgs {
     #[command(flatten)]
     pub size: SizeArgs,
 
-    #[arg(short, long, value_name = "N", conflicts_with = "spp", help = setting_help("samples"))]
+    #[arg(short, long, value_name = "N", conflicts_with = "spp", allow_negative_numbers = true, value_parser = whole::<u32>("samples"), help = setting_help("samples"))]
     pub samples: Option<u32>,
 
     /// Samples per pixel, a square number (1, 4, 9, 16, …, 4096) for every pattern, so
@@ -58,7 +58,7 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "X", allow_negative_numbers = true, help = setting_help("adaptive_threshold"))]
     pub adaptive_threshold: Option<f32>,
 
-    #[arg(long, value_name = "N", help = setting_help("adaptive_depth"))]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u32>("adaptive_depth"), help = setting_help("adaptive_depth"))]
     pub adaptive_depth: Option<u32>,
 
     #[arg(long, value_name = "RULE", help = setting_help("adaptive_rule"))]
@@ -67,7 +67,7 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "X", allow_negative_numbers = true, help = setting_help("adaptive_jitter"))]
     pub adaptive_jitter: Option<f32>,
 
-    #[arg(long, value_name = "N", help = setting_help("adaptive_texture_spp"))]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u32>("adaptive_texture_spp"), help = setting_help("adaptive_texture_spp"))]
     pub adaptive_texture_spp: Option<u32>,
 
     #[arg(long, value_name = "W", allow_negative_numbers = true, help = setting_help("min_weight"))]
@@ -76,13 +76,13 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "NAME", help = setting_help("transfer"))]
     pub transfer: Option<prism::transfer::Transfer>,
 
-    #[arg(short, long, value_name = "N", help = setting_help("max_depth"))]
+    #[arg(short, long, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u32>("max_depth"), help = setting_help("max_depth"))]
     pub depth: Option<u32>,
 
-    #[arg(short, long, value_name = "N", help = setting_help("threads"))]
+    #[arg(short, long, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>("threads"), help = setting_help("threads"))]
     pub threads: Option<usize>,
 
-    #[arg(long, value_name = "N", help = setting_help("seed"))]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u64>("seed"), help = setting_help("seed"))]
     pub seed: Option<u64>,
 
     // The help lists every method's keys from their tables (`Method::KEYS`).
@@ -98,10 +98,10 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "BOOL", help = setting_help("wavefront"))]
     pub wavefront: Option<bool>,
 
-    #[arg(long, value_name = "PIXELS", help = setting_help("tile_size"))]
+    #[arg(long, value_name = "PIXELS", allow_negative_numbers = true, value_parser = whole::<u32>("tile_size"), help = setting_help("tile_size"))]
     pub tile_size: Option<u32>,
 
-    #[arg(long, value_name = "N", help = setting_help("area_samples"))]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = whole::<u32>("area_samples"), help = setting_help("area_samples"))]
     pub area_samples: Option<u32>,
 
     #[arg(long, value_name = "NAME", help = setting_help("integrator"))]

@@ -26,6 +26,32 @@ pub(crate) fn setting_help(key: &str) -> String {
     format!("{}{accepts} [default: {default}]", s.help)
 }
 
+/// The parser of a whole-number setting flag (`--width`, `--depth`, …): it takes a
+/// negative number too (with `allow_negative_numbers`), so that `-W -5` gets the setting's
+/// range instead of clap's hint to write `-- -5`, which would not work either. Values of
+/// the type's own range go on to the engine's checks, whose messages name the flag.
+pub(crate) fn whole<T>(
+    key: &'static str,
+) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static
+where
+    T: TryFrom<u64> + Clone + Send + Sync + 'static,
+{
+    move |text: &str| {
+        let range = || match prism::options::setting(key).map(|s| s.kind) {
+            Some(prism::options::SettingKind::Integer { lo, hi }) => {
+                format!("a whole number from {lo} to {hi}")
+            }
+            _ => "a whole number".to_string(),
+        };
+        // clap's message names the flag and the value; this adds what it takes.
+        let whole = text.trim().parse::<i128>().ok();
+        whole
+            .and_then(|v| u64::try_from(v).ok())
+            .and_then(|v| T::try_from(v).ok())
+            .ok_or_else(|| format!("expected {}", range()))
+    }
+}
+
 /// An options error of the engine, which names a setting by its key (`max_depth must be
 /// …`), with the key written as the command line's flag (`--depth must be …`).
 pub(crate) fn in_flags(message: &str) -> String {

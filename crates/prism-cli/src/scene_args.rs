@@ -2,7 +2,7 @@
 //! file, or a built-in scene as `builtin:NAME` in the file's place or as `--builtin NAME`;
 //! and the size of the picture, where a command renders one.
 
-use crate::flags::setting_help;
+use crate::flags::{setting_help, whole};
 use anyhow::{bail, Result};
 use clap::Args;
 use prism::scene::builtin;
@@ -49,10 +49,10 @@ pub(crate) fn scene_help(default: &str) -> String {
 /// The picture's size, where a command renders one; each left out keeps the scene's.
 #[derive(Args, Clone, Copy, Debug, Default)]
 pub(crate) struct SizeArgs {
-    #[arg(short = 'W', long, value_name = "PIXELS", help = setting_help("width"))]
+    #[arg(short = 'W', long, value_name = "PIXELS", allow_negative_numbers = true, value_parser = whole::<u32>("width"), help = setting_help("width"))]
     pub width: Option<u32>,
 
-    #[arg(short = 'H', long, value_name = "PIXELS", help = setting_help("height"))]
+    #[arg(short = 'H', long, value_name = "PIXELS", allow_negative_numbers = true, value_parser = whole::<u32>("height"), help = setting_help("height"))]
     pub height: Option<u32>,
 }
 

@@ -3,7 +3,7 @@
 //! when a script started it in the background), then says so and stops the server.
 
 use crate::args::RenderArgs;
-use crate::flags::setting_help;
+use crate::flags::{setting_help, whole};
 use crate::scene_args::{SceneArgs, SizeArgs};
 use anyhow::{Context, Result};
 use clap::Args;
@@ -28,17 +28,17 @@ pub(crate) struct ServeArgs {
     pub port: u16,
 
     /// Image width in pixels at the start (the page's resolution control can change it).
-    #[arg(short = 'W', long, value_name = "PIXELS", default_value_t = 640)]
+    #[arg(short = 'W', long, value_name = "PIXELS", allow_negative_numbers = true, value_parser = whole::<u32>("width"), default_value_t = 640)]
     pub width: u32,
 
     /// Image height in pixels at the start.
-    #[arg(short = 'H', long, value_name = "PIXELS", default_value_t = 360)]
+    #[arg(short = 'H', long, value_name = "PIXELS", allow_negative_numbers = true, value_parser = whole::<u32>("height"), default_value_t = 360)]
     pub height: u32,
 
     #[command(flatten)]
     pub controls: ControlFlags,
 
-    #[arg(short, long, value_name = "N", help = setting_help("threads"))]
+    #[arg(short, long, value_name = "N", allow_negative_numbers = true, value_parser = whole::<usize>("threads"), help = setting_help("threads"))]
     pub threads: Option<usize>,
 }
 

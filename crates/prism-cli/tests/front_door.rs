@@ -837,6 +837,67 @@ fn spp_below_one_gets_the_range_not_a_parser_hint() {
     assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
 }
 
+/// A negative number for any whole-number flag gets what the flag takes, not clap's hint
+/// to write `-- -5` (which would not work either), as `--spp -4` does.
+#[test]
+fn negative_whole_numbers_get_the_range_not_a_parser_hint() {
+    let dir = work_dir("negative-numbers");
+    for (args, flag, takes) in [
+        (
+            &["render", "-W", "-5"][..],
+            "--width <PIXELS>",
+            "from 1 to 65536",
+        ),
+        (
+            &["render", "-H", "-5"][..],
+            "--height <PIXELS>",
+            "from 1 to 65536",
+        ),
+        (&["render", "-d", "-1"][..], "--depth <N>", "from 1 to 256"),
+        (&["render", "--seed", "-1"][..], "--seed <N>", "from 0 to"),
+        (
+            &["render", "-t", "-1"][..],
+            "--threads <N>",
+            "from 0 to 1024",
+        ),
+        (
+            &["render", "--samples", "-2"][..],
+            "--samples <N>",
+            "from 1 to 64",
+        ),
+        (
+            &["render", "--tile-size", "-8"][..],
+            "--tile-size <PIXELS>",
+            "from 1 to",
+        ),
+        (&["-W", "-5"][..], "--width <PIXELS>", "from 1 to 65536"),
+        (
+            &["reference", "-W", "-5"][..],
+            "--width <PIXELS>",
+            "from 1 to 65536",
+        ),
+        (
+            &["serve", "-W", "-5"][..],
+            "--width <PIXELS>",
+            "from 1 to 65536",
+        ),
+        (
+            &["serve", "-t", "-1"][..],
+            "--threads <N>",
+            "from 0 to 1024",
+        ),
+    ] {
+        let out = prism(&dir, args);
+        let err = expect_exit(&out, 2, &args.join(" "));
+        assert!(!err.contains("'-- -"), "{args:?}: {err}");
+        assert!(
+            err.contains(&format!("for '{flag}': expected a whole number {takes}")),
+            "{args:?}: {err}"
+        );
+    }
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
+}
+
 #[test]
 fn a_bad_depth_names_the_flag_not_the_setting_key() {
     let dir = work_dir("depth-flag");
