@@ -29,7 +29,8 @@ pub(crate) fn setting_help(key: &str) -> String {
 /// The parser of a whole-number setting flag (`--width`, `--depth`, …): it takes a
 /// negative number too (with `allow_negative_numbers`), so that `-W -5` gets the setting's
 /// range instead of clap's hint to write `-- -5`, which would not work either. Values of
-/// the type's own range go on to the engine's checks, whose messages name the flag.
+/// the type's own range go on to the engine's checks, whose messages name the flag. A key
+/// that is no setting (`bench --size`) says "a whole number"; `spp`, samples per pixel.
 pub(crate) fn whole<T>(
     key: &'static str,
 ) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static
@@ -38,6 +39,11 @@ where
 {
     move |text: &str| {
         let range = || match prism::options::setting(key).map(|s| s.kind) {
+            // Samples per pixel, as `--spp` takes them (not a setting: `samples` per axis).
+            _ if key == "spp" => {
+                let most = prism::options::MAX_SAMPLES_PER_AXIS.pow(2);
+                format!("a square number from 1 to {most}")
+            }
             Some(prism::options::SettingKind::Integer { lo, hi }) => {
                 format!("a whole number from {lo} to {hi}")
             }

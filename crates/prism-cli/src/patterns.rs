@@ -30,7 +30,7 @@ pub(crate) struct PatternsArgs {
     pub spp: i64,
 
     /// Seed of the random patterns.
-    #[arg(long, value_name = "N", default_value_t = 0)]
+    #[arg(long, value_name = "N", default_value_t = 0, allow_negative_numbers = true, value_parser = crate::flags::whole::<u64>("seed"))]
     pub seed: u64,
 
     /// No closing message naming the file written (errors still show).

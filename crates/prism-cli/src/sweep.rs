@@ -4,7 +4,7 @@
 //! (prism_lab::reference), else a file or a jittered render with many samples. Writes a CSV
 //! table, SVG plots and a summary of the comparisons the sampling goals ask for.
 
-use crate::flags::per_axis;
+use crate::flags::{per_axis, whole};
 use crate::plot::{LogLogPlot, Series, PALETTE};
 use crate::scene_args::{SceneArgs, SizeArgs};
 use anyhow::{bail, Context, Result};
@@ -45,7 +45,9 @@ pub(crate) struct SweepArgs {
         long,
         value_name = "LIST",
         value_delimiter = ',',
-        default_value = "1,4,9,16,36,64"
+        default_value = "1,4,9,16,36,64",
+        allow_negative_numbers = true,
+        value_parser = whole::<u32>("spp")
     )]
     pub spp: Vec<u32>,
 
@@ -54,7 +56,9 @@ pub(crate) struct SweepArgs {
         long,
         value_name = "LIST",
         value_delimiter = ',',
-        default_value = "1,2,3,4"
+        default_value = "1,2,3,4",
+        allow_negative_numbers = true,
+        value_parser = whole::<u32>("adaptive_depth")
     )]
     pub adaptive_depths: Vec<u32>,
 
@@ -89,7 +93,7 @@ pub(crate) struct SweepArgs {
 
     /// Samples per pixel of the rendered (jittered) reference, for scenes without an
     /// exact one.
-    #[arg(long, value_name = "N", default_value_t = 1024)]
+    #[arg(long, value_name = "N", default_value_t = 1024, allow_negative_numbers = true, value_parser = whole::<u32>("spp"))]
     pub reference_spp: u32,
 
     /// Also write every image (PNG) into the output directory.
@@ -97,11 +101,11 @@ pub(crate) struct SweepArgs {
     pub keep_images: bool,
 
     /// Worker threads; 0 uses every core.
-    #[arg(short, long, value_name = "N", default_value_t = 0)]
+    #[arg(short, long, value_name = "N", default_value_t = 0, allow_negative_numbers = true, value_parser = whole::<usize>("threads"))]
     pub threads: usize,
 
     /// Seed for the random patterns.
-    #[arg(long, value_name = "N", default_value_t = 0)]
+    #[arg(long, value_name = "N", default_value_t = 0, allow_negative_numbers = true, value_parser = whole::<u64>("seed"))]
     pub seed: u64,
 
     /// No progress lines.

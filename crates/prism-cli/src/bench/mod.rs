@@ -48,18 +48,18 @@ pub(crate) struct BenchArgs {
 
     /// Longer image side in pixels; the scene's aspect ratio is kept. One camera ray per
     /// pixel [default: 256, or 32 with --quick].
-    #[arg(long, value_name = "PIXELS")]
+    #[arg(long, value_name = "PIXELS", allow_negative_numbers = true, value_parser = crate::flags::whole::<u32>("size"))]
     pub size: Option<u32>,
 
     /// Timed samples per method and ray kind, each as many passes over the rays as last
     /// 30 ms; the median counts. Sampling stops early after 3 s [default: 5, or 1 with
     /// --quick].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = crate::flags::whole::<usize>("repeat"))]
     pub repeat: Option<usize>,
 
     /// Worker threads for building and tracing; 0 uses every core. One keeps the noise
     /// down.
-    #[arg(long, value_name = "N", default_value_t = 1)]
+    #[arg(long, value_name = "N", default_value_t = 1, allow_negative_numbers = true, value_parser = crate::flags::whole::<usize>("threads"))]
     pub threads: usize,
 
     /// Small images and a single pass and build: for tests and a first look.
