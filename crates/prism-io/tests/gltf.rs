@@ -14,6 +14,7 @@ use prism::shading::{FresnelMode, Highlight, Texture};
 use prism::Scene;
 use prism_io::scene::{load, LoadError};
 
+use common::mesh_files::render_at;
 use common::mutate::{self, apply, Mutation};
 use common::scratch::ScratchDir;
 use proptest::prelude::*;
@@ -184,16 +185,6 @@ fn quad_glb() -> Vec<u8> {
 
 fn load_doc(dir: &str, doc: &Value) -> Result<Scene, LoadError> {
     load(&write(&temp_dir(dir), "scene.gltf", &pretty(doc)))
-}
-
-fn render_at(scene: &Scene, width: u32, height: u32) -> Film {
-    let mut options = scene.options.clone();
-    options.width = width;
-    options.height = height;
-    let prepared = scene.prepare(&options.accel);
-    render(&prepared, &options, &|_| {}, &AtomicBool::new(false))
-        .expect("the scene renders")
-        .film
 }
 
 fn close(a: Vec3, b: Vec3, tolerance: f32) -> bool {

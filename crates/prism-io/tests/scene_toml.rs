@@ -4,18 +4,17 @@
 
 use crate::common;
 
+use common::mesh_files::render_at;
 use common::mutate::{self, apply, Mutation};
 use common::scratch::ScratchDir;
 use prism::geometry::ShapeHit;
 use prism::math::{Color, Vec3};
-use prism::render::{render, Film};
 use prism::scene::builtin;
 use prism::shading::Texture;
 use prism::Scene;
 use prism_io::scene::{load, parse_toml, LoadError};
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
 
 fn scenes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
@@ -29,16 +28,6 @@ fn scene_files() -> Vec<PathBuf> {
         .collect();
     files.sort();
     files
-}
-
-fn render_at(scene: &Scene, width: u32, height: u32) -> Film {
-    let mut options = scene.options.clone();
-    options.width = width;
-    options.height = height;
-    let prepared = scene.prepare(&options.accel);
-    render(&prepared, &options, &|_| {}, &AtomicBool::new(false))
-        .expect("the scene renders")
-        .film
 }
 
 /// Parses `text` as if it were a file in scenes/ (so relative texture paths resolve).

@@ -9,8 +9,11 @@
 
 use crate::common;
 
-use common::oracle::{random_cone, random_ray, random_triangles, same_nearest, TestScene};
-use common::{icosphere, lattice_cube, rotate, trace_ray, Rng};
+use common::oracle::{
+    random_cone, random_degenerates, random_ray, random_slivers, random_triangles, same_nearest,
+    TestScene,
+};
+use common::{film_bits, icosphere, lattice_cube, rotate, trace_ray, Rng};
 use prism::accel::{
     Accel, AccelKind, AccelSpec, BruteForce, Bvh, BvhBuilder, BvhOptions, Grid, GridOptions,
     KdTree, KdTreeOptions, NodeWidth, Octree, OctreeOptions, SceneIntersector,
@@ -29,23 +32,8 @@ fn mixed_scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
     let mut s = TestScene::new();
     let p = |rng: &mut Rng| offset + scale * rng.point_in(Vec3::splat(-2.0), Vec3::splat(2.0));
     let mut tris = random_triangles(&mut rng, 250, p, |rng| scale * rng.range(0.01, 0.8));
-    for _ in 0..60 {
-        // Long and thin: a long edge and a third vertex very close to it.
-        let a = p(&mut rng);
-        let b = a + scale * 3.0 * rng.unit_vector();
-        let c = a.lerp(b, rng.f32()) + scale * 1e-3 * rng.unit_vector();
-        tris.push([a, b, c]);
-    }
-    for _ in 0..30 {
-        // Degenerate: collinear, or with a repeated vertex.
-        let a = p(&mut rng);
-        let b = p(&mut rng);
-        if rng.chance(0.5) {
-            tris.push([a, b, a.lerp(b, 0.25)]);
-        } else {
-            tris.push([a, b, b]);
-        }
-    }
+    tris.extend(random_slivers(&mut rng, 60, scale, p));
+    tris.extend(random_degenerates(&mut rng, 30, p));
     let duplicates: Vec<[Vec3; 3]> = tris.iter().step_by(17).copied().collect();
     tris.extend(duplicates);
     s.add_triangles(&tris);
@@ -486,11 +474,7 @@ fn built_in_scenes_render_identically_with_every_accelerator() {
         let image = |spec: AccelSpec| {
             let prepared = scene.prepare(&spec);
             let r = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
-            r.film
-                .pixels
-                .iter()
-                .flat_map(|c| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()])
-                .collect::<Vec<u32>>()
+            film_bits(&r.film)
         };
         let reference = image(AccelKind::BruteForce.into());
         let mut specs: Vec<AccelSpec> = AccelKind::ALL[1..].iter().map(|&k| k.into()).collect();

@@ -1,6 +1,7 @@
 //! A render is a pure function of (scene, options, seed): the image must be bit-identical
 //! and the statistics equal for any thread count and any tile size.
 
+use crate::common::film_bits;
 use prism::render::{render, RenderResult};
 use prism::scene::builtin;
 use prism::RenderOptions;
@@ -24,13 +25,7 @@ fn check(name: &str) {
     let reference = render_with(name, 1, 16);
     assert!(reference.complete);
     assert!(reference.stats.total_rays() > 0);
-    let bits = |r: &RenderResult| -> Vec<u32> {
-        r.film
-            .pixels
-            .iter()
-            .flat_map(|c| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()])
-            .collect()
-    };
+    let bits = |r: &RenderResult| film_bits(&r.film);
     let expected = bits(&reference);
     // Odd and prime tile sizes cut the image unevenly; 1 makes every pixel its own tile.
     for (threads, tile) in [(2, 16), (2, 7), (1, 64), (2, 1), (2, 200)] {
@@ -119,9 +114,7 @@ fn regions_assemble_into_the_whole_image() {
         };
         let prepared = scene.prepare(&options.accel);
         let whole = render(&prepared, &options, &|_| {}, &AtomicBool::new(false)).unwrap();
-        let expected: Vec<u32> = (whole.film.pixels.iter())
-            .flat_map(|c| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()])
-            .collect();
+        let expected = film_bits(&whole.film);
         for edge in [1, 7, 16, 45] {
             assert!(
                 assembled(&prepared, &options, edge) == expected,

@@ -8,7 +8,7 @@
 use crate::common;
 
 use common::oracle::{random_triangles, TestScene};
-use common::{icosphere, Rng};
+use common::{film_bits, icosphere, Rng};
 use prism::accel::{
     Accel, Avx512, Bvh, BvhOptions, Hit, NodeWidth, PacketQuery, QueryMode, RayQuery, PACKET_MAX,
 };
@@ -386,14 +386,6 @@ fn render_builtin(
     .unwrap()
 }
 
-fn pixel_bits(r: &prism::render::RenderResult) -> Vec<u32> {
-    r.film
-        .pixels
-        .iter()
-        .flat_map(|c| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()])
-        .collect()
-}
-
 /// Every built-in renders bit-identically with and without packets at one sample per pixel
 /// and traces the same rays (only the traversal work differs); the long tier adds several
 /// samples per pixel, the corners and adaptive samplers, a wide filter and the 4-wide nodes.
@@ -437,7 +429,7 @@ fn compare_renders_with_and_without_packets(count: usize) {
             let single = render_builtin(name, false, tweak);
             let packed = render_builtin(name, true, tweak);
             assert!(
-                pixel_bits(&single) == pixel_bits(&packed),
+                film_bits(&single.film) == film_bits(&packed.film),
                 "{name} ({label}): packets change the image"
             );
             let (a, b) = (&single.stats, &packed.stats);

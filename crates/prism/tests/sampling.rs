@@ -3,6 +3,7 @@
 //! every sampler is bit-identical for any thread count and tile size; filters keep a flat
 //! image flat; adaptive depth control with a zero threshold changes nothing.
 
+use crate::common::film_bits;
 use prism::camera::{Camera, Projection};
 use prism::geometry::{generate, Plane, Shape};
 use prism::integrator::Whitted;
@@ -31,14 +32,6 @@ fn small(scene: &Scene, width: u32, height: u32) -> RenderOptions {
     }
 }
 
-fn bits(r: &RenderResult) -> Vec<u32> {
-    r.film
-        .pixels
-        .iter()
-        .flat_map(|c| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()])
-        .collect()
-}
-
 #[test]
 fn the_grid_with_the_pixel_box_keeps_the_original_arithmetic() {
     let scene = builtin::find("whitted").unwrap();
@@ -56,7 +49,10 @@ fn the_grid_with_the_pixel_box_keeps_the_original_arithmetic() {
         },
     );
     let packed = run(&scene, &options);
-    assert!(bits(&packed) == bits(&result), "packets change the image");
+    assert!(
+        film_bits(&packed.film) == film_bits(&result.film),
+        "packets change the image"
+    );
     // The loop the renderer had before sampling patterns existed.
     let prepared = scene.prepare(&options.accel);
     let camera = scene.camera.setup(40, 30).unwrap();
@@ -243,7 +239,7 @@ fn every_sampler_and_filter_is_bit_identical_for_any_threads_and_tiles() {
             for (threads, tile) in [(2, 7), (2, 1), (1, 64)] {
                 let r = run(&scene, &options(threads, tile));
                 assert!(
-                    bits(&r) == bits(&reference),
+                    film_bits(&r.film) == film_bits(&reference.film),
                     "{sampler} / {filter}: image differs with {threads} threads, {tile}-pixel tiles"
                 );
                 assert_eq!(r.stats, reference.stats, "{sampler} / {filter}: statistics");
@@ -273,7 +269,10 @@ fn the_stratified_pass_is_bit_identical_for_any_threads_and_tiles() {
         assert!(reference.stats.adaptive_stratified > 0);
         for (threads, tile) in [(2, 7), (2, 1)] {
             let r = run(&scene, &options(threads, tile));
-            assert!(bits(&r) == bits(&reference), "{filter}: image");
+            assert!(
+                film_bits(&r.film) == film_bits(&reference.film),
+                "{filter}: image"
+            );
             assert_eq!(r.stats, reference.stats, "{filter}: statistics");
             assert_eq!(r.rays, reference.rays, "{filter}: rays per pixel");
         }
@@ -332,7 +331,7 @@ fn a_zero_weight_threshold_traces_the_static_ray_tree() {
     // case. It does prune the shadow rays of the glass's faintest highlights (below
     // 1e-30, which cannot change a pixel), one shadow ray each; the image is the same.
     let tiny = with(1e-30);
-    assert!(bits(&tiny) == bits(&zero));
+    assert!(film_bits(&tiny.film) == film_bits(&zero.film));
     assert_eq!(tiny.stats.pruned_rays, 0);
     assert!(tiny.stats.pruned_shadow_rays > 0);
     assert_eq!(

@@ -186,6 +186,7 @@ pub(crate) fn write(dir: &Path, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf 
     path
 }
 
+/// `scene` rendered with its own options at `width` × `height`.
 pub(crate) fn render_at(scene: &Scene, width: u32, height: u32) -> Film {
     let mut options = scene.options.clone();
     options.width = width;

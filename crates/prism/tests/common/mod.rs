@@ -12,6 +12,7 @@ pub(crate) mod work;
 
 use prism::geometry::TriangleMesh;
 use prism::math::{Ray, TraceRay, Vec3};
+use prism::render::Film;
 use std::collections::HashMap;
 
 /// SplitMix64 (Steele, Lea, Flood 2014): tiny, seedable, and good enough to spray rays.
@@ -78,6 +79,14 @@ impl Rng {
         d[axis] = if self.chance(0.5) { 1.0 } else { -1.0 };
         d
     }
+}
+
+/// The bits of every channel of every pixel, for images that must be identical to the bit.
+pub(crate) fn film_bits(film: &Film) -> Vec<u32> {
+    film.pixels
+        .iter()
+        .flat_map(|c| [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()])
+        .collect()
 }
 
 pub(crate) fn trace_ray(origin: Vec3, dir: Vec3) -> TraceRay {
