@@ -454,24 +454,37 @@ fn malformed_obj_names_the_line_column_and_expectation() {
             Err(e) => e,
             Ok(_) => panic!("{what}: loaded without error"),
         };
-        let message = error.to_string();
-        match &error {
-            LoadError::Syntax {
-                path: p,
-                line: l,
-                column: c,
-                ..
-            } => {
-                assert!(p.ends_with("bad.obj"), "{what}: {p}");
-                assert_eq!((*l, *c), (line, column), "{what}: `{message}`");
-            }
-            other => panic!("{what}: expected a located error, got {other:?}"),
-        }
-        assert!(
-            message.contains(phrase),
-            "{what}: `{message}` lacks `{phrase}`"
-        );
+        assert_located(&error, "bad.obj", (line, column), phrase, what);
     }
+}
+
+/// Asserts that `error` is a syntax error at `line`:`column` of a file whose path ends in
+/// `file`, and that its message says `phrase`.
+#[track_caller]
+fn assert_located(
+    error: &LoadError,
+    file: &str,
+    (line, column): (usize, usize),
+    phrase: &str,
+    what: &str,
+) {
+    let message = error.to_string();
+    match error {
+        LoadError::Syntax {
+            path,
+            line: l,
+            column: c,
+            ..
+        } => {
+            assert!(path.ends_with(file), "{what}: {path}");
+            assert_eq!((*l, *c), (line, column), "{what}: `{message}`");
+        }
+        other => panic!("{what}: expected a located error, got {other:?}"),
+    }
+    assert!(
+        message.contains(phrase),
+        "{what}: `{message}` lacks `{phrase}`"
+    );
 }
 
 #[test]
@@ -590,23 +603,7 @@ fn malformed_mtl_is_located_in_the_library() {
             Err(e) => e,
             Ok(_) => panic!("{what}: loaded without error"),
         };
-        let message = error.to_string();
-        match &error {
-            LoadError::Syntax {
-                path,
-                line: l,
-                column: c,
-                ..
-            } => {
-                assert!(path.ends_with("bad.mtl"), "{what}: {path}");
-                assert_eq!((*l, *c), (line, column), "{what}: `{message}`");
-            }
-            other => panic!("{what}: expected a located error, got {other:?}"),
-        }
-        assert!(
-            message.contains(phrase),
-            "{what}: `{message}` lacks `{phrase}`"
-        );
+        assert_located(&error, "bad.mtl", (line, column), phrase, what);
     }
 }
 

@@ -251,6 +251,19 @@ fn polygons_of_any_size_are_triangulated_concave_ones_exactly() {
     assert!((area - 3.0).abs() < 1e-5, "area {area}");
 }
 
+/// A text PLY file of three vertices and one face whose lines after the vertices are
+/// `rest` (line 13 on): where the cases of faces differ.
+macro_rules! triangle_then {
+    ($rest:literal) => {
+        concat!(
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n",
+            "property float z\nelement face 1\nproperty list uchar int vertex_indices\n",
+            "end_header\n0 0 0\n1 0 0\n0 1 0\n",
+            $rest
+        )
+    };
+}
+
 /// (what, file text, line, column, phrase): ASCII files whose errors have a line.
 const MALFORMED_TEXT: &[(&str, &str, usize, usize, &str)] = &[
     ("not ply", "plx\n", 1, 1, "expected 'ply' on the first line"),
@@ -382,45 +395,35 @@ const MALFORMED_TEXT: &[(&str, &str, usize, usize, &str)] = &[
     ),
     (
         "index out of range",
-        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
-         property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
-         end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
+        triangle_then!("3 0 1 3\n"),
         13,
         7,
         "face 0, property vertex_indices: vertex index 3, but the file has 3 vertices",
     ),
     (
         "two corners",
-        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
-         property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
-         end_header\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n",
+        triangle_then!("2 0 1\n"),
         13,
         1,
         "a face of 2 corners; expected at least 3",
     ),
     (
         "uchar out of range",
-        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
-         property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
-         end_header\n0 0 0\n1 0 0\n0 1 0\n300 0 1 2\n",
+        triangle_then!("300 0 1 2\n"),
         13,
         1,
         "300 is out of range for uchar",
     ),
     (
         "truncated",
-        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
-         property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
-         end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n",
+        triangle_then!("3 0 1\n"),
         13,
         6,
         "the file ends here: expected a int value",
     ),
     (
         "trailing data",
-        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
-         property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
-         end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n4 5\n",
+        triangle_then!("3 0 1 2\n4 5\n"),
         14,
         1,
         "expected the end of the file after the last element, found '4'",
