@@ -4,25 +4,12 @@
 
 use crate::common;
 
-use common::prism;
+use common::run;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 fn work_dir(test: &str) -> PathBuf {
     common::work_dir("bench", test)
-}
-
-#[track_caller]
-fn run(dir: &Path, args: &[&str], code: i32) -> (String, String) {
-    let out = prism(dir, args);
-    let err = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert_eq!(
-        out.status.code(),
-        Some(code),
-        "prism {args:?}: expected exit {code}; stderr:\n{err}"
-    );
-    assert!(!err.contains("panicked"), "prism {args:?} panicked:\n{err}");
-    (String::from_utf8_lossy(&out.stdout).into_owned(), err)
 }
 
 const QUICK: [&str; 12] = [

@@ -4,34 +4,13 @@
 
 use crate::common;
 
-use common::prism;
+use common::{expect_exit, prism, run, stdout};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
 fn work_dir(test: &str) -> PathBuf {
     common::work_dir("cli", test)
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-fn stdout(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-/// Asserts the exit code and that the program did not panic; returns stderr.
-#[track_caller]
-fn expect_exit(out: &Output, code: i32, args: &[&str]) -> String {
-    let err = stderr(out);
-    assert_eq!(
-        out.status.code(),
-        Some(code),
-        "prism {args:?}: expected exit {code}; stderr:\n{err}"
-    );
-    assert!(!err.contains("panicked"), "prism {args:?} panicked:\n{err}");
-    err
 }
 
 /// The directory holds exactly `names`: no temporary or partial files beside the output.
@@ -67,7 +46,7 @@ fn bad_usage_exits_2_with_usage_text() {
         &["frobnicate"],
         &["render", "a.toml", "--builtin", "whitted"],
     ] {
-        let err = expect_exit(&prism(&dir, args), 2, args);
+        let (_, err) = run(&dir, args, 2);
         assert!(
             err.contains("Usage: prism"),
             "prism {args:?}: no usage text:\n{err}"
@@ -91,7 +70,7 @@ fn bad_usage_exits_2_with_usage_text() {
             &["'gamma'", "expected srgb or display"],
         ),
     ] {
-        let err = expect_exit(&prism(&dir, args), 2, args);
+        let (_, err) = run(&dir, args, 2);
         for name in names {
             assert!(
                 err.contains(name),
@@ -156,7 +135,7 @@ fn bad_input_exits_1_with_a_clear_message() {
         ),
     ];
     for (args, message) in cases {
-        let err = expect_exit(&prism(&dir, args), 1, args);
+        let (_, err) = run(&dir, args, 1);
         assert!(
             err.starts_with("prism: error:") && err.contains(message),
             "prism {args:?}: expected '{message}' in:\n{err}"
@@ -171,7 +150,7 @@ fn bad_input_exits_1_with_a_clear_message() {
 fn png_output_has_the_requested_size() {
     let dir = work_dir("png");
     let out = small_render(&dir, "out.png", SIZE, &[]);
-    expect_exit(&out, 0, &["out.png"]);
+    expect_exit(&out, 0, "out.png");
     let img = image::open(dir.join("out.png"))
         .expect("a valid PNG")
         .to_rgb8();
@@ -182,7 +161,7 @@ fn png_output_has_the_requested_size() {
     assert_dir_holds(&dir, &["out.png"]);
     // Overwriting an existing file also leaves nothing else behind.
     let out = small_render(&dir, "out.png", (8, 5), &[]);
-    expect_exit(&out, 0, &["out.png", "again"]);
+    expect_exit(&out, 0, "out.png again");
     let img = image::open(dir.join("out.png")).unwrap();
     assert_eq!((img.width(), img.height()), (8, 5));
     assert_dir_holds(&dir, &["out.png"]);
@@ -249,7 +228,7 @@ fn exr_and_pfm_outputs_are_readable_and_agree() {
         ("out.exr", &[]),
         ("half.exr", &["--half"]),
     ] {
-        expect_exit(&small_render(&dir, name, SIZE, extra), 0, &[name]);
+        expect_exit(&small_render(&dir, name, SIZE, extra), 0, name);
     }
     let (w, h, pfm) = read_pfm(&dir.join("out.pfm"));
     assert_eq!((w, h), (24, 16));
@@ -276,7 +255,7 @@ fn exr_and_pfm_outputs_are_readable_and_agree() {
 fn list_names_every_builtin() {
     let dir = work_dir("list");
     let out = prism(&dir, &["list"]);
-    expect_exit(&out, 0, &["list"]);
+    expect_exit(&out, 0, "list");
     let text = stdout(&out);
     for name in prism::scene::builtin::names() {
         assert!(
@@ -292,7 +271,7 @@ fn list_names_every_builtin() {
 fn stats_json_to_stdout_is_valid_json_with_ray_counts() {
     let dir = work_dir("json");
     let out = small_render(&dir, "out.png", SIZE, &["--stats-json", "-", "-s", "2"]);
-    expect_exit(&out, 0, &["--stats-json", "-"]);
+    expect_exit(&out, 0, "--stats-json -");
     let json: serde_json::Value =
         serde_json::from_str(&stdout(&out)).expect("stdout is one JSON document");
     let rays = &json["rays"];
@@ -334,7 +313,7 @@ fn transfer_chooses_how_pixel_values_are_written() {
         expect_exit(
             &small_render(&dir, name, SIZE, &["--transfer", transfer]),
             0,
-            &[transfer],
+            transfer,
         );
     }
     let srgb = image::open(dir.join("srgb.png")).unwrap().to_rgb8();

@@ -4,30 +4,12 @@
 
 use crate::common;
 
-use common::prism;
+use common::run;
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::Output;
+use std::path::PathBuf;
 
 fn work_dir(test: &str) -> PathBuf {
     common::work_dir("commands", test)
-}
-
-#[track_caller]
-fn expect_exit(out: &Output, code: i32, args: &[&str]) -> (String, String) {
-    let err = String::from_utf8_lossy(&out.stderr).into_owned();
-    let text = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert_eq!(
-        out.status.code(),
-        Some(code),
-        "prism {args:?}: expected exit {code}; stderr:\n{err}"
-    );
-    assert!(!err.contains("panicked"), "prism {args:?} panicked:\n{err}");
-    (text, err)
-}
-
-fn run(dir: &Path, args: &[&str], code: i32) -> (String, String) {
-    expect_exit(&prism(dir, args), code, args)
 }
 
 const SMALL: [&str; 7] = ["render", "-b", "cornell", "-q", "-W", "20", "-H"];

@@ -3,7 +3,7 @@
 
 use crate::common;
 
-use common::prism;
+use common::{expect_exit, prism, words};
 use std::fs;
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -12,24 +12,6 @@ use std::time::Duration;
 
 fn work_dir(test: &str) -> PathBuf {
     common::work_dir("front-door", test)
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-/// Asserts the exit code and that the program did not panic; returns stderr.
-#[track_caller]
-fn expect_exit(out: &Output, code: i32, what: &str) -> String {
-    let err = stderr(out);
-    assert_eq!(
-        out.status.code(),
-        Some(code),
-        "{what}: expected exit {code}, got {:?}; stderr:\n{err}",
-        out.status
-    );
-    assert!(!err.contains("panicked"), "{what} panicked:\n{err}");
-    err
 }
 
 /// The names in `dir`, sorted (hidden temporary files included).
@@ -62,18 +44,7 @@ fn more_threads_than_cores_get_a_note_and_still_render() {
     let dir = work_dir("threads-note");
     let out = prism(
         &dir,
-        &[
-            "render",
-            "-b",
-            "cornell",
-            "-W",
-            "8",
-            "-H",
-            "8",
-            "--threads",
-            "1024",
-            "-q",
-        ],
+        &words("render -b cornell -W 8 -H 8 --threads 1024 -q"),
     );
     let err = expect_exit(&out, 0, "--threads 1024 on an 8×8 image");
     assert!(err.contains("1024 worker threads on"), "{err}");
@@ -202,13 +173,7 @@ fn other_commands_check_their_outputs_first() {
     assert!(a.exists());
     let out = prism(
         &dir,
-        &[
-            "compare",
-            "a.pfm",
-            "a.pfm",
-            "--flip-map",
-            "missing/flip.png",
-        ],
+        &words("compare a.pfm a.pfm --flip-map missing/flip.png"),
     );
     let err = expect_exit(&out, 1, "compare --flip-map into a missing folder");
     assert!(err.contains("does not exist"), "{err}");
@@ -256,24 +221,8 @@ fn a_failed_write_leaves_no_temporary_file() {
 /// returns once the progress bar shows finished tiles, so there are rows to write.
 #[cfg(unix)]
 fn long_render_started(dir: &Path, output: &str) -> common::terminal::OnTerminal {
-    let mut render = common::terminal::OnTerminal::spawn(
-        dir,
-        &[
-            "render",
-            "-b",
-            "sphereflake",
-            "-W",
-            "1600",
-            "-H",
-            "1600",
-            "--spp",
-            "64",
-            "--threads",
-            "1",
-            "-o",
-            output,
-        ],
-    );
+    let line = format!("render -b sphereflake -W 1600 -H 1600 --spp 64 --threads 1 -o {output}");
+    let mut render = common::terminal::OnTerminal::spawn(dir, &words(&line));
     assert!(render.wait_for_work_done(), "no progress: {}", render.seen);
     render
 }
@@ -556,23 +505,10 @@ fn the_closing_line_names_every_file_written() {
     let dir = work_dir("closing");
     let out = prism(
         &dir,
-        &[
-            "render",
-            "-b",
-            "cornell",
-            "-W",
-            "16",
-            "-H",
-            "16",
-            "-o",
-            "a.png",
-            "--cost",
-            "c.png",
-            "--density",
-            "d.pfm",
-            "--stats-json",
-            "s.json",
-        ],
+        &words(
+            "render -b cornell -W 16 -H 16 -o a.png --cost c.png --density d.pfm \
+             --stats-json s.json",
+        ),
     );
     let err = expect_exit(&out, 0, "render with every output");
     assert!(
@@ -587,24 +523,9 @@ fn exr_files_are_byte_identical_for_any_thread_count() {
     let mut files = Vec::new();
     for threads in ["1", "2", "3"] {
         let name = format!("t{threads}.exr");
-        let out = prism(
-            &dir,
-            &[
-                "render",
-                "-b",
-                "cornell",
-                "-q",
-                // Large enough for many chunks: at 200 × 150 even the old writer happened to agree.
-                "-W",
-                "640",
-                "-H",
-                "480",
-                "--threads",
-                threads,
-                "-o",
-                &name,
-            ],
-        );
+        // Large enough for many chunks: at 200 × 150 even the old writer happened to agree.
+        let line = format!("render -b cornell -q -W 640 -H 480 --threads {threads} -o {name}");
+        let out = prism(&dir, &words(&line));
         expect_exit(&out, 0, &name);
         files.push(fs::read(dir.join(&name)).unwrap());
     }
@@ -970,19 +891,7 @@ fn an_output_named_by_a_symbolic_link_is_written_to_its_target() {
     std::os::unix::fs::symlink("renders/stats.json", dir.join("stats.json")).unwrap();
     let out = prism(
         &dir,
-        &[
-            "-b",
-            "cornell",
-            "-W",
-            "8",
-            "-H",
-            "6",
-            "-q",
-            "-o",
-            "latest.png",
-            "--stats-json",
-            "stats.json",
-        ],
+        &words("-b cornell -W 8 -H 6 -q -o latest.png --stats-json stats.json"),
     );
     expect_exit(&out, 0, "-o onto a link");
     for link in ["latest.png", "stats.json"] {
@@ -994,20 +903,7 @@ fn an_output_named_by_a_symbolic_link_is_written_to_its_target() {
         .unwrap()
         .contains('{'));
     // Written again through the link, the target is replaced and the link stays.
-    let out = prism(
-        &dir,
-        &[
-            "-b",
-            "cornell",
-            "-W",
-            "10",
-            "-H",
-            "6",
-            "-q",
-            "-o",
-            "latest.png",
-        ],
-    );
+    let out = prism(&dir, &words("-b cornell -W 10 -H 6 -q -o latest.png"));
     expect_exit(&out, 0, "-o onto a link, again");
     assert!(fs::symlink_metadata(dir.join("latest.png"))
         .unwrap()

@@ -30,3 +30,41 @@ pub(crate) fn prism(dir: &Path, args: &[&str]) -> Output {
         .output()
         .expect("the prism binary runs")
 }
+
+/// The words of a command line written as one string (split at spaces; no quoting).
+pub(crate) fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
+}
+
+/// A run's standard output, as text.
+pub(crate) fn stdout(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// A run's standard error, as text.
+pub(crate) fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Asserts that the run `what` exited with `code` and did not panic; returns its stderr.
+#[track_caller]
+pub(crate) fn expect_exit(out: &Output, code: i32, what: &str) -> String {
+    let err = stderr(out);
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "{what}: expected exit {code}, got {:?}; stderr:\n{err}",
+        out.status
+    );
+    assert!(!err.contains("panicked"), "{what} panicked:\n{err}");
+    err
+}
+
+/// Runs `prism ARGS` in `dir` and asserts its exit `code` and that it did not panic;
+/// returns its stdout and stderr.
+#[track_caller]
+pub(crate) fn run(dir: &Path, args: &[&str], code: i32) -> (String, String) {
+    let out = prism(dir, args);
+    let err = expect_exit(&out, code, &format!("prism {args:?}"));
+    (stdout(&out), err)
+}
