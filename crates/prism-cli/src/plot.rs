@@ -79,6 +79,47 @@ pub(crate) fn tick_label(v: f64) -> String {
     }
 }
 
+/// How `log_grid` draws a plot area's grid: the gridlines' colour, how far below the area
+/// the x labels' baseline sits, how far left of it the y labels end, and the decimals of
+/// the area's edges in the SVG (each figure keeps the text it has always written).
+pub(crate) struct GridStyle {
+    pub stroke: &'static str,
+    pub x_label_below: f64,
+    pub y_label_left: f64,
+    pub edge_decimals: usize,
+}
+
+/// Gridlines across the plot area `[left, top, width, height]` at the ticks of its log
+/// axes, each labelled with its value: `xs` and `ys` are the ticks' values and positions.
+pub(crate) fn log_grid(
+    s: &mut String,
+    [left, top, width, height]: [f64; 4],
+    xs: impl IntoIterator<Item = (f64, f64)>,
+    ys: impl IntoIterator<Item = (f64, f64)>,
+    style: &GridStyle,
+) {
+    let (stroke, d) = (style.stroke, style.edge_decimals);
+    for (t, x) in xs {
+        let _ = writeln!(
+            s,
+            r#"<line x1="{x:.1}" y1="{top:.d$}" x2="{x:.1}" y2="{:.1}" stroke="{stroke}"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+            top + height,
+            top + height + style.x_label_below,
+            tick_label(t)
+        );
+    }
+    for (t, y) in ys {
+        let _ = writeln!(
+            s,
+            r#"<line x1="{left:.d$}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="{stroke}"/><text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"#,
+            left + width,
+            left - style.y_label_left,
+            y + 4.0,
+            tick_label(t)
+        );
+    }
+}
+
 impl LogLogPlot {
     pub(crate) fn svg(&self) -> String {
         let all: Vec<(f64, f64)> = self
@@ -133,28 +174,18 @@ impl LogLogPlot {
             LEFT,
             escape(&self.title)
         );
-        // Grid and ticks.
-        for &t in &xt {
-            let x = px(t);
-            let _ = writeln!(
-                s,
-                r##"<line x1="{x:.1}" y1="{TOP}" x2="{x:.1}" y2="{:.1}" stroke="#ddd"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{}</text>"##,
-                TOP + ph,
-                TOP + ph + 18.0,
-                tick_label(t)
-            );
-        }
-        for &t in &yt {
-            let y = py(t);
-            let _ = writeln!(
-                s,
-                r##"<line x1="{LEFT}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#ddd"/><text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"##,
-                LEFT + pw,
-                LEFT - 6.0,
-                y + 4.0,
-                tick_label(t)
-            );
-        }
+        log_grid(
+            &mut s,
+            [LEFT, TOP, pw, ph],
+            xt.iter().map(|&t| (t, px(t))),
+            yt.iter().map(|&t| (t, py(t))),
+            &GridStyle {
+                stroke: "#ddd",
+                x_label_below: 18.0,
+                y_label_left: 6.0,
+                edge_decimals: 0,
+            },
+        );
         let _ = writeln!(
             s,
             r##"<rect x="{LEFT}" y="{TOP}" width="{pw}" height="{ph}" fill="none" stroke="#333"/>"##

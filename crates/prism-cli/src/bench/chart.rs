@@ -3,7 +3,7 @@
 //! fastest bar of each scene carries a triangle, skipped methods a cross.
 
 use super::results::SceneResult;
-use crate::plot::{axis, escape, tick_label, PALETTE};
+use crate::plot::{axis, escape, log_grid, GridStyle, PALETTE};
 use std::fmt::Write;
 
 const BAR: f64 = 12.0;
@@ -50,17 +50,18 @@ pub(super) fn svg(scenes: &[SceneResult], methods: &[String], title: &str) -> St
         s,
         r##"<text x="{LEFT}" y="38" fill="#555">▲ fastest for primary rays · × skipped</text>"##
     );
-    for &t in &ticks {
-        let y = py(t);
-        let _ = writeln!(
-            s,
-            r##"<line x1="{LEFT}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#ddd"/><text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"##,
-            LEFT + plot_w,
-            LEFT - 6.0,
-            y + 4.0,
-            tick_label(t)
-        );
-    }
+    log_grid(
+        &mut s,
+        [LEFT, TOP, plot_w, PLOT_HEIGHT],
+        [],
+        ticks.iter().map(|&t| (t, py(t))),
+        &GridStyle {
+            stroke: "#ddd",
+            x_label_below: 0.0,
+            y_label_left: 6.0,
+            edge_decimals: 0,
+        },
+    );
     let _ = writeln!(
         s,
         r#"<text transform="translate(18 {:.1}) rotate(-90)" text-anchor="middle">primary rays, Mrays/s (log)</text>"#,

@@ -4,7 +4,7 @@
 //! pass over the scene's camera, shadow and incoherent rays.
 
 use super::results::SceneResult;
-use crate::plot::{axis, escape, tick_label, PALETTE};
+use crate::plot::{axis, escape, log_grid, GridStyle, PALETTE};
 use std::fmt::Write;
 
 const PANEL_W: f64 = 250.0;
@@ -129,27 +129,18 @@ fn panel(s: &mut String, scene: &SceneResult, methods: &[String], x0: f64, y0: f
     let (ya, yb, yticks) = range(|c| c.trace_ms);
     let px = |v: f64| x0 + (v.log10() - xa) / (xb - xa) * PANEL_W;
     let py = |v: f64| y0 + (1.0 - (v.log10() - ya) / (yb - ya)) * PANEL_H;
-    for &t in &xticks {
-        let x = px(t);
-        let _ = writeln!(
-            s,
-            r##"<line x1="{x:.1}" y1="{y0:.1}" x2="{x:.1}" y2="{:.1}" stroke="#eee"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{}</text>"##,
-            y0 + PANEL_H,
-            y0 + PANEL_H + 14.0,
-            tick_label(t)
-        );
-    }
-    for &t in &yticks {
-        let y = py(t);
-        let _ = writeln!(
-            s,
-            r##"<line x1="{x0:.1}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#eee"/><text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"##,
-            x0 + PANEL_W,
-            x0 - 4.0,
-            y + 4.0,
-            tick_label(t)
-        );
-    }
+    log_grid(
+        s,
+        [x0, y0, PANEL_W, PANEL_H],
+        xticks.iter().map(|&t| (t, px(t))),
+        yticks.iter().map(|&t| (t, py(t))),
+        &GridStyle {
+            stroke: "#eee",
+            x_label_below: 14.0,
+            y_label_left: 4.0,
+            edge_decimals: 1,
+        },
+    );
     let _ = writeln!(
         s,
         r##"<text x="{:.1}" y="{:.1}" text-anchor="middle" fill="#555">build ms</text>"##,
