@@ -12,6 +12,7 @@ pub mod choices;
 
 pub mod accel;
 pub mod camera;
+pub mod cpu_time;
 pub mod geometry;
 pub mod integrator;
 pub mod light;

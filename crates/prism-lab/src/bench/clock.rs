@@ -3,6 +3,7 @@
 //! counts only the cycles spent here, so single-threaded measurements stay comparable
 //! while other work runs (it still sees cache and memory-bandwidth contention).
 
+use prism::cpu_time::{cpu_time, CpuClock};
 use std::time::{Duration, Instant};
 
 /// What a benchmark's times are read from.
@@ -18,7 +19,7 @@ pub enum Clock {
 impl Clock {
     /// What the clock measures, for report headers.
     pub fn describe(self) -> &'static str {
-        match (self, process_cpu_time().is_some()) {
+        match (self, cpu_time(CpuClock::Process).is_some()) {
             (Clock::ProcessCpu, true) => "process CPU time",
             _ => "wall-clock time",
         }
@@ -30,7 +31,7 @@ impl Clock {
             clock: self,
             wall: Instant::now(),
             cpu: match self {
-                Clock::ProcessCpu => process_cpu_time(),
+                Clock::ProcessCpu => cpu_time(CpuClock::Process),
                 Clock::Wall => None,
             },
         }
@@ -47,29 +48,11 @@ pub struct Stopwatch {
 impl Stopwatch {
     /// Time since the start on the stopwatch's clock.
     pub fn elapsed(&self) -> Duration {
-        match (self.clock, self.cpu, process_cpu_time()) {
+        match (self.clock, self.cpu, cpu_time(CpuClock::Process)) {
             (Clock::ProcessCpu, Some(start), Some(now)) => now.saturating_sub(start),
             _ => self.wall.elapsed(),
         }
     }
-}
-
-/// CPU time consumed by this process so far.
-#[cfg(unix)]
-#[allow(unsafe_code)] // the libc call; std has no process CPU clock
-fn process_cpu_time() -> Option<Duration> {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; the call only writes into it.
-    let status = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
-    (status == 0).then(|| Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32))
-}
-
-#[cfg(not(unix))]
-fn process_cpu_time() -> Option<Duration> {
-    None
 }
 
 #[cfg(test)]
@@ -80,7 +63,7 @@ mod tests {
     /// time and advance it too, so nothing is asserted about sleeping.)
     #[test]
     fn cpu_time_advances_with_work() {
-        if process_cpu_time().is_none() {
+        if cpu_time(CpuClock::Process).is_none() {
             return;
         }
         let watch = Clock::ProcessCpu.start();

@@ -4,9 +4,7 @@
 //! reading per stage per round of the queue (a thousand paths), so its cost, a system call
 //! of well under a microsecond, is nothing per path.
 
-// The one libc call; std has no per-thread CPU clock (the workspace's `unsafe_code = "deny"`
-// lists this module as an exception).
-#![allow(unsafe_code)]
+use crate::cpu_time::{cpu_time, CpuClock};
 
 /// Laps of the thread's CPU time (of wall time where the platform has no thread clock).
 pub(super) struct StageClock {
@@ -28,24 +26,9 @@ impl StageClock {
     }
 }
 
-/// The calling thread's CPU time in nanoseconds.
-#[cfg(unix)]
+/// The calling thread's CPU time in nanoseconds (wall time where there is no thread clock).
 fn now_ns() -> u64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; the call only writes into it.
-    let status = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    if status != 0 {
-        return wall_ns();
-    }
-    ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
-}
-
-#[cfg(not(unix))]
-fn now_ns() -> u64 {
-    wall_ns()
+    cpu_time(CpuClock::Thread).map_or_else(wall_ns, |t| t.as_nanos() as u64)
 }
 
 /// Wall time since the first reading of the process, in nanoseconds.
