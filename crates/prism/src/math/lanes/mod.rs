@@ -62,6 +62,57 @@ macro_rules! lane_fns {
 }
 pub(crate) use lane_fns;
 
+/// `impl FloatLanes` for a lane type whose every operation is one expression, as a table:
+/// `splat`, `load` and `to_array` with their arguments named; `own`, the operations that are
+/// the lane type's method of the same name; the other operations on lanes and the
+/// comparisons in `lane_fns!`'s form; then `select` and `bits`.
+macro_rules! float_lanes {
+    (
+        $(#[$meta:meta])*
+        $lane:ty, lanes $lanes:literal, mask $mask:ty:
+        splat($x:ident) $splat:expr;
+        load($row:ident, $at:ident) $load:expr;
+        to_array($a:ident) $to_array:expr;
+        own { $($own:ident($($own_arg:ident),+);)+ }
+        lanes { $($op:tt)+ }
+        masks { $($cmp:tt)+ }
+        select($m:ident, $t:ident, $f:ident) $select:expr;
+        bits($b:ident) $bits:expr;
+    ) => {
+        $(#[$meta])*
+        impl FloatLanes for $lane {
+            const LANES: usize = $lanes;
+            type Mask = $mask;
+            type Array = [f32; $lanes];
+
+            #[inline(always)]
+            fn splat($x: f32) -> $lane {
+                $splat
+            }
+            #[inline(always)]
+            fn load<const K: usize>($row: &[f32; K], $at: usize) -> $lane {
+                $load
+            }
+            #[inline(always)]
+            fn to_array(self) -> [f32; $lanes] {
+                let $a = self;
+                $to_array
+            }
+            lane_fns!($lane => $lane: $($own($($own_arg),+) <$lane>::$own($($own_arg),+);)+);
+            lane_fns!($lane => $lane: $($op)+);
+            lane_fns!($lane => $mask: $($cmp)+);
+            #[inline(always)]
+            fn select($m: $mask, $t: $lane, $f: $lane) -> $lane {
+                $select
+            }
+            #[inline(always)]
+            fn bits($b: $mask) -> u32 {
+                $bits
+            }
+        }
+    };
+}
+
 /// `LANES` f32 values operated on together, lane by lane.
 pub(crate) trait FloatLanes:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
@@ -129,97 +180,48 @@ pub(crate) fn axes<T>(f: impl Fn(usize) -> T) -> [T; 3] {
     [f(0), f(1), f(2)]
 }
 
-/// One lane: the scalar code's own operations, so that a kernel serves it too.
-impl FloatLanes for f32 {
-    const LANES: usize = 1;
-    type Mask = bool;
-    type Array = [f32; 1];
-
-    #[inline(always)]
-    fn splat(x: f32) -> f32 {
-        x
-    }
-    #[inline(always)]
-    fn load<const K: usize>(row: &[f32; K], at: usize) -> f32 {
-        row[at]
-    }
-    #[inline(always)]
-    fn to_array(self) -> [f32; 1] {
-        [self]
-    }
-    lane_fns!(f32 => f32:
-        min(a, b) f32::min(a, b);
-        max(a, b) f32::max(a, b);
-        copysign(a, b) f32::copysign(a, b);
-        abs(a) f32::abs(a);
-        neg(a) -a;
-        sqrt(a) f32::sqrt(a);
-    );
-    lane_fns!(f32 => bool:
+float_lanes! {
+    /// One lane: the scalar code's own operations, so that a kernel serves it too.
+    f32, lanes 1, mask bool:
+    splat(x) x;
+    load(row, at) row[at];
+    to_array(a) [a];
+    own { min(a, b); max(a, b); copysign(a, b); abs(a); sqrt(a); }
+    lanes { neg(a) -a; }
+    masks {
         eq(a, b) a == b;
         lt(a, b) a < b;
         le(a, b) a <= b;
         gt(a, b) a > b;
         ge(a, b) a >= b;
         not_lt(a, b) a.partial_cmp(&b) != Some(std::cmp::Ordering::Less);
-    );
-    #[inline(always)]
-    fn select(mask: bool, if_true: f32, if_false: f32) -> f32 {
-        if mask {
-            if_true
-        } else {
-            if_false
-        }
     }
-    #[inline(always)]
-    fn bits(mask: bool) -> u32 {
-        u32::from(mask)
-    }
+    select(mask, if_true, if_false) if mask { if_true } else { if_false };
+    bits(mask) u32::from(mask);
 }
 
-/// Four lanes through glam: SSE on x86-64 (each operation the `_mm_*` one of the same
-/// name), plain f32 elsewhere.
-impl FloatLanes for Vec4 {
-    const LANES: usize = 4;
-    type Mask = BVec4A;
-    type Array = [f32; 4];
-
-    #[inline(always)]
-    fn splat(x: f32) -> Vec4 {
-        Vec4::splat(x)
-    }
-    #[inline(always)]
-    fn load<const K: usize>(row: &[f32; K], at: usize) -> Vec4 {
-        Vec4::from_slice(&row[at..at + 4])
-    }
-    #[inline(always)]
-    fn to_array(self) -> [f32; 4] {
-        Vec4::to_array(&self)
-    }
-    lane_fns!(Vec4 => Vec4:
-        min(a, b) Vec4::min(a, b);
-        max(a, b) Vec4::max(a, b);
-        copysign(a, b) Vec4::copysign(a, b);
-        abs(a) Vec4::abs(a);
+float_lanes! {
+    /// Four lanes through glam: SSE on x86-64 (each operation the `_mm_*` one of the same
+    /// name), plain f32 elsewhere.
+    Vec4, lanes 4, mask BVec4A:
+    splat(x) Vec4::splat(x);
+    load(row, at) Vec4::from_slice(&row[at..at + 4]);
+    to_array(a) Vec4::to_array(&a);
+    own { min(a, b); max(a, b); copysign(a, b); abs(a); }
+    lanes {
         neg(a) -a;
         sqrt(a) Vec4::new(a.x.sqrt(), a.y.sqrt(), a.z.sqrt(), a.w.sqrt());
-    );
-    lane_fns!(Vec4 => BVec4A:
+    }
+    masks {
         eq(a, b) a.cmpeq(b);
         lt(a, b) a.cmplt(b);
         le(a, b) a.cmple(b);
         gt(a, b) a.cmpgt(b);
         ge(a, b) a.cmpge(b);
         not_lt(a, b) !a.cmplt(b);
-    );
-    #[inline(always)]
-    fn select(mask: BVec4A, if_true: Vec4, if_false: Vec4) -> Vec4 {
-        Vec4::select(mask, if_true, if_false)
     }
-    #[inline(always)]
-    fn bits(mask: BVec4A) -> u32 {
-        mask.bitmask()
-    }
+    select(mask, if_true, if_false) Vec4::select(mask, if_true, if_false);
+    bits(mask) mask.bitmask();
 }
 
 #[cfg(test)]
