@@ -3,7 +3,7 @@
 //! through a box, and the cell-by-cell search for the nearest hit.
 
 use super::mailbox::Mailbox;
-use super::query::{HitSearch, QueryMode};
+use super::query::{HitSearch, QueryMode, RayQuery};
 use crate::geometry::Geometry;
 use crate::math::{Aabb, TraceRay, Vec3};
 use crate::stats::Stats;
@@ -54,7 +54,7 @@ pub(crate) fn padded_bounds(geometry: &Geometry, prims: &[u32]) -> (Vec<Aabb>, A
 /// The span `[t_enter, t_exit]` of the ray inside `bounds`, clipped to `[0, t_max]`
 /// (`Aabb::span`).
 #[inline(always)]
-pub(crate) fn ray_span(bounds: &Aabb, ray: &TraceRay, t_max: f32) -> Option<(f32, f32)> {
+fn ray_span(bounds: &Aabb, ray: &TraceRay, t_max: f32) -> Option<(f32, f32)> {
     bounds.span(ray.ray.origin, ray.inv_dir, t_max)
 }
 
@@ -85,11 +85,29 @@ pub(crate) struct CellSearch {
 
 impl CellSearch {
     #[inline(always)]
-    pub(crate) fn new(t_max: f32, mode: QueryMode) -> Self {
+    fn new(t_max: f32, mode: QueryMode) -> Self {
         CellSearch {
             hits: HitSearch::new(t_max, mode),
             mailbox: Mailbox::new(),
         }
+    }
+
+    /// The start of a walk through cells: the span `[t_enter, t_exit]` of the ray in the
+    /// structure's `bounds` and the search for `query`; `None` where the structure is
+    /// `empty` or the ray misses it. Entering counts as the root's visit, a miss included.
+    #[inline(always)]
+    pub(crate) fn enter(
+        query: &RayQuery,
+        empty: bool,
+        bounds: &Aabb,
+        stats: &mut Stats,
+    ) -> Option<(f32, f32, Self)> {
+        if empty {
+            return None;
+        }
+        stats.node_visits += 1;
+        let (t_enter, t_exit) = ray_span(bounds, query.ray, query.t_max)?;
+        Some((t_enter, t_exit, CellSearch::new(query.t_max, query.mode)))
     }
 
     /// Tests the cell's primitives; returns true when the query is answered, i.e. for an

@@ -2,7 +2,7 @@
 //! nearest of the three next cell faces, testing each cell's primitives once per ray.
 
 use super::Grid;
-use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
+use crate::accel::cells::{plane_crossing, CellSearch};
 use crate::accel::{Accel, AccelInfo, Hit, RayQuery};
 use crate::stats::Stats;
 
@@ -10,11 +10,8 @@ impl Accel for Grid {
     #[inline(always)]
     fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
         let ray = query.ray;
-        if self.refs.is_empty() {
-            return None;
-        }
-        stats.node_visits += 1;
-        let (t_enter, t_exit) = ray_span(&self.bounds, ray, query.t_max)?;
+        let (t_enter, t_exit, mut search) =
+            CellSearch::enter(query, self.refs.is_empty(), &self.bounds, stats)?;
         let (o, d) = (ray.ray.origin, ray.ray.dir);
         let entry = o + t_enter * d;
         let mut cell = [0u32; 3];
@@ -32,7 +29,6 @@ impl Accel for Grid {
                 t_next[k] = plane_crossing(ray, k, self.plane(k, cell[k]));
             }
         }
-        let mut search = CellSearch::new(query.t_max, query.mode);
         loop {
             stats.node_visits += 1;
             let axis = if t_next[0] <= t_next[1] && t_next[0] <= t_next[2] {

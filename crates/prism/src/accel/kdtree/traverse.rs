@@ -3,7 +3,7 @@
 //! part of the ray before the plane, and push the other child with the part after it.
 
 use super::{KdTree, MAX_DEPTH};
-use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
+use crate::accel::cells::{plane_crossing, CellSearch};
 use crate::accel::stack::TraversalStack;
 use crate::accel::{Accel, AccelInfo, Hit, RayQuery};
 use crate::stats::Stats;
@@ -12,12 +12,8 @@ impl Accel for KdTree {
     #[inline(always)]
     fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
         let ray = query.ray;
-        if self.nodes.is_empty() {
-            return None;
-        }
-        stats.node_visits += 1;
-        let (mut t_near, mut t_far) = ray_span(&self.bounds, ray, query.t_max)?;
-        let mut search = CellSearch::new(query.t_max, query.mode);
+        let (mut t_near, mut t_far, mut search) =
+            CellSearch::enter(query, self.nodes.is_empty(), &self.bounds, stats)?;
         // Far children still to search: (node, t where the ray enters it, t where it leaves).
         let mut stack = TraversalStack::<(u32, f32, f32), MAX_DEPTH>::new();
         let mut current = 0usize;

@@ -5,7 +5,7 @@
 //! far to near, each with its own span, so the nearest is searched first.
 
 use super::{octant, Octree, MAX_DEPTH};
-use crate::accel::cells::{plane_crossing, ray_span, CellSearch};
+use crate::accel::cells::{plane_crossing, CellSearch};
 use crate::accel::stack::TraversalStack;
 use crate::accel::{Accel, AccelInfo, Hit, RayQuery};
 use crate::math::Aabb;
@@ -18,12 +18,8 @@ impl Accel for Octree {
     #[inline(always)]
     fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
         let ray = query.ray;
-        if self.nodes.is_empty() {
-            return None;
-        }
-        stats.node_visits += 1;
-        let (t0, t1) = ray_span(&self.bounds, ray, query.t_max)?;
-        let mut search = CellSearch::new(query.t_max, query.mode);
+        let (t0, t1, mut search) =
+            CellSearch::enter(query, self.nodes.is_empty(), &self.bounds, stats)?;
         // Octants still to search: (node, its box, the ray's span in it).
         let mut stack = TraversalStack::<(u32, Aabb, f32, f32), STACK>::new();
         stack.push((0, self.bounds, t0, t1));
