@@ -274,24 +274,12 @@ impl Job<'_> {
         let (i0, i1) = (u.0.floor() as i64, u.1.floor() as i64);
         let (j0, j1) = (v.0.floor() as i64, v.1.floor() as i64);
         for i in i0..=i1 {
-            let mut strip = piece.clone();
-            if i > i0 {
-                strip = strip.clip(&border(&self.uv.nu, den, i as f64, sign));
-            }
-            if i < i1 {
-                strip = strip.clip(&border(&self.uv.nu, den, (i + 1) as f64, sign).flipped());
-            }
+            let strip = band(piece, &self.uv.nu, den, sign, i, (i0, i1));
             if strip.is_empty() {
                 continue;
             }
             for j in j0..=j1 {
-                let mut cell = strip.clone();
-                if j > j0 {
-                    cell = cell.clip(&border(&self.uv.nv, den, j as f64, sign));
-                }
-                if j < j1 {
-                    cell = cell.clip(&border(&self.uv.nv, den, (j + 1) as f64, sign).flipped());
-                }
+                let cell = band(&strip, &self.uv.nv, den, sign, j, (j0, j1));
                 let area = cell.area();
                 if area > 0.0 {
                     // The square's own colour, by the texture's parity rule.
@@ -305,6 +293,27 @@ impl Job<'_> {
             }
         }
     }
+}
+
+/// The part of `piece` in band `k` (k ≤ num/den < k + 1) of the bands `first..=last` it
+/// spans: clipped at the band's lower border unless it is the first, at its upper one
+/// unless it is the last.
+fn band(
+    piece: &Convex,
+    num: &Affine2,
+    den: &Affine2,
+    sign: f64,
+    k: i64,
+    (first, last): (i64, i64),
+) -> Convex {
+    let mut part = piece.clone();
+    if k > first {
+        part = part.clip(&border(num, den, k as f64, sign));
+    }
+    if k < last {
+        part = part.clip(&border(num, den, (k + 1) as f64, sign).flipped());
+    }
+    part
 }
 
 /// The half-plane (num/den ≥ k) as an affine function, given den's sign on the piece.

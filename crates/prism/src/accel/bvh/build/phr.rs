@@ -186,6 +186,19 @@ enum Decision {
     },
 }
 
+impl Decision {
+    /// The split into `left` and `right`, each with the bounds of its items.
+    fn split(left: Vec<Item>, right: Vec<Item>) -> Decision {
+        let (left_bounds, right_bounds) = (cut_bounds(&left), cut_bounds(&right));
+        Decision::Split {
+            left,
+            right,
+            left_bounds,
+            right_bounds,
+        }
+    }
+}
+
 impl Builder<'_> {
     /// The area above which an auxiliary node is refined in a cut for a node at `depth`
     /// (the root's is 1).
@@ -294,14 +307,7 @@ impl Builder<'_> {
         let order: Vec<u32> = scratch.best.iter().map(|&key| key as u32).collect();
         let side =
             |range: &[u32]| -> Vec<Item> { range.iter().map(|&i| cut[i as usize]).collect() };
-        let (left, right) = (side(&order[..k]), side(&order[k..]));
-        let (left_bounds, right_bounds) = (cut_bounds(&left), cut_bounds(&right));
-        Decision::Split {
-            left,
-            right,
-            left_bounds,
-            right_bounds,
-        }
+        Decision::split(side(&order[..k]), side(&order[k..]))
     }
 
     /// Whether a node of `count` primitives at `depth` must be split by count to keep
@@ -325,13 +331,7 @@ impl Builder<'_> {
         positions.sort_unstable();
         let mut left: Vec<Item> = positions.iter().map(|&p| self.aux.primitive(p)).collect();
         let right = left.split_off(positions.len() / 2);
-        let (left_bounds, right_bounds) = (cut_bounds(&left), cut_bounds(&right));
-        Decision::Split {
-            left,
-            right,
-            left_bounds,
-            right_bounds,
-        }
+        Decision::split(left, right)
     }
 
     /// The node over `cut` at `depth`, its primitives written into `out` (its slice of the
