@@ -62,6 +62,17 @@ fn options(builder: BvhBuilder, reinsert: bool) -> BvhOptions {
     }
 }
 
+/// The SAH cost of `builder`'s tree over `g` without and with reinsertion.
+fn costs_before_and_after_reinsertion(g: &Geometry, builder: BvhBuilder) -> (f64, f64) {
+    let cost = |reinsert| {
+        Bvh::build(g, all_prims(g), &options(builder, reinsert))
+            .info()
+            .sah_cost
+            .unwrap()
+    };
+    (cost(false), cost(true))
+}
+
 fn variants() -> Vec<BvhOptions> {
     let inside = BvhOptions {
         rays: RayOrigins::Inside,
@@ -225,13 +236,7 @@ fn coincident_centroids_still_get_bounded_leaves() {
 fn reinsertion_never_raises_the_sah_cost() {
     for g in [skewed_scene(20_000), geometric_scene()] {
         for builder in BvhBuilder::ALL {
-            let cost = |reinsert| {
-                Bvh::build(&g, all_prims(&g), &options(builder, reinsert))
-                    .info()
-                    .sah_cost
-                    .unwrap()
-            };
-            let (before, after) = (cost(false), cost(true));
+            let (before, after) = costs_before_and_after_reinsertion(&g, builder);
             assert!(after <= before, "{}: {before} -> {after}", builder.name());
         }
     }
@@ -241,13 +246,7 @@ fn reinsertion_never_raises_the_sah_cost() {
 fn reinsertion_improves_poor_trees() {
     let g = skewed_scene(50_000);
     for builder in [BvhBuilder::Lbvh, BvhBuilder::Median] {
-        let cost = |reinsert| {
-            Bvh::build(&g, all_prims(&g), &options(builder, reinsert))
-                .info()
-                .sah_cost
-                .unwrap()
-        };
-        let (before, after) = (cost(false), cost(true));
+        let (before, after) = costs_before_and_after_reinsertion(&g, builder);
         assert!(
             after < 0.97 * before,
             "{}: {before} -> {after}",

@@ -6,7 +6,10 @@
 
 use crate::common;
 
-use common::oracle::{random_cone, random_ray, random_triangles, same_nearest, TestScene};
+use common::oracle::{
+    random_cone, random_degenerates, random_ray, random_slivers, random_triangles, same_nearest,
+    TestScene,
+};
 use common::{icosphere, rotate, Rng};
 use prism::accel::volumes::{self, Dop14, Dop26, NodeVolume, Volume, VolumeBvh, CULL_SLACK};
 use prism::accel::{Accel, BruteForce, Bvh, BvhOptions};
@@ -27,20 +30,8 @@ fn hostile_scene(seed: u64, scale: f32, offset: Vec3) -> TestScene {
     let mut boxes = Vec::new();
     let p = |rng: &mut Rng| offset + scale * rng.point_in(Vec3::splat(-2.0), Vec3::splat(2.0));
     let mut tris = random_triangles(&mut rng, 150, p, |rng| scale * rng.range(0.01, 0.8));
-    for _ in 0..80 {
-        let a = p(&mut rng);
-        let b = a + scale * 3.0 * rng.unit_vector();
-        let c = a.lerp(b, rng.f32()) + scale * 1e-3 * rng.unit_vector();
-        tris.push([a, b, c]);
-    }
-    for _ in 0..20 {
-        let (a, b) = (p(&mut rng), p(&mut rng));
-        tris.push(if rng.chance(0.5) {
-            [a, b, a.lerp(b, 0.25)]
-        } else {
-            [a, b, b]
-        });
-    }
+    tris.extend(random_slivers(&mut rng, 80, scale, p));
+    tris.extend(random_degenerates(&mut rng, 20, p));
     let dup: Vec<_> = tris.iter().step_by(13).copied().collect();
     tris.extend(dup);
     for t in &tris {

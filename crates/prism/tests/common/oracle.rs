@@ -70,6 +70,43 @@ pub(crate) fn random_triangles(
         .collect()
 }
 
+/// `count` long, thin triangles: a long edge (3·`scale`) from a corner `corner(rng)` and a
+/// third vertex very close to it.
+pub(crate) fn random_slivers(
+    rng: &mut Rng,
+    count: usize,
+    scale: f32,
+    corner: impl Fn(&mut Rng) -> Vec3,
+) -> Vec<[Vec3; 3]> {
+    (0..count)
+        .map(|_| {
+            let a = corner(rng);
+            let b = a + scale * 3.0 * rng.unit_vector();
+            let c = a.lerp(b, rng.f32()) + scale * 1e-3 * rng.unit_vector();
+            [a, b, c]
+        })
+        .collect()
+}
+
+/// `count` degenerate triangles on two points `point(rng)`: collinear or with a repeated
+/// vertex, as a coin falls.
+pub(crate) fn random_degenerates(
+    rng: &mut Rng,
+    count: usize,
+    point: impl Fn(&mut Rng) -> Vec3,
+) -> Vec<[Vec3; 3]> {
+    (0..count)
+        .map(|_| {
+            let (a, b) = (point(rng), point(rng));
+            if rng.chance(0.5) {
+                [a, b, a.lerp(b, 0.25)]
+            } else {
+                [a, b, b]
+            }
+        })
+        .collect()
+}
+
 /// A cone or cylinder standing on `base`, of a height and radii up to `scale`, its axis
 /// along a coordinate axis a third of the time, a cylinder half the time, capped half the
 /// time; with a point on its base rim for rays to aim at. None where the draw is
