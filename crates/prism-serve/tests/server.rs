@@ -6,6 +6,7 @@
 mod common;
 
 use common::{difference, http, server, Client, Received, PATIENCE};
+use prism_serve::Server;
 use std::time::{Duration, Instant};
 use tungstenite::client::IntoClientRequest;
 use tungstenite::Message;
@@ -374,13 +375,8 @@ fn the_page_shows_the_settings_the_server_started_with() {
 #[test]
 fn requests_for_another_host_name_are_refused() {
     let s = server(32, 18);
-    for host in [
-        "evil.example",
-        "evil.example:8000",
-        "127.0.0.1.evil.example",
-        "",
-        "[::2]:80",
-    ] {
+    // The reply to a request for the page that names `host`.
+    let page_for = |host: &str| {
         let mut stream = std::net::TcpStream::connect(s.addr()).unwrap();
         use std::io::{Read, Write};
         write!(
@@ -390,6 +386,16 @@ fn requests_for_another_host_name_are_refused() {
         .unwrap();
         let mut reply = String::new();
         let _ = stream.read_to_string(&mut reply);
+        reply
+    };
+    for host in [
+        "evil.example",
+        "evil.example:8000",
+        "127.0.0.1.evil.example",
+        "",
+        "[::2]:80",
+    ] {
+        let reply = page_for(host);
         assert!(
             reply.starts_with("HTTP/1.1 403") || reply.starts_with("HTTP/1.1 400"),
             "{host}: {reply}"
@@ -403,46 +409,34 @@ fn requests_for_another_host_name_are_refused() {
         "127.0.0.2:80",
         "[::1]:8000",
     ] {
-        let mut stream = std::net::TcpStream::connect(s.addr()).unwrap();
-        use std::io::{Read, Write};
-        write!(
-            stream,
-            "GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"
-        )
-        .unwrap();
-        let mut reply = String::new();
-        let _ = stream.read_to_string(&mut reply);
+        let reply = page_for(host);
         assert!(reply.starts_with("HTTP/1.1 200"), "{host}: {reply}");
     }
+    let evil = [("Host", "evil.example"), ("Origin", "http://evil.example")];
+    assert!(!websocket_opens(&s, &evil));
+}
+
+/// Whether the viewer's WebSocket opens for a request with `headers` (beside the client's
+/// own).
+fn websocket_opens(s: &Server, headers: &[(&'static str, &str)]) -> bool {
     let mut request = format!("ws://{}/ws", s.addr())
         .into_client_request()
         .unwrap();
-    request
-        .headers_mut()
-        .insert("Host", "evil.example".parse().unwrap());
-    request
-        .headers_mut()
-        .insert("Origin", "http://evil.example".parse().unwrap());
-    assert!(tungstenite::connect(request).is_err());
+    for &(name, value) in headers {
+        request.headers_mut().insert(name, value.parse().unwrap());
+    }
+    tungstenite::connect(request).is_ok()
 }
 
 #[test]
 fn a_page_of_another_site_cannot_open_the_websocket() {
     let s = server(64, 36);
-    let mut request = format!("ws://{}/ws", s.addr())
-        .into_client_request()
-        .unwrap();
-    request
-        .headers_mut()
-        .insert("Origin", "http://evil.example".parse().unwrap());
-    let refused = tungstenite::connect(request);
-    assert!(refused.is_err(), "a foreign origin was let in");
-    let mut request = format!("ws://{}/ws", s.addr())
-        .into_client_request()
-        .unwrap();
+    assert!(
+        !websocket_opens(&s, &[("Origin", "http://evil.example")]),
+        "a foreign origin was let in"
+    );
     let own = format!("http://{}", s.addr());
-    request.headers_mut().insert("Origin", own.parse().unwrap());
-    assert!(tungstenite::connect(request).is_ok());
+    assert!(websocket_opens(&s, &[("Origin", &own)]));
 }
 
 #[test]
