@@ -7,7 +7,6 @@
 use super::staging::stage;
 use crate::camera::Camera;
 use crate::geometry::{Shape, Sphere};
-use crate::light::Light;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
 use crate::shading::Material;
@@ -37,15 +36,6 @@ pub(super) fn pearls() -> Scene {
             .add(Shape::Sphere(Sphere::new(centre, RADIUS)), pearl);
     }
     super::staging::matte_floor(&mut scene, Color::new(0.3, 0.2, 0.25), -0.3);
-    scene.lights = vec![
-        Light::Point {
-            position: Vec3::new(start, -3.0, 4.0),
-            color: Color::splat(0.7),
-        },
-        Light::Directional {
-            direction: Vec3::new(0.3, 0.5, -1.0).normalize(),
-            color: Color::splat(0.3),
-        },
-    ];
+    scene.lights = super::staging::key_and_fill_at([start, -3.0, 4.0], 0.7, [0.3, 0.5, -1.0], 0.3);
     scene
 }

@@ -3,10 +3,9 @@
 //! large triangles. A uniform grid sized for the whole stadium puts the knot into a
 //! handful of cells holding thousands of triangles each, while most cells stay empty.
 
-use super::staging::stage;
+use super::staging::{key_and_fill_at, stage};
 use crate::camera::Camera;
 use crate::geometry::{generate, TriangleMesh};
-use crate::light::Light;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
 use crate::shading::Material;
@@ -49,16 +48,7 @@ pub(super) fn stadium() -> Scene {
         pitch,
     );
     scene.geometry.add_mesh(stands_mesh(ground), stands);
-    scene.lights = vec![
-        Light::Point {
-            position: Vec3::new(-3.0, -4.0, 6.0),
-            color: Color::splat(0.6),
-        },
-        Light::Directional {
-            direction: Vec3::new(0.5, 1.0, -1.5).normalize(),
-            color: Color::splat(0.4),
-        },
-    ];
+    scene.lights = key_and_fill_at([-3.0, -4.0, 6.0], 0.6, [0.5, 1.0, -1.5], 0.4);
     scene
 }
 

@@ -37,14 +37,25 @@ pub(super) fn matte_floor(scene: &mut Scene, colour: Color, z: f32) {
 
 /// A point light high at the front left and a dimmer directional fill.
 pub(super) fn key_and_fill() -> Vec<Light> {
+    key_and_fill_at([-3.0, -4.0, 6.0], 0.7, [1.0, 0.5, -1.0], 0.3)
+}
+
+/// A point light at `key_at` of grey `key` and a directional fill towards `fill_towards`
+/// of grey `fill`: the scenes that place their own.
+pub(super) fn key_and_fill_at(
+    key_at: [f32; 3],
+    key: f32,
+    fill_towards: [f32; 3],
+    fill: f32,
+) -> Vec<Light> {
     vec![
         Light::Point {
-            position: Vec3::new(-3.0, -4.0, 6.0),
-            color: Color::splat(0.7),
+            position: Vec3::from(key_at),
+            color: Color::splat(key),
         },
         Light::Directional {
-            direction: Vec3::new(1.0, 0.5, -1.0).normalize(),
-            color: Color::splat(0.3),
+            direction: Vec3::from(fill_towards).normalize(),
+            color: Color::splat(fill),
         },
     ]
 }

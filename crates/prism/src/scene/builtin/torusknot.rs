@@ -1,10 +1,9 @@
 //! A bumpy torus knot of about a million smooth-shaded triangles over a mirror floor: the
 //! large-mesh scene for throughput and BVH build measurements.
 
-use super::staging::stage;
+use super::staging::{key_and_fill_at, stage};
 use crate::camera::Camera;
 use crate::geometry::{generate, Plane, Shape};
-use crate::light::Light;
 use crate::math::{Color, Vec3};
 use crate::scene::Scene;
 use crate::shading::Material;
@@ -28,15 +27,6 @@ pub fn torusknot(triangles: u32) -> Scene {
         .add_mesh(generate::torus_knot(triangles), knot);
     let plane = Plane::new(Vec3::new(0.0, 0.0, -0.75), Vec3::Z).expect("non-zero normal");
     scene.geometry.add(Shape::Plane(Box::new(plane)), floor);
-    scene.lights = vec![
-        Light::Point {
-            position: Vec3::new(-3.0, -3.0, 5.0),
-            color: Color::splat(0.7),
-        },
-        Light::Directional {
-            direction: Vec3::new(1.0, 0.5, -1.0).normalize(),
-            color: Color::splat(0.3),
-        },
-    ];
+    scene.lights = key_and_fill_at([-3.0, -3.0, 5.0], 0.7, [1.0, 0.5, -1.0], 0.3);
     scene
 }
