@@ -77,12 +77,8 @@ impl Fill {
             transmit: Color::splat(t),
             ior: if t > 0.0 && ior > 0.0 { ior } else { 1.0 },
             fresnel: FresnelMode::Off,
-            emission: Color::ZERO,
-            normal_map: None,
-            bump_map: None,
-            occlusion: None,
-            metal_rough: None,
-            emission_map: None,
+            // NFF has no emission and no texture maps.
+            ..Material::default()
         }
     }
 }

@@ -43,21 +43,12 @@ pub(super) fn primary(
     geometry: &Geometry,
     rays: &[Ray],
 ) -> HitDigest {
-    rays.par_iter()
-        .enumerate()
-        .map(|(i, ray)| {
-            let mut stats = Stats::default();
-            match intersector.intersect(geometry, ray, f32::INFINITY, &mut stats) {
-                Some(hit) => HitDigest {
-                    hits: 1,
-                    fingerprint: mix(mix(i as u64)
-                        ^ (u64::from(hit.prim) << 32)
-                        ^ u64::from(hit.t.to_bits())),
-                },
-                None => HitDigest::default(),
-            }
-        })
-        .reduce(HitDigest::default, HitDigest::add)
+    digest(rays, |i, ray, stats| {
+        let hit = intersector.intersect(geometry, ray, f32::INFINITY, stats)?;
+        Some(mix(mix(i as u64)
+            ^ (u64::from(hit.prim) << 32)
+            ^ u64::from(hit.t.to_bits())))
+    })
 }
 
 /// Which shadow rays are blocked.
@@ -66,17 +57,29 @@ pub(super) fn shadow(
     geometry: &Geometry,
     rays: &[ShadowRay],
 ) -> HitDigest {
+    digest(rays, |i, s, stats| {
+        intersector
+            .occluded(geometry, &s.ray, s.t_max, stats)
+            .then(|| mix(i as u64))
+    })
+}
+
+/// The digest of `rays`, `answer(i, ray)` the hash of ray i's answer where it hit (or was
+/// blocked), in parallel.
+fn digest<T: Sync>(
+    rays: &[T],
+    answer: impl Fn(usize, &T, &mut Stats) -> Option<u64> + Sync,
+) -> HitDigest {
     rays.par_iter()
         .enumerate()
-        .map(|(i, s)| {
+        .map(|(i, ray)| {
             let mut stats = Stats::default();
-            if intersector.occluded(geometry, &s.ray, s.t_max, &mut stats) {
-                HitDigest {
+            match answer(i, ray, &mut stats) {
+                Some(fingerprint) => HitDigest {
                     hits: 1,
-                    fingerprint: mix(i as u64),
-                }
-            } else {
-                HitDigest::default()
+                    fingerprint,
+                },
+                None => HitDigest::default(),
             }
         })
         .reduce(HitDigest::default, HitDigest::add)

@@ -257,15 +257,10 @@ fn trace_primary(
     geometry: &Geometry,
     rays: &[Ray],
 ) -> (usize, Stats) {
-    sum_chunks(rays, |chunk, stats| {
-        chunk
-            .iter()
-            .filter(|ray| {
-                intersector
-                    .intersect(geometry, ray, f32::INFINITY, stats)
-                    .is_some()
-            })
-            .count()
+    count_hits(rays, |ray, stats| {
+        intersector
+            .intersect(geometry, ray, f32::INFINITY, stats)
+            .is_some()
     })
 }
 
@@ -274,24 +269,19 @@ fn trace_shadow(
     geometry: &Geometry,
     rays: &[ShadowRay],
 ) -> (usize, Stats) {
-    sum_chunks(rays, |chunk, stats| {
-        chunk
-            .iter()
-            .filter(|s| intersector.occluded(geometry, &s.ray, s.t_max, stats))
-            .count()
+    count_hits(rays, |s, stats| {
+        intersector.occluded(geometry, &s.ray, s.t_max, stats)
     })
 }
 
-/// Runs `f` over chunks of `items` in parallel and adds up its counts and statistics.
-fn sum_chunks<T: Sync>(
-    items: &[T],
-    f: impl Fn(&[T], &mut Stats) -> usize + Sync,
-) -> (usize, Stats) {
+/// The rays of `items` that `hit` says hit, tested in chunks in parallel, and the
+/// statistics of all the tests.
+fn count_hits<T: Sync>(items: &[T], hit: impl Fn(&T, &mut Stats) -> bool + Sync) -> (usize, Stats) {
     items
         .par_chunks(CHUNK)
         .map(|chunk| {
             let mut stats = Stats::default();
-            let n = f(chunk, &mut stats);
+            let n = chunk.iter().filter(|item| hit(item, &mut stats)).count();
             (n, stats)
         })
         .reduce(
