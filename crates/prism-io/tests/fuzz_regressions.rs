@@ -3,6 +3,7 @@
 //! an error quickly. Some came from reviewing what a fuzzer cannot see: files a scene names
 //! (a device reads forever) and memory use that grows large without crashing.
 
+use crate::common::mesh_files::glb;
 use prism_io::scene::{parse_gltf, LoadError};
 use std::path::Path;
 
@@ -79,7 +80,7 @@ fn instanced_strip_glb(strip: usize, nodes: usize) -> Vec<u8> {
     let list = |item: &dyn Fn(usize) -> String| -> String {
         (0..nodes).map(item).collect::<Vec<_>>().join(",")
     };
-    let mut json = format!(
+    let json = format!(
         r#"{{"asset":{{"version":"2.0"}},"scenes":[{{"nodes":[{}]}}],"nodes":[{}],
         "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1,"mode":5}}]}}],
         "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"}},
@@ -91,19 +92,7 @@ fn instanced_strip_glb(strip: usize, nodes: usize) -> Vec<u8> {
         bin.len()
     )
     .into_bytes();
-    while json.len() % 4 != 0 {
-        json.push(b' ');
-    }
-    let mut glb = b"glTF".to_vec();
-    glb.extend(2u32.to_le_bytes());
-    glb.extend(((12 + 8 + json.len() + 8 + bin.len()) as u32).to_le_bytes());
-    glb.extend((json.len() as u32).to_le_bytes());
-    glb.extend(b"JSON");
-    glb.extend(&json);
-    glb.extend((bin.len() as u32).to_le_bytes());
-    glb.extend(b"BIN\0");
-    glb.extend(&bin);
-    glb
+    glb(&json, &bin)
 }
 
 /// Placing one mesh in many nodes copies it each time: a 100 KB file could ask for 160

@@ -14,7 +14,7 @@ use prism::shading::{FresnelMode, Highlight, Texture};
 use prism::Scene;
 use prism_io::scene::{load, LoadError};
 
-use common::mesh_files::render_at;
+use common::mesh_files::{glb, render_at};
 use common::mutate::{self, apply, Mutation};
 use common::scratch::ScratchDir;
 use proptest::prelude::*;
@@ -154,29 +154,6 @@ fn quad_document(buffer_uri: Option<&str>) -> Value {
 
 fn pretty(doc: &Value) -> Vec<u8> {
     serde_json::to_vec_pretty(doc).expect("serialisable")
-}
-
-/// A GLB container: header, JSON chunk (space-padded), BIN chunk (zero-padded).
-fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
-    let pad = |v: &mut Vec<u8>, with: u8| {
-        while !v.len().is_multiple_of(4) {
-            v.push(with);
-        }
-    };
-    let mut json = json.to_vec();
-    pad(&mut json, b' ');
-    let mut bin = bin.to_vec();
-    pad(&mut bin, 0);
-    let mut out = b"glTF".to_vec();
-    out.extend(2u32.to_le_bytes());
-    out.extend(((12 + 8 + json.len() + 8 + bin.len()) as u32).to_le_bytes());
-    out.extend((json.len() as u32).to_le_bytes());
-    out.extend(b"JSON");
-    out.extend(&json);
-    out.extend((bin.len() as u32).to_le_bytes());
-    out.extend(b"BIN\0");
-    out.extend(&bin);
-    out
 }
 
 fn quad_glb() -> Vec<u8> {

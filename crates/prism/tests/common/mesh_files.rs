@@ -1,6 +1,7 @@
 //! Helpers shared by the mesh-file tests: one small mesh written out in every format
-//! prism reads (OBJ, ASCII and binary PLY, inline TOML), temporary folders, rendering, and
-//! the numbers the fuzzing properties write into mesh files (the mutations are `mutate.rs`).
+//! prism reads (OBJ, ASCII and binary PLY, inline TOML), the GLB container, temporary
+//! folders, rendering, and the numbers the fuzzing properties write into mesh files (the
+//! mutations are `mutate.rs`).
 
 use prism::render::{render, Film};
 use prism::Scene;
@@ -173,6 +174,29 @@ impl TestMesh {
             list3(&self.normals)
         )
     }
+}
+
+/// A GLB container: header, JSON chunk (space-padded), BIN chunk (zero-padded).
+pub(crate) fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
+    let pad = |v: &mut Vec<u8>, with: u8| {
+        while !v.len().is_multiple_of(4) {
+            v.push(with);
+        }
+    };
+    let mut json = json.to_vec();
+    pad(&mut json, b' ');
+    let mut bin = bin.to_vec();
+    pad(&mut bin, 0);
+    let mut out = b"glTF".to_vec();
+    out.extend(2u32.to_le_bytes());
+    out.extend(((12 + 8 + json.len() + 8 + bin.len()) as u32).to_le_bytes());
+    out.extend((json.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(&json);
+    out.extend((bin.len() as u32).to_le_bytes());
+    out.extend(b"BIN\0");
+    out.extend(&bin);
+    out
 }
 
 /// A fresh folder for one test's files, removed when the test ends.
