@@ -153,6 +153,13 @@ impl<'a> Scanner<'a, '_> {
         }
     }
 
+    /// The error for a statement `w` whose count of numbers is not one that `takes` says it
+    /// takes, located at its fourth number (at the line's end where it has fewer).
+    fn count_error(&self, w: &[(usize, &str)], takes: &str) -> LoadError {
+        let at = w.get(4).map_or(self.line.trim_end().len(), |w| w.0);
+        self.error(at, format!("{takes}; found {}", w.len() - 1))
+    }
+
     fn statement(&mut self) -> Result<(), LoadError> {
         let words = Words::new(self.line);
         let Some(&(_, keyword)) = words.words.first() else {
@@ -223,13 +230,9 @@ impl<'a> Scanner<'a, '_> {
     fn position(&mut self, words: &Words) -> Result<(), LoadError> {
         let w = &words.words;
         if !matches!(w.len(), 4 | 5 | 7) {
-            let at = w.get(4).map_or(self.line.trim_end().len(), |w| w.0);
-            return Err(self.error(
-                at,
-                format!(
-                    "a vertex takes 3 numbers (x y z), 4 (x y z w) or 6 (x y z r g b); found {}",
-                    w.len() - 1
-                ),
+            return Err(self.count_error(
+                w,
+                "a vertex takes 3 numbers (x y z), 4 (x y z w) or 6 (x y z r g b)",
             ));
         }
         let mut p = [0.0f32; 3];
@@ -269,14 +272,9 @@ impl<'a> Scanner<'a, '_> {
     fn uv(&mut self, words: &Words) -> Result<(), LoadError> {
         let w = &words.words;
         if !(2..=4).contains(&w.len()) {
-            let at = w.get(4).map_or(self.line.trim_end().len(), |w| w.0);
-            return Err(self.error(
-                at,
-                format!(
-                    "a texture coordinate takes 1 to 3 numbers (u [v [w]]); found {}",
-                    w.len() - 1
-                ),
-            ));
+            return Err(
+                self.count_error(w, "a texture coordinate takes 1 to 3 numbers (u [v [w]])")
+            );
         }
         for (k, &word) in w.iter().enumerate().skip(1) {
             self.number(word, ["u", "v", "w"][k - 1])?;
@@ -290,11 +288,7 @@ impl<'a> Scanner<'a, '_> {
     fn normal(&mut self, words: &Words) -> Result<(), LoadError> {
         let w = &words.words;
         if w.len() != 4 {
-            let at = w.get(4).map_or(self.line.trim_end().len(), |w| w.0);
-            return Err(self.error(
-                at,
-                format!("a normal takes 3 numbers (x y z); found {}", w.len() - 1),
-            ));
+            return Err(self.count_error(w, "a normal takes 3 numbers (x y z)"));
         }
         for k in 1..4 {
             self.number(w[k], ["x", "y", "z"][k - 1])?;
