@@ -66,21 +66,16 @@ impl TriangleMesh {
                 });
             }
         }
-        if let Some(n) = &normals {
-            if n.len() != count {
+        // Each attribute given has one value per position.
+        for (what, given) in [
+            ("normals", normals.as_ref().map(Vec::len)),
+            ("uvs", uvs.as_ref().map(Vec::len)),
+        ] {
+            if let Some(given) = given.filter(|&n| n != count) {
                 return Err(MeshError::AttributeCount {
-                    what: "normals",
+                    what,
                     positions: count,
-                    count: n.len(),
-                });
-            }
-        }
-        if let Some(uv) = &uvs {
-            if uv.len() != count {
-                return Err(MeshError::AttributeCount {
-                    what: "uvs",
-                    positions: count,
-                    count: uv.len(),
+                    count: given,
                 });
             }
         }
