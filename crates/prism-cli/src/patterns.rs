@@ -154,6 +154,11 @@ fn panel(kind: SamplerKind, n: u32, seed: u64) -> Panel {
     }
 }
 
+/// The samples at `offsets` in pixel (`px`, `py`), as unmarked points of a panel.
+fn pixel_samples(px: u32, py: u32, offsets: &[Vec2]) -> impl Iterator<Item = (Vec2, bool)> + '_ {
+    (offsets.iter()).map(move |o| (Vec2::new(px as f32 + o.x, py as f32 + o.y), false))
+}
+
 fn pixel_panel(title: String, pixels: u32, pattern: &PixelPattern) -> Panel {
     let mut points = Vec::new();
     let mut offsets = Vec::new();
@@ -161,11 +166,7 @@ fn pixel_panel(title: String, pixels: u32, pattern: &PixelPattern) -> Panel {
         for px in 0..pixels {
             offsets.clear();
             pattern.offsets(px, py, &mut offsets);
-            points.extend(
-                offsets
-                    .iter()
-                    .map(|o| (Vec2::new(px as f32 + o.x, py as f32 + o.y), false)),
-            );
+            points.extend(pixel_samples(px, py, &offsets));
         }
     }
     // Strata lines, for the jittered panel.
@@ -244,11 +245,7 @@ fn adaptive_panel(rule: Refinement, motif: Motif) -> Panel {
                     if matches!(v, Visit::Stratified(_)) {
                         offsets.clear();
                         rule.texture_offsets(px, py, &mut offsets);
-                        stratified.extend(
-                            offsets
-                                .iter()
-                                .map(|o| (Vec2::new(px as f32 + o.x, py as f32 + o.y), false)),
-                        );
+                        stratified.extend(pixel_samples(px, py, &offsets));
                     }
                     if matches!(v, Visit::Split) {
                         let s = steps as f32;
