@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use common::run;
+use common::{run, words};
 use std::fs;
 use std::path::PathBuf;
 
@@ -152,22 +152,11 @@ fn bad_bench_input_fails_at_once_and_writes_nothing() {
 fn the_cost_view_is_the_same_for_any_thread_count() {
     let dir = work_dir("cost");
     let render = |threads: &str, metric: &str, sampler: &str, out: &str| {
-        let args = [
-            "render",
-            "-b",
-            "sphereflake:2",
-            "-q",
-            "-W",
-            "24",
-            "-H",
-            "18",
-            "-o",
-            "img.png",
-        ];
-        let mut args = args.to_vec();
-        args.extend(["-t", threads, "--cost", out, "--cost-metric", metric]);
-        args.extend(["--sampler", sampler]);
-        run(&dir, &args, 0);
+        let line = format!(
+            "render -b sphereflake:2 -q -W 24 -H 18 -o img.png -t {threads} --cost {out} \
+             --cost-metric {metric} --sampler {sampler}"
+        );
+        run(&dir, &words(&line), 0);
         fs::read(dir.join(out)).unwrap()
     };
     // Per-pixel tiles (grid) and row passes over a shared lattice (adaptive).
@@ -238,29 +227,11 @@ fn the_bad_case_scenes_render_and_describe_themselves() {
 fn the_shadow_cost_view_shows_the_shadow_rays_work_only() {
     let dir = work_dir("cost-shadow");
     let render = |rays: &str, shadows: &str, threads: &str, out: &str| {
-        let args = [
-            "render",
-            "-b",
-            "whitted",
-            "-q",
-            "-W",
-            "24",
-            "-H",
-            "18",
-            "-o",
-            "img.png",
-            "--cost-metric",
-            "prims",
-            "--cost",
-            out,
-            "--cost-rays",
-            rays,
-            "--shadows",
-            shadows,
-            "-t",
-            threads,
-        ];
-        run(&dir, &args, 0);
+        let line = format!(
+            "render -b whitted -q -W 24 -H 18 -o img.png --cost-metric prims --cost {out} \
+             --cost-rays {rays} --shadows {shadows} -t {threads}"
+        );
+        run(&dir, &words(&line), 0);
         fs::read(dir.join(out)).unwrap()
     };
     let all = render("all", "light-buffer", "1", "all.png");
@@ -286,20 +257,8 @@ fn the_shadow_cost_view_shows_the_shadow_rays_work_only() {
 fn the_cost_view_shows_each_pixels_own_work() {
     let dir = work_dir("cost-own-work");
     let render = |extra: &[&str], out: &str| {
-        let mut args = vec![
-            "render",
-            "-b",
-            "sphereflake:2",
-            "-q",
-            "-W",
-            "24",
-            "-H",
-            "16",
-            "-o",
-            "img.png",
-            "--cost",
-            out,
-        ];
+        let line = format!("render -b sphereflake:2 -q -W 24 -H 16 -o img.png --cost {out}");
+        let mut args = words(&line);
         args.extend(extra);
         run(&dir, &args, 0);
         fs::read(dir.join(out)).unwrap()

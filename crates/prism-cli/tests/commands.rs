@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use common::run;
+use common::{run, words};
 use std::fs;
 use std::path::PathBuf;
 
@@ -161,25 +161,10 @@ fn compare_measures_the_difference_of_two_images() {
 #[test]
 fn reference_writes_the_exact_checkerboard_and_refuses_other_scenes() {
     let dir = work_dir("reference");
+    run(&dir, &words("reference -q -W 32 -H 18 -o ref.pfm"), 0);
     run(
         &dir,
-        &["reference", "-q", "-W", "32", "-H", "18", "-o", "ref.pfm"],
-        0,
-    );
-    run(
-        &dir,
-        &[
-            "render",
-            "-b",
-            "checkerboard",
-            "-q",
-            "-W",
-            "32",
-            "-H",
-            "18",
-            "-o",
-            "one.pfm",
-        ],
+        &words("render -b checkerboard -q -W 32 -H 18 -o one.pfm"),
         0,
     );
     let (text, _) = run(&dir, &["compare", "ref.pfm", "one.pfm"], 0);

@@ -18,21 +18,7 @@ fn two_signals_at_once_are_one_ctrl_c_and_the_work_is_written() {
     let dir = common::work_dir("signals", "double-int");
     let mut render = OnTerminal::spawn(
         &dir,
-        &[
-            "render",
-            "-b",
-            "sphereflake",
-            "-W",
-            "1200",
-            "-H",
-            "1200",
-            "--spp",
-            "64",
-            "--threads",
-            "1",
-            "-o",
-            "out.pfm",
-        ],
+        &common::words("render -b sphereflake -W 1200 -H 1200 --spp 64 --threads 1 -o out.pfm"),
     );
     // The progress bar shows once the render listens for Ctrl-C; work done, once there
     // are rows to write.
@@ -67,33 +53,12 @@ fn ctrl_c_stops_inside_a_large_tile() {
     // finished and nothing written.
     for (name, packets) in [("packets", None), ("single-rays", Some("--no-packets"))] {
         let dir = common::work_dir("signals", &format!("large-tile-{name}"));
-        let mut args = vec![
-            "render",
-            "-b",
-            "sphereflake",
-            "-W",
-            "2048",
-            "-H",
-            "2048",
-            "--spp",
-            "64",
-            "--tile-size",
-            "2048",
-            "--threads",
-            "1",
-            "-o",
-            "out.png",
-        ];
-        args.extend(packets);
-        let mut render = OnTerminal::spawn(&dir, &args);
-        assert!(render.wait_for("%"), "no progress bar: {}", render.seen);
-        render.signal("INT");
-        let (code, seen) = render.finish();
-        assert_eq!(code, Some(130), "{seen}");
-        assert!(
-            seen.contains("stopping: finishing the tiles in flight"),
-            "{seen}"
+        let mut args = common::words(
+            "render -b sphereflake -W 2048 -H 2048 --spp 64 --tile-size 2048 --threads 1 \
+             -o out.png",
         );
+        args.extend(packets);
+        let seen = interrupted_at_the_progress_bar(OnTerminal::spawn(&dir, &args));
         assert!(
             seen.contains("no tile was finished: the image is not written"),
             "{seen}"
@@ -103,23 +68,10 @@ fn ctrl_c_stops_inside_a_large_tile() {
     }
 }
 
-#[test]
-fn ctrl_c_at_the_start_of_a_huge_render_writes_only_the_rows_reached() {
-    let dir = common::work_dir("signals", "huge");
-    let mut render = OnTerminal::spawn(
-        &dir,
-        &[
-            "render",
-            "-W",
-            "20000",
-            "-H",
-            "20000",
-            "--threads",
-            "2",
-            "-o",
-            "out.png",
-        ],
-    );
+/// Presses Ctrl-C once `render`'s progress bar shows; asserts that the run ends as
+/// interrupted, finishing the tiles in flight, and returns what it showed.
+#[track_caller]
+fn interrupted_at_the_progress_bar(mut render: OnTerminal) -> String {
     assert!(render.wait_for("%"), "no progress bar: {}", render.seen);
     render.signal("INT");
     let (code, seen) = render.finish();
@@ -128,6 +80,17 @@ fn ctrl_c_at_the_start_of_a_huge_render_writes_only_the_rows_reached() {
         seen.contains("stopping: finishing the tiles in flight"),
         "{seen}"
     );
+    seen
+}
+
+#[test]
+fn ctrl_c_at_the_start_of_a_huge_render_writes_only_the_rows_reached() {
+    let dir = common::work_dir("signals", "huge");
+    let render = OnTerminal::spawn(
+        &dir,
+        &common::words("render -W 20000 -H 20000 --threads 2 -o out.png"),
+    );
+    let seen = interrupted_at_the_progress_bar(render);
     // What is written is said before it is written, and is a band from the top.
     match seen.find("writing the ") {
         Some(at) => {
