@@ -130,6 +130,14 @@ fn check_scene(name: &str, seed: u64, scale: f32, offset: Vec3, options: &BvhOpt
     assert!(occluded > RAYS / 10, "{name}: {occluded} occluded");
 }
 
+/// The default BVH options but for leaves of at most `max_leaf_size` primitives.
+fn leaves_of_at_most(max_leaf_size: usize) -> BvhOptions {
+    BvhOptions {
+        max_leaf_size,
+        ..BvhOptions::default()
+    }
+}
+
 #[test]
 fn every_volume_matches_brute_force_at_unit_scale() {
     check_scene("unit", 1, 1.0, Vec3::ZERO, &BvhOptions::default());
@@ -137,11 +145,13 @@ fn every_volume_matches_brute_force_at_unit_scale() {
 
 #[test]
 fn every_volume_matches_brute_force_with_one_primitive_leaves() {
-    let options = BvhOptions {
-        max_leaf_size: 1,
-        ..BvhOptions::default()
-    };
-    check_scene("leaf1", 2, 1.0, Vec3::new(0.3, -0.2, 0.1), &options);
+    check_scene(
+        "leaf1",
+        2,
+        1.0,
+        Vec3::new(0.3, -0.2, 0.1),
+        &leaves_of_at_most(1),
+    );
 }
 
 #[test]
@@ -151,11 +161,13 @@ fn every_volume_matches_brute_force_on_a_tiny_scene() {
 
 #[test]
 fn every_volume_matches_brute_force_on_a_huge_offset_scene() {
-    let options = BvhOptions {
-        max_leaf_size: 2,
-        ..BvhOptions::default()
-    };
-    check_scene("huge", 4, 1e3, Vec3::new(4e3, -2e3, 1e3), &options);
+    check_scene(
+        "huge",
+        4,
+        1e3,
+        Vec3::new(4e3, -2e3, 1e3),
+        &leaves_of_at_most(2),
+    );
 }
 
 #[test]
@@ -212,11 +224,7 @@ fn point_on(g: &Geometry, prim: u32, rng: &mut Rng) -> Vec3 {
 fn check_volume_promises<V: Volume>(s: &TestScene, name: &str, seed: u64) {
     let g = &s.geometry;
     let prims: Vec<u32> = (0..g.primitives.len() as u32).collect();
-    let options = BvhOptions {
-        max_leaf_size: 2,
-        ..BvhOptions::default()
-    };
-    let bvh = Bvh::build(g, prims, &options);
+    let bvh = Bvh::build(g, prims, &leaves_of_at_most(2));
     let tree = VolumeBvh::<V>::from_bvh(g, &bvh, name);
     let volumes: Vec<V> = tree.volumes().copied().collect();
     let mut rng = Rng::new(seed);
