@@ -73,9 +73,7 @@ fn ctrl_c_stops_inside_a_large_tile() {
 #[track_caller]
 fn interrupted_at_the_progress_bar(mut render: OnTerminal) -> String {
     assert!(render.wait_for("%"), "no progress bar: {}", render.seen);
-    render.signal("INT");
-    let (code, seen) = render.finish();
-    assert_eq!(code, Some(130), "{seen}");
+    let seen = render.interrupt();
     assert!(
         seen.contains("stopping: finishing the tiles in flight"),
         "{seen}"
@@ -128,10 +126,7 @@ fn interrupted_sphereflake(name: &str, size: u32, extra: &[&str]) -> (std::path:
     args.extend(extra);
     let mut render = OnTerminal::spawn(&dir, &args);
     assert!(render.wait_for_work_done(), "no progress: {}", render.seen);
-    render.signal("INT");
-    let (code, seen) = render.finish();
-    assert_eq!(code, Some(130), "{seen}");
-    (dir, seen)
+    (dir, render.interrupt())
 }
 
 /// The width and height in a PFM file's header.

@@ -111,6 +111,16 @@ impl OnTerminal {
         assert!(ok, "kill -{name}");
     }
 
+    /// Sends SIGINT and waits for the program to end as interrupted (exit code 130);
+    /// returns everything the terminal showed.
+    #[track_caller]
+    pub(crate) fn interrupt(self) -> String {
+        self.signal("INT");
+        let (code, seen) = self.finish();
+        assert_eq!(code, Some(130), "{seen}");
+        seen
+    }
+
     /// The exit code and everything the terminal showed.
     pub(crate) fn finish(mut self) -> (Option<i32>, String) {
         let code = self.child.wait().unwrap().code();
