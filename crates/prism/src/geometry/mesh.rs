@@ -12,6 +12,9 @@ pub struct TriangleMesh {
     indices: Vec<[u32; 3]>,
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
+    /// Each triangle's geometric normal (`face_normal`), kept so that `surface` need not
+    /// normalise it at every hit; made again whenever positions or winding change.
+    face_normals: Vec<Vec3>,
 }
 
 /// Why `TriangleMesh::new` refused its input.
@@ -85,12 +88,25 @@ impl TriangleMesh {
                 .map(|v| v.try_normalize().unwrap_or(Vec3::ZERO))
                 .collect()
         });
-        Ok(TriangleMesh {
+        let mut mesh = TriangleMesh {
             positions,
             indices,
             normals,
             uvs,
-        })
+            face_normals: Vec::new(),
+        };
+        mesh.make_face_normals();
+        Ok(mesh)
+    }
+
+    /// `face_normals` for the current positions and winding.
+    fn make_face_normals(&mut self) {
+        self.face_normals = (0..self.indices.len() as u32)
+            .map(|tri| {
+                let [p0, p1, p2] = self.vertices(tri);
+                face_normal(p0, p1, p2)
+            })
+            .collect();
     }
 
     /// Number of triangles.
@@ -161,6 +177,7 @@ impl TriangleMesh {
                 *n = g(*n).try_normalize().unwrap_or(Vec3::ZERO);
             }
         }
+        self.make_face_normals();
     }
 
     /// Turns every triangle's winding around (its front becomes its back), as a mirroring
@@ -169,6 +186,7 @@ impl TriangleMesh {
         for t in &mut self.indices {
             t.swap(1, 2);
         }
+        self.make_face_normals();
     }
 
     /// The point, normals (interpolated where the mesh has them) and uv of a hit on triangle `tri`.
@@ -185,8 +203,7 @@ impl TriangleMesh {
         // shrinks the error.
         let p = (b0 * p0 + b1 * p1 + b2 * p2).clamp(p0.min(p1).min(p2), p0.max(p1).max(p2));
         let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
-        let cross = (p1 - p0).cross(p2 - p0);
-        let mut ng = cross.try_normalize().unwrap_or(Vec3::Z);
+        let mut ng = self.face_normals[tri as usize];
         let mut ns = ng;
         if let Some(normals) = &self.normals {
             let n = b0 * normals[idx[0]] + b1 * normals[idx[1]] + b2 * normals[idx[2]];
@@ -209,5 +226,52 @@ impl TriangleMesh {
             ns,
             uv,
         }
+    }
+}
+
+/// The unit geometric normal of the triangle `p0`, `p1`, `p2`, facing the side from which
+/// its corners run counter-clockwise; +z for a degenerate triangle.
+#[inline]
+fn face_normal(p0: Vec3, p1: Vec3, p2: Vec3) -> Vec3 {
+    (p1 - p0).cross(p2 - p0).try_normalize().unwrap_or(Vec3::Z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The geometric normal `surface` reports, against the one its corners give now.
+    fn assert_face_normal_current(mesh: &TriangleMesh) {
+        let hit = ShapeHit {
+            t: 1.0,
+            u: 0.25,
+            v: 0.25,
+        };
+        let [p0, p1, p2] = mesh.vertices(0);
+        let want = (p1 - p0).cross(p2 - p0).try_normalize().unwrap_or(Vec3::Z);
+        assert_eq!(mesh.surface(0, &hit).ng.to_array(), want.to_array());
+    }
+
+    /// The kept face normals follow the positions and the winding.
+    #[test]
+    fn face_normals_follow_transforms_and_winding() {
+        let mut mesh = TriangleMesh::new(
+            vec![
+                Vec3::ZERO,
+                Vec3::new(2.0, 0.0, 0.0),
+                Vec3::new(0.0, 3.0, 0.5),
+            ],
+            vec![[0, 1, 2]],
+            None,
+            None,
+        )
+        .unwrap();
+        assert_face_normal_current(&mesh);
+        mesh.transform(|p| Vec3::new(p.z, 2.0 * p.x, -p.y), |n| n);
+        assert_face_normal_current(&mesh);
+        mesh.reverse_winding();
+        assert_face_normal_current(&mesh);
+        let degenerate = TriangleMesh::new(vec![Vec3::ONE; 3], vec![[0, 1, 2]], None, None);
+        assert_face_normal_current(&degenerate.unwrap());
     }
 }
