@@ -93,8 +93,10 @@ fn install(interrupt: &Interrupt) {
                 None => {
                     first = Some(Instant::now());
                     interrupt.exit_code.store(code, Ordering::SeqCst);
-                    interrupt.cancel.store(true, Ordering::SeqCst);
+                    // Said before the render can see the flag: a render that stops at
+                    // once would otherwise say what it writes before this.
                     eprintln!("{STOPPING}");
+                    interrupt.cancel.store(true, Ordering::SeqCst);
                 }
                 // A second signal once the first was answered: the user does not want to
                 // wait for the tiles in flight.
@@ -167,8 +169,8 @@ fn install(interrupt: &Interrupt) {
         match *first {
             None => {
                 *first = Some(Instant::now());
-                interrupt.cancel.store(true, Ordering::SeqCst);
                 eprintln!("{STOPPING}");
+                interrupt.cancel.store(true, Ordering::SeqCst);
             }
             Some(at) if at.elapsed() >= SECOND_SIGNAL_AFTER => {
                 prism_io::output::abandon_writes();
