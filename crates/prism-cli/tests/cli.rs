@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use common::{expect_exit, prism, run, stdout};
+use common::{expect_exit, prism, run, stdout, words};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -354,6 +354,118 @@ fn render_help_offers_every_setting_of_the_table() {
         }
     }
     assert_dir_holds(&dir, &[]);
+}
+
+/// A Cornell box as McGuire's `CornellBox-Original.obj` is made (y up, open towards +z, a
+/// ceiling light that is only an emitting quad, `Ke 17 12 4`, and no light of its own),
+/// with a tall box inside; `ke` is the light's MTL line.
+fn emitter_lit_box(dir: &Path, ke: &str) {
+    let quad = |name: &str, material: &str, corners: [[f32; 3]; 4]| {
+        let mut text = format!("o {name}\nusemtl {material}\n");
+        for [x, y, z] in corners {
+            text += &format!("v {x} {y} {z}\n");
+        }
+        text + "f -4 -3 -2 -1\n"
+    };
+    let (a, b, t) = (-0.55f32, -0.15f32, 1.2f32);
+    let mut obj = String::from("mtllib box.mtl\n");
+    for (name, material, corners) in [
+        (
+            "floor",
+            "white",
+            [[-1., 0., 1.], [1., 0., 1.], [1., 0., -1.], [-1., 0., -1.]],
+        ),
+        (
+            "ceiling",
+            "white",
+            [[-1., 2., -1.], [1., 2., -1.], [1., 2., 1.], [-1., 2., 1.]],
+        ),
+        (
+            "back",
+            "white",
+            [[-1., 0., -1.], [1., 0., -1.], [1., 2., -1.], [-1., 2., -1.]],
+        ),
+        (
+            "left",
+            "red",
+            [[-1., 0., 1.], [-1., 0., -1.], [-1., 2., -1.], [-1., 2., 1.]],
+        ),
+        (
+            "right",
+            "green",
+            [[1., 0., -1.], [1., 0., 1.], [1., 2., 1.], [1., 2., -1.]],
+        ),
+        (
+            "light",
+            "light",
+            [
+                [-0.25, 1.98, -0.25],
+                [0.25, 1.98, -0.25],
+                [0.25, 1.98, 0.25],
+                [-0.25, 1.98, 0.25],
+            ],
+        ),
+        (
+            "tall-front",
+            "white",
+            [[a, 0., b], [-0.15, 0., b], [-0.15, t, b], [a, t, b]],
+        ),
+        (
+            "tall-right",
+            "white",
+            [
+                [-0.15, 0., b],
+                [-0.15, 0., -0.55],
+                [-0.15, t, -0.55],
+                [-0.15, t, b],
+            ],
+        ),
+        (
+            "tall-top",
+            "white",
+            [[a, t, b], [-0.15, t, b], [-0.15, t, -0.55], [a, t, -0.55]],
+        ),
+    ] {
+        obj += &quad(name, material, corners);
+    }
+    fs::write(dir.join("box.obj"), obj).unwrap();
+    let mtl = format!(
+        "newmtl white\nKd 0.73 0.73 0.73\nnewmtl red\nKd 0.63 0.06 0.05\n\
+         newmtl green\nKd 0.14 0.45 0.09\nnewmtl light\nKd 0.78 0.78 0.78\n{ke}\n"
+    );
+    fs::write(dir.join("box.mtl"), mtl).unwrap();
+}
+
+/// A model lit only by its emitting surfaces renders lit and shaded with the default
+/// settings (the Whitted tracer), not as flat ambient grey: its emitters are area lights.
+#[test]
+fn a_box_lit_only_by_its_emitting_ceiling_renders_lit_and_shaded() {
+    let dir = work_dir("emitter-lit-box");
+    let mut images = Vec::new();
+    for ke in ["Ke 17 12 4", ""] {
+        emitter_lit_box(&dir, ke);
+        run(&dir, &words("render box.obj -W 48 -H 48 -o out.pfm -q"), 0);
+        let (w, h, pixels) = read_pfm(&dir.join("out.pfm"));
+        // The middle of the picture: the inside of the box through its open front.
+        let inside: Vec<f32> = (h / 3..2 * h / 3)
+            .flat_map(|y| (w / 3..2 * w / 3).map(move |x| (x, y)))
+            .map(|(x, y)| pixels[y * w + x].iter().sum::<f32>() / 3.0)
+            .collect();
+        let mean = inside.iter().sum::<f32>() / inside.len() as f32;
+        let spread = inside.iter().fold(0f32, |m, &v| m.max((v - mean).abs()));
+        images.push((mean, spread));
+    }
+    let [(lit, lit_spread), (dark, _)] = images[..] else {
+        unreachable!()
+    };
+    assert!(
+        lit > 2.0 * dark,
+        "inside with its light {lit}, without {dark}"
+    );
+    // Shaded: light falls off across the walls, floor and tall box, and the box casts a
+    // shadow, so the inside is far from one flat value.
+    assert!(lit_spread > 0.5 * lit, "spread {lit_spread} around {lit}");
+    assert_dir_holds(&dir, &["box.mtl", "box.obj", "out.pfm"]);
 }
 
 /// `prism info` lists the emitting surfaces, which light the Whitted render as area
