@@ -1144,3 +1144,186 @@ fn an_emissive_texture_glows_texel_by_texel() {
     let err = load(&write(&dir, "bad.gltf", &pretty(&doc))).unwrap_err();
     assert!(err.to_string().contains("emissiveStrength is -1"), "{err}");
 }
+
+// ---- tangents for normal maps ------------------------------------------------------------
+
+/// The quad with a normal map tilted towards +x of tangent space (the image a data URI),
+/// `normals` per vertex and, where given, a TANGENT accessor of `tangents` (any count),
+/// placed by a node that only scales by `scale`. Vertex 1 and 3 may leave the z = 0 plane
+/// (`fold`), bending the quad along its shared edge 0–2.
+fn tangent_quad(
+    normals: [[f32; 3]; 4],
+    tangents: Option<&[[f32; 4]]>,
+    fold: f32,
+    scale: f32,
+) -> Value {
+    let mut positions = POSITIONS;
+    positions[1][2] = fold;
+    positions[3][2] = fold;
+    let mut b = Vec::new();
+    for p in positions {
+        p.iter().for_each(|c| b.extend(c.to_le_bytes()));
+    }
+    for n in normals {
+        n.iter().for_each(|c| b.extend(c.to_le_bytes()));
+    }
+    for uv in UVS {
+        uv.iter().for_each(|c| b.extend(c.to_le_bytes()));
+    }
+    INDICES.iter().for_each(|i| b.extend(i.to_le_bytes()));
+    let mut doc = quad_document(None);
+    doc["nodes"][0] = json!({ "name": "parent", "children": [1] });
+    doc["nodes"][1] = json!({ "name": "quad", "mesh": 0, "scale": [scale, scale, scale] });
+    doc["accessors"][0]["min"] = json!([-1.0, -1.0, fold.min(0.0)]);
+    doc["accessors"][0]["max"] = json!([1.0, 1.0, fold.max(0.0)]);
+    if let Some(ts) = tangents {
+        let offset = b.len();
+        for t in ts {
+            t.iter().for_each(|c| b.extend(c.to_le_bytes()));
+        }
+        doc["bufferViews"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!({ "buffer": 0, "byteOffset": offset, "byteLength": b.len() - offset }));
+        doc["accessors"].as_array_mut().unwrap().push(
+            json!({ "bufferView": 4, "componentType": 5126, "count": ts.len(), "type": "VEC4" }),
+        );
+        doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = json!(4);
+    }
+    doc["buffers"][0] = json!({ "byteLength": b.len(),
+        "uri": format!("data:application/octet-stream;base64,{}", base64(&b)) });
+    // (255, 128, 255): about (1, 0, 1) in the tangent frame, 45° towards its +x.
+    let mut png = Vec::new();
+    image::RgbImage::from_pixel(2, 2, image::Rgb([255, 128, 255]))
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    doc["textures"] = json!([{ "source": 0 }]);
+    doc["images"] = json!([{ "uri": format!("data:image/png;base64,{}", base64(&png)) }]);
+    doc["materials"][0]["normalTexture"] = json!({ "index": 0 });
+    doc
+}
+
+/// The normal-mapped shading normal of `scene`'s first mesh at the centre of triangle `tri`
+/// in the file's tangent frame, and the one the triangle's uv frame gives.
+fn mapped_normals(scene: &Scene, tri: u32) -> (Vec3, Vec3) {
+    let mesh = &scene.geometry.meshes[0];
+    let sp = mesh.surface(
+        tri,
+        &ShapeHit {
+            t: 1.0,
+            u: 1.0 / 3.0,
+            v: 1.0 / 3.0,
+        },
+    );
+    let map = scene.materials[0]
+        .normal_map
+        .as_ref()
+        .expect("a normal map");
+    let (x, y) = mesh.tangent_frame(tri, sp.p, sp.ns).expect("tangents");
+    let (dpdu, dpdv) = mesh.uv_derivatives(tri).expect("uvs");
+    (
+        map.perturb_in_frame(sp.ns, x, y, sp.uv),
+        map.perturb(sp.ns, dpdu, dpdv, sp.uv),
+    )
+}
+
+/// A TANGENT along +y, where the uvs run +x: the map's +x tilts the normal towards +y, not
+/// towards +x as the uv frame would; and the file's TANGENT is no longer reported dropped.
+#[test]
+fn a_files_tangents_turn_the_normal_their_way() {
+    let doc = tangent_quad([NORMAL; 4], Some(&[[0.0, 1.0, 0.0, 1.0]; 4]), 0.0, 1.0);
+    let scene = load_doc("tangents-file", &doc).unwrap_or_else(|e| panic!("{e}"));
+    let (file, uv_frame) = mapped_normals(&scene, 0);
+    let half = std::f32::consts::FRAC_1_SQRT_2;
+    assert!(close(file, Vec3::new(0.0, half, half), 0.01), "{file}");
+    assert!(
+        close(uv_frame, Vec3::new(half, 0.0, half), 0.01),
+        "{uv_frame}"
+    );
+    let w = scene.warnings.join("\n");
+    assert!(!w.contains("TANGENT"), "{w}");
+    // Handedness −1 mirrors y, which this texel does not use; the tangent itself stays.
+    let doc = tangent_quad([NORMAL; 4], Some(&[[0.0, 1.0, 0.0, -1.0]; 4]), 0.0, 1.0);
+    let scene = load_doc("tangents-left", &doc).unwrap();
+    let mesh = &scene.geometry.meshes[0];
+    let (x, y) = mesh.tangent_frame(0, Vec3::ZERO, Vec3::Z).unwrap();
+    assert!(
+        close(x, Vec3::Y, 1e-6) && close(y, Vec3::X, 1e-6),
+        "{x} {y}"
+    );
+}
+
+/// Node scales of 1e-3 and 1e3 keep the file's tangents (directions, normalised).
+#[test]
+fn a_files_tangents_survive_the_node_transform() {
+    let tangent = [[0.6, 0.8, 0.0, 1.0]; 4];
+    let mapped = |scale: f32| {
+        let doc = tangent_quad([NORMAL; 4], Some(&tangent), 0.0, scale);
+        mapped_normals(&load_doc("tangents-scale", &doc).unwrap(), 1).0
+    };
+    let unit = mapped(1.0);
+    let want = (Vec3::new(0.6, 0.8, 0.0) + Vec3::Z).normalize();
+    assert!(close(unit, want, 0.01), "{unit}");
+    for scale in [1e-3, 1e3] {
+        assert!(close(mapped(scale), unit, 1e-6), "scale {scale}");
+    }
+}
+
+/// A TANGENT accessor with one value too few is an error naming the file, the mesh and the
+/// attribute.
+#[test]
+fn a_tangent_accessor_of_the_wrong_count_is_an_error() {
+    let doc = tangent_quad([NORMAL; 4], Some(&[[1.0, 0.0, 0.0, 1.0]; 3]), 0.0, 1.0);
+    let message = match load_doc("tangents-count", &doc) {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("a short TANGENT accessor loaded"),
+    };
+    for part in [
+        "scene.gltf",
+        "mesh 0 ('Quad')",
+        "TANGENT has 3 elements",
+        "POSITION has 4",
+    ] {
+        assert!(message.contains(part), "{part} not in: {message}");
+    }
+}
+
+/// Without TANGENT, a normal-mapped primitive with normals and uvs gets MikkTSpace
+/// tangents: on a quad folded along its diagonal, whose two triangles' uv frames differ,
+/// the generated frames agree at the vertices the triangles share. A primitive without a
+/// normal texture gets none.
+#[test]
+fn generated_tangents_are_continuous_at_shared_vertices() {
+    let mut doc = tangent_quad([NORMAL; 4], None, 0.5, 1.0);
+    let scene = load_doc("tangents-generated", &doc).unwrap();
+    let mesh = &scene.geometry.meshes[0];
+    assert!(mesh.tangents().is_some(), "tangents were generated");
+    let [a, b, c] = mesh.indices()[0];
+    let shared: Vec<u32> = mesh.indices()[1]
+        .into_iter()
+        .filter(|v| [a, b, c].contains(v))
+        .collect();
+    assert_eq!(shared.len(), 2, "no vertex was split: {:?}", mesh.indices());
+    let uv_tangent = |tri: u32| mesh.uv_derivatives(tri).unwrap().0.normalize();
+    assert!(
+        !close(uv_tangent(0), uv_tangent(1), 0.05),
+        "the uv frames differ, so the test means something"
+    );
+    for v in shared {
+        let p = mesh.positions()[v as usize];
+        let f0 = mesh.tangent_frame(0, p, Vec3::Z).unwrap();
+        let f1 = mesh.tangent_frame(1, p, Vec3::Z).unwrap();
+        assert!(
+            close(f0.0, f1.0, 1e-5) && close(f0.1, f1.1, 1e-5),
+            "{f0:?} {f1:?}"
+        );
+        // Along u, as the uvs run, and right-handed.
+        assert!(f0.0.x > 0.9 && f0.1.y > 0.9, "{f0:?}");
+    }
+    doc["materials"][0]
+        .as_object_mut()
+        .unwrap()
+        .remove("normalTexture");
+    let plain = load_doc("tangents-none", &doc).unwrap();
+    assert!(plain.geometry.meshes[0].tangents().is_none());
+}

@@ -1,8 +1,9 @@
-//! Indexed triangle meshes with optional per-vertex normals (smooth shading) and uvs.
+//! Indexed triangle meshes with optional per-vertex normals (smooth shading), uvs and
+//! tangents (the frame of normal maps).
 
 use super::{ShapeHit, SurfacePoint};
 use crate::math::robust::gamma;
-use crate::math::{Vec2, Vec3};
+use crate::math::{Vec2, Vec3, Vec4};
 
 /// Triangles over shared vertices: positions, index triples and optional normals and uvs, checked
 /// once by `new` so that lookups during rendering need no checks.
@@ -12,6 +13,9 @@ pub struct TriangleMesh {
     indices: Vec<[u32; 3]>,
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
+    /// Per-vertex tangents for normal maps, as glTF's TANGENT: xyz a unit direction in the
+    /// surface, w (±1) the handedness, the bitangent being w · (n × t).
+    tangents: Option<Vec<Vec4>>,
     /// Each triangle's geometric normal (`face_normal`), kept so that `surface` need not
     /// normalise it at every hit; made again whenever positions or winding change.
     face_normals: Vec<Vec3>,
@@ -30,10 +34,10 @@ pub enum MeshError {
         /// How many vertices the mesh has.
         count: usize,
     },
-    /// Normals or uvs are given, but not one per position.
+    /// Normals, uvs or tangents are given, but not one per position.
     #[error("the mesh has {positions} positions but {count} {what}")]
     AttributeCount {
-        /// Which attribute ("normals" or "uvs").
+        /// Which attribute ("normals", "uvs" or "tangents").
         what: &'static str,
         /// How many positions the mesh has.
         positions: usize,
@@ -93,10 +97,40 @@ impl TriangleMesh {
             indices,
             normals,
             uvs,
+            tangents: None,
             face_normals: Vec::new(),
         };
         mesh.make_face_normals();
         Ok(mesh)
+    }
+
+    /// The mesh with per-vertex tangents for normal maps: xyz a direction in the surface, w
+    /// its handedness (the bitangent is w · (n × t), as glTF's TANGENT). One per vertex;
+    /// xyz is normalised (zero where it cannot be, which leaves those triangles the uv
+    /// frame) and w taken by its sign.
+    pub fn with_tangents(mut self, tangents: Vec<Vec4>) -> Result<Self, MeshError> {
+        if tangents.len() != self.positions.len() {
+            return Err(MeshError::AttributeCount {
+                what: "tangents",
+                positions: self.positions.len(),
+                count: tangents.len(),
+            });
+        }
+        self.tangents = Some(
+            tangents
+                .into_iter()
+                .map(|t| {
+                    let xyz = t.truncate().try_normalize().unwrap_or(Vec3::ZERO);
+                    xyz.extend(if t.w < 0.0 { -1.0 } else { 1.0 })
+                })
+                .collect(),
+        );
+        Ok(self)
+    }
+
+    /// The per-vertex tangents, where the mesh has them.
+    pub fn tangents(&self) -> Option<&[Vec4]> {
+        self.tangents.as_deref()
     }
 
     /// `face_normals` for the current positions and winding.
@@ -166,9 +200,20 @@ impl TriangleMesh {
         (dpdu.is_finite() && dpdv.is_finite()).then_some((dpdu, dpdv))
     }
 
-    /// Applies `f` to every position and `g` to every normal (a transform and its
-    /// inverse transpose).
+    /// Applies `f` to every position and `g` to every normal (an affine transform and its
+    /// inverse transpose). Tangents, directions in the surface, go through `f`'s linear
+    /// part, and a mirroring `f` turns their handedness around.
     pub fn transform(&mut self, f: impl Fn(Vec3) -> Vec3, g: impl Fn(Vec3) -> Vec3) {
+        if let Some(ts) = &mut self.tangents {
+            let origin = f(Vec3::ZERO);
+            let linear = |d: Vec3| f(d) - origin;
+            let det = linear(Vec3::X).dot(linear(Vec3::Y).cross(linear(Vec3::Z)));
+            let flip = if det < 0.0 { -1.0 } else { 1.0 };
+            for t in ts {
+                let xyz = linear(t.truncate()).try_normalize().unwrap_or(Vec3::ZERO);
+                *t = xyz.extend(t.w * flip);
+            }
+        }
         for p in &mut self.positions {
             *p = f(*p);
         }
@@ -187,6 +232,30 @@ impl TriangleMesh {
             t.swap(1, 2);
         }
         self.make_face_normals();
+    }
+
+    /// The tangent frame of a normal map at point `p` of triangle `tri` whose shading
+    /// normal is `ns`: x the tangent interpolated at `p` made orthogonal to `ns` and
+    /// normalised, y = w · (ns × x). None without tangents or where x degenerates.
+    pub fn tangent_frame(&self, tri: u32, p: Vec3, ns: Vec3) -> Option<(Vec3, Vec3)> {
+        let tangents = self.tangents.as_ref()?;
+        let idx = self.indices[tri as usize].map(|i| i as usize);
+        let [p0, p1, p2] = idx.map(|i| self.positions[i]);
+        // Barycentrics of p, which lies on the triangle (or within rounding of it).
+        let (e1, e2, d) = (p1 - p0, p2 - p0, p - p0);
+        let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+        let (dp1, dp2) = (d.dot(e1), d.dot(e2));
+        let det = d11 * d22 - d12 * d12;
+        let (b1, b2) = if det > 0.0 && det.is_finite() {
+            ((d22 * dp1 - d12 * dp2) / det, (d11 * dp2 - d12 * dp1) / det)
+        } else {
+            (1.0 / 3.0, 1.0 / 3.0)
+        };
+        let b0 = 1.0 - b1 - b2;
+        let t = b0 * tangents[idx[0]] + b1 * tangents[idx[1]] + b2 * tangents[idx[2]];
+        let x = (t.truncate() - ns * ns.dot(t.truncate())).try_normalize()?;
+        let w = if t.w < 0.0 { -1.0 } else { 1.0 };
+        Some((x, w * ns.cross(x)))
     }
 
     /// The point, normals (interpolated where the mesh has them) and uv of a hit on triangle `tri`.
@@ -273,5 +342,43 @@ mod tests {
         assert_face_normal_current(&mesh);
         let degenerate = TriangleMesh::new(vec![Vec3::ONE; 3], vec![[0, 1, 2]], None, None);
         assert_face_normal_current(&degenerate.unwrap());
+    }
+
+    /// Tangents are one per vertex, normalised, their handedness a sign; a transform turns
+    /// them by its linear part (not the inverse transpose) and a mirror turns w around.
+    #[test]
+    fn tangents_are_checked_and_follow_transforms() {
+        let quad = || {
+            TriangleMesh::new(
+                vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+                vec![[0, 1, 2]],
+                None,
+                None,
+            )
+            .unwrap()
+        };
+        assert_eq!(
+            quad().with_tangents(vec![Vec4::X; 2]),
+            Err(MeshError::AttributeCount {
+                what: "tangents",
+                positions: 3,
+                count: 2,
+            })
+        );
+        let mut mesh = quad()
+            .with_tangents(vec![Vec4::new(2.0, 2.0, 0.0, -0.5); 3])
+            .unwrap();
+        let h = std::f32::consts::FRAC_1_SQRT_2;
+        assert_eq!(mesh.tangents().unwrap()[0], Vec4::new(h, h, 0.0, -1.0));
+        // Shearing x by y: a direction (1, 1) becomes (2, 1); a normal would not.
+        mesh.transform(|p| Vec3::new(p.x + p.y, p.y, p.z) + Vec3::Z, |n| n);
+        let t = mesh.tangents().unwrap()[1];
+        assert!((t.truncate() - Vec3::new(2.0, 1.0, 0.0).normalize()).length() < 1e-6);
+        assert_eq!(t.w, -1.0);
+        mesh.transform(|p| Vec3::new(-p.x, p.y, p.z), |n| n);
+        assert_eq!(mesh.tangents().unwrap()[2].w, 1.0);
+        let (x, y) = mesh.tangent_frame(0, Vec3::ZERO, Vec3::Z).unwrap();
+        assert!((x - Vec3::new(-2.0, 1.0, 0.0).normalize()).length() < 1e-6);
+        assert!((y - Vec3::Z.cross(x)).length() < 1e-6);
     }
 }

@@ -14,7 +14,7 @@ pub mod warp;
 
 pub use aabb::Aabb;
 pub use frame::Frame;
-pub use glam::{Vec2, Vec3};
+pub use glam::{Vec2, Vec3, Vec4};
 pub(crate) use ray::{permutation, watertight_axes};
 pub use ray::{Ray, TraceRay};
 

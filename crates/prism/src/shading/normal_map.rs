@@ -1,11 +1,15 @@
 //! Normal maps: a texture whose texels are directions in the surface's tangent frame
 //! (glTF's `normalTexture`, MTL's `norm`), turning the shading normal per texel so that flat
-//! triangles show the detail of the surface they stand for. The frame is the one the uvs
-//! give the triangle: x along ∂p/∂u, y along ∂p/∂v (the image's up, as OpenGL-style maps
-//! and glTF's expect), z along the interpolated normal. Without tangents in the file this
-//! frame is each triangle's own, as MikkTSpace's is before it averages across vertices:
-//! seams between triangles with different uv directions can show where a map was baked
-//! against averaged tangents.
+//! triangles show the detail of the surface they stand for. Where the mesh has per-vertex
+//! tangents (glTF's `TANGENT`, or ones the glTF loader generates with MikkTSpace for a
+//! primitive with a normal texture, normals and uvs but no `TANGENT`), the frame is theirs:
+//! z the shading normal, x the tangent interpolated across the triangle, made orthogonal to z
+//! and normalised, y = w · (z × x) with w the tangent's handedness. Without tangents the
+//! frame is the one the uvs give the triangle: x along ∂p/∂u, y along ∂p/∂v (the image's up,
+//! as OpenGL-style maps and glTF's expect), z along the interpolated normal; it is each
+//! triangle's own, as MikkTSpace's is before it averages across vertices, so seams between
+//! triangles with different uv directions can show where a map was baked against averaged
+//! tangents.
 //!
 //! Bump maps (MTL's `bump` and `map_Bump`) hold heights instead: the surface is taken as
 //! displaced along its normal by the height times a scale, and the shading normal becomes
@@ -29,12 +33,6 @@ impl NormalMap {
     /// `ns` turned by the map's direction at `uv` in the frame of ∂p/∂u and ∂p/∂v; `ns`
     /// itself where the frame or the result degenerates.
     pub fn perturb(&self, ns: Vec3, dpdu: Vec3, dpdv: Vec3, uv: Vec2) -> Vec3 {
-        let c = self.texture.eval(uv);
-        let m = Vec3::new(
-            (2.0 * c.x - 1.0) * self.scale,
-            (2.0 * c.y - 1.0) * self.scale,
-            2.0 * c.z - 1.0,
-        );
         let Some(t) = (dpdu - ns * ns.dot(dpdu)).try_normalize() else {
             return ns;
         };
@@ -44,6 +42,18 @@ impl NormalMap {
         } else {
             ns.cross(t)
         };
+        self.perturb_in_frame(ns, t, b, uv)
+    }
+
+    /// `ns` turned by the map's direction at `uv` in the frame of unit tangent `t` and
+    /// bitangent `b` (both orthogonal to `ns`); `ns` itself where the result degenerates.
+    pub fn perturb_in_frame(&self, ns: Vec3, t: Vec3, b: Vec3, uv: Vec2) -> Vec3 {
+        let c = self.texture.eval(uv);
+        let m = Vec3::new(
+            (2.0 * c.x - 1.0) * self.scale,
+            (2.0 * c.y - 1.0) * self.scale,
+            2.0 * c.z - 1.0,
+        );
         (t * m.x + b * m.y + ns * m.z).try_normalize().unwrap_or(ns)
     }
 }
@@ -87,8 +97,8 @@ impl BumpMap {
 }
 
 /// Turns `sp`'s shading normal by `material`'s normal map or bump map, where it has one
-/// and the hit primitive `prim` is a triangle with uvs (a bump map after a normal map,
-/// where it has both); the normal stays in the geometric normal's hemisphere (a map
+/// and the hit primitive `prim` is a triangle with tangents or uvs (a bump map, which needs
+/// uvs, after a normal map, where it has both); the normal stays in the geometric normal's hemisphere (a map
 /// cannot turn a surface's shading past its silhouette).
 #[inline]
 pub fn apply(material: &Material, geometry: &Geometry, prim: u32, sp: &mut SurfacePoint) {
@@ -98,15 +108,25 @@ pub fn apply(material: &Material, geometry: &Geometry, prim: u32, sp: &mut Surfa
     let Shape::Triangle { mesh, index } = geometry.primitives[prim as usize].shape else {
         return;
     };
-    let Some((dpdu, dpdv)) = geometry.meshes[mesh as usize].uv_derivatives(index) else {
-        return;
-    };
+    let mesh = &geometry.meshes[mesh as usize];
+    let derivatives = mesh.uv_derivatives(index);
     let mut n = sp.ns;
+    let mut turned = false;
     if let Some(map) = &material.normal_map {
-        n = map.perturb(n, dpdu, dpdv, sp.uv);
+        if let Some((t, b)) = mesh.tangent_frame(index, sp.p, n) {
+            n = map.perturb_in_frame(n, t, b, sp.uv);
+            turned = true;
+        } else if let Some((dpdu, dpdv)) = derivatives {
+            n = map.perturb(n, dpdu, dpdv, sp.uv);
+            turned = true;
+        }
     }
-    if let Some(map) = &material.bump_map {
+    if let (Some(map), Some((dpdu, dpdv))) = (&material.bump_map, derivatives) {
         n = map.perturb(n, dpdu, dpdv, sp.uv);
+        turned = true;
+    }
+    if !turned {
+        return;
     }
     // Keep it on the front side of the geometric normal, as interpolated normals are kept.
     let d = n.dot(sp.ng);

@@ -84,9 +84,14 @@ impl<'a> Accessors<'a> {
         self.buffers.iter().map(|b| b.len() as u64).sum()
     }
 
-    /// A VEC2 or VEC3 attribute (`N` = 2 or 3) as floats; every value must be finite.
+    /// A VEC2, VEC3 or VEC4 attribute (`N` = 2, 3 or 4) as floats; every value must be
+    /// finite.
     pub(super) fn floats<const N: usize>(&self, index: usize) -> Result<Vec<[f32; N]>, String> {
-        let expected = if N == 2 { Type::Vec2 } else { Type::Vec3 };
+        let expected = match N {
+            2 => Type::Vec2,
+            3 => Type::Vec3,
+            _ => Type::Vec4,
+        };
         let (ty, normalized) = self.layout(index, expected)?;
         let size = ty.size();
         let values = self.elements(index, ty.size() * N, [0.0; N], |b| {

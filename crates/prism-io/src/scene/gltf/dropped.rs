@@ -59,10 +59,6 @@ pub(super) fn warning(root: &Root) -> Option<String> {
             .filter(|p| p.attributes.contains_key(&Checked::Valid(s.clone())))
             .count()
     };
-    count(
-        "TANGENT attributes, normal maps use each triangle's uv frame",
-        with(Semantic::Tangents),
-    );
     count("COLOR_0 vertex colours", with(Semantic::Colors(0)));
     count(
         "morph targets, shown unmorphed",

@@ -11,13 +11,15 @@ use gltf::json::mesh::{Mode, Semantic};
 use gltf::json::validation::Checked;
 use gltf::json::Root;
 use prism::geometry::TriangleMesh;
-use prism::math::{Vec2, Vec3};
+use prism::math::{Vec2, Vec3, Vec4};
 
 /// One primitive of a mesh, in the mesh's coordinates.
 pub(super) struct Primitive {
     positions: Vec<Vec3>,
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
+    /// Per-vertex tangents (xyz, handedness w): the file's TANGENT, or MikkTSpace's.
+    tangents: Option<Vec<Vec4>>,
     triangles: Vec<[u32; 3]>,
     /// The glTF material index (`None`: the glTF default material).
     pub material: Option<usize>,
@@ -25,7 +27,8 @@ pub(super) struct Primitive {
 
 /// Decodes the triangle primitives of mesh `index`. `uv_set` says which TEXCOORD_n set a
 /// material's base colour texture reads. A primitive whose triangles all have zero area is
-/// left out with a warning.
+/// left out with a warning. A primitive whose material has a normal texture, with normals
+/// and uvs but no TANGENT, gets MikkTSpace tangents (`tangents`).
 pub(super) fn decode(
     root: &Root,
     accessors: &Accessors,
@@ -48,7 +51,7 @@ pub(super) fn decode(
         let material = prim.material.map(|m| m.value());
         let decoded = primitive(accessors, prim, uv_set(material))
             .map_err(|e| format!("mesh {index}{name}, primitive {p}: {e}"))?;
-        if let Some((positions, normals, uvs, triangles)) = decoded {
+        if let Some((mut positions, mut normals, mut uvs, mut tangents, mut triangles)) = decoded {
             if !triangles.is_empty() && !any_with_area(&positions, &triangles) {
                 warnings.push(format!(
                     "mesh {index}{name}, primitive {p} has only faces of zero area ({}); it \
@@ -57,10 +60,19 @@ pub(super) fn decode(
                 ));
                 continue;
             }
+            let normal_mapped = material
+                .and_then(|m| root.materials.get(m))
+                .is_some_and(|m| m.normal_texture.is_some());
+            if let (true, None, Some(ns), Some(ts)) =
+                (normal_mapped, &tangents, &mut normals, &mut uvs)
+            {
+                tangents = super::tangents::generate(&mut positions, ns, ts, &mut triangles);
+            }
             out.push(Primitive {
                 positions,
                 normals,
                 uvs,
+                tangents,
                 triangles,
                 material,
             });
@@ -73,6 +85,7 @@ type Decoded = (
     Vec<Vec3>,
     Option<Vec<Vec3>>,
     Option<Vec<Vec2>>,
+    Option<Vec<Vec4>>,
     Vec<[u32; 3]>,
 );
 
@@ -121,6 +134,16 @@ fn primitive(
         }
         None => None,
     };
+    let tangents = match attribute(Semantic::Tangents) {
+        Some(a) => {
+            let t = accessors
+                .floats::<4>(a)
+                .map_err(|e| format!("TANGENT: {e}"))?;
+            check_count("TANGENT", t.len())?;
+            Some(t.into_iter().map(Vec4::from).collect::<Vec<_>>())
+        }
+        None => None,
+    };
     let uv_name = format!("TEXCOORD_{uv_set}");
     let uvs = match attribute(Semantic::TexCoords(uv_set)) {
         Some(a) => {
@@ -146,7 +169,7 @@ fn primitive(
         ));
     }
     let triangles = assemble(mode, &order)?;
-    Ok(Some((positions, normals, uvs, triangles)))
+    Ok(Some((positions, normals, uvs, tangents, triangles)))
 }
 
 /// Triangles of a list, strip or fan (glTF 2.0 §3.7.2.1), without degenerate ones.
@@ -187,9 +210,10 @@ impl Primitive {
         self.triangles.len()
     }
 
-    /// A world-space copy. Normals go through the inverse transpose; a mirroring transform
-    /// reverses the winding so the outside stays outside; a flattening one (a zero scale)
-    /// keeps the flat triangles but drops the vertex normals, which it leaves undefined.
+    /// A world-space copy. Normals go through the inverse transpose, tangents through the
+    /// linear part; a mirroring transform reverses the winding so the outside stays outside
+    /// and turns the tangents' handedness around; a flattening one (a zero scale) keeps the
+    /// flat triangles but drops the vertex normals and tangents, which it leaves undefined.
     pub(super) fn place(&self, at: &Placement) -> Result<TriangleMesh, String> {
         let positions = self.positions.iter().map(|&p| at.point(p)).collect();
         let normals = match &self.normals {
@@ -205,8 +229,24 @@ impl Primitive {
         } else {
             self.triangles.clone()
         };
-        TriangleMesh::new(positions, triangles, normals, self.uvs.clone())
-            .map_err(|e| format!("{e} after the node transform"))
+        let handedness = if at.mirrors() { -1.0 } else { 1.0 };
+        let tangents = match &self.tangents {
+            Some(ts) if !at.flattens() => Some(
+                ts.iter()
+                    .map(|t| {
+                        let xyz = at.direction(t.truncate()).unwrap_or(Vec3::ZERO);
+                        xyz.extend(t.w * handedness)
+                    })
+                    .collect(),
+            ),
+            _ => None,
+        };
+        let mesh = TriangleMesh::new(positions, triangles, normals, self.uvs.clone());
+        match tangents {
+            Some(ts) => mesh.and_then(|m| m.with_tangents(ts)),
+            None => mesh,
+        }
+        .map_err(|e| format!("{e} after the node transform"))
     }
 }
 

@@ -3,7 +3,8 @@
 //!
 //! The steps: split a GLB container (`glb`); parse and validate the JSON (`document`);
 //! load the buffers (`buffers`, `uri`); walk the default scene's nodes (`nodes`,
-//! `transform`); decode each mesh once (`mesh`, `accessor`) and place a copy per node;
+//! `transform`); decode each mesh once (`mesh`, `accessor`, with MikkTSpace tangents from
+//! `tangents` where a normal map needs them) and place a copy per node;
 //! map materials (`materials`, `images`); then the camera (`camera`) and lights (`lights`),
 //! which both need the scene's bounds. The gltf crate parses and validates; reading
 //! buffer data is done here, with every offset checked, so a hostile file cannot panic.
@@ -19,6 +20,7 @@ mod lights;
 mod materials;
 mod mesh;
 mod nodes;
+mod tangents;
 mod transform;
 mod uri;
 

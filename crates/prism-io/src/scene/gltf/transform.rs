@@ -65,6 +65,14 @@ impl Placement {
         (m * n.as_dvec3()).try_normalize().map(|v| v.as_vec3())
     }
 
+    /// The transformed direction of a vector in the surface (a tangent), through the
+    /// linear part, normalised in f64; `None` if it collapses.
+    pub(super) fn direction(&self, d: Vec3) -> Option<Vec3> {
+        (self.affine.matrix3 * d.as_dvec3())
+            .try_normalize()
+            .map(|v| v.as_vec3())
+    }
+
     pub(super) fn flattens(&self) -> bool {
         self.normal.is_none()
     }
