@@ -10,8 +10,9 @@ impl Accel for Grid {
     #[inline(always)]
     fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
         let ray = query.ray;
-        let (t_enter, t_exit, mut search) =
+        let (t_enter, t_exit) =
             CellSearch::enter(query, self.refs.is_empty(), &self.bounds, stats)?;
+        let mut search = CellSearch::new(query);
         let (o, d) = (ray.ray.origin, ray.ray.dir);
         let entry = o + t_enter * d;
         let mut cell = [0u32; 3];

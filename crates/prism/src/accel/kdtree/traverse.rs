@@ -12,8 +12,9 @@ impl Accel for KdTree {
     #[inline(always)]
     fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
         let ray = query.ray;
-        let (mut t_near, mut t_far, mut search) =
+        let (mut t_near, mut t_far) =
             CellSearch::enter(query, self.nodes.is_empty(), &self.bounds, stats)?;
+        let mut search = CellSearch::new(query);
         // Far children still to search: (node, t where the ray enters it, t where it leaves).
         let mut stack = TraversalStack::<(u32, f32, f32), MAX_DEPTH>::new();
         let mut current = 0usize;

@@ -18,8 +18,8 @@ impl Accel for Octree {
     #[inline(always)]
     fn query(&self, query: &RayQuery, stats: &mut Stats) -> Option<Hit> {
         let ray = query.ray;
-        let (t0, t1, mut search) =
-            CellSearch::enter(query, self.nodes.is_empty(), &self.bounds, stats)?;
+        let (t0, t1) = CellSearch::enter(query, self.nodes.is_empty(), &self.bounds, stats)?;
+        let mut search = CellSearch::new(query);
         // Octants still to search: (node, its box, the ray's span in it).
         let mut stack = TraversalStack::<(u32, Aabb, f32, f32), STACK>::new();
         stack.push((0, self.bounds, t0, t1));
