@@ -1,7 +1,7 @@
 //! A render from Python: the engine runs with the GIL released, on a thread of its own,
 //! while the calling thread wakes every few milliseconds to take the GIL and ask Python
 //! whether a signal arrived. Ctrl-C sets the engine's cancel flag (the one the CLI's
-//! SIGINT sets), the tiles in flight finish, and `KeyboardInterrupt` is raised. Other
+//! SIGINT sets), the tiles in flight stop within a row, and `KeyboardInterrupt` is raised. Other
 //! Python threads run meanwhile.
 
 use crate::errors::render_error;

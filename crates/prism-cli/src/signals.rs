@@ -1,6 +1,6 @@
 //! How the process meets signals. Ctrl-C (SIGINT) and SIGTERM, which `timeout`, systemd
-//! and batch schedulers send, both stop a render after the tiles in flight so that the
-//! finished part is still written; the exit code then says which one came (130 or 143).
+//! and batch schedulers send, both stop a render at once (the tiles in flight are dropped
+//! a row at a time) and still write the finished tiles; the exit code then says which one came (130 or 143).
 //! The first says at once that the render is stopping. A second one stops at once, but only
 //! once the first has been answered (`SECOND_SIGNAL_AFTER` later): `timeout -s INT` and a
 //! terminal's Ctrl-C signal the process and its group, so one keypress can arrive twice a
@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 const SECOND_SIGNAL_AFTER: Duration = Duration::from_millis(500);
 
 /// What the first signal says at once.
-const STOPPING: &str = "\nprism: stopping: finishing the tiles in flight; Ctrl-C again discards";
+const STOPPING: &str = "\nprism: stopping: keeping the finished tiles; Ctrl-C again discards them";
 
 /// Set by the first SIGINT or SIGTERM; a render polls it between tiles.
 #[derive(Clone)]
@@ -99,7 +99,7 @@ fn install(interrupt: &Interrupt) {
                     interrupt.cancel.store(true, Ordering::SeqCst);
                 }
                 // A second signal once the first was answered: the user does not want to
-                // wait for the tiles in flight.
+                // wait for the finished tiles to be written.
                 Some(at) if at.elapsed() >= SECOND_SIGNAL_AFTER => {
                     // An output being written is half a file: it goes too.
                     prism_io::output::abandon_writes();

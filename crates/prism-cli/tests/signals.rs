@@ -36,7 +36,7 @@ fn two_signals_at_once_are_one_ctrl_c_and_the_work_is_written() {
     // The first thing it says after the signal.
     let said = seen.find("prism: ").map_or("", |at| &seen[at..]);
     assert!(
-        said.starts_with("prism: stopping: finishing the tiles in flight; Ctrl-C again discards"),
+        said.starts_with("prism: stopping: keeping the finished tiles; Ctrl-C again discards them"),
         "{seen}"
     );
     assert!(!seen.contains("stopped at once"), "{seen}");
@@ -69,13 +69,13 @@ fn ctrl_c_stops_inside_a_large_tile() {
 }
 
 /// Presses Ctrl-C once `render`'s progress bar shows; asserts that the run ends as
-/// interrupted, finishing the tiles in flight, and returns what it showed.
+/// interrupted, keeping the finished tiles, and returns what it showed.
 #[track_caller]
 fn interrupted_at_the_progress_bar(mut render: OnTerminal) -> String {
     assert!(render.wait_for("%"), "no progress bar: {}", render.seen);
     let seen = render.interrupt();
     assert!(
-        seen.contains("stopping: finishing the tiles in flight"),
+        seen.contains("stopping: keeping the finished tiles"),
         "{seen}"
     );
     seen
