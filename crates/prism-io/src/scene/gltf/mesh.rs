@@ -115,47 +115,15 @@ fn primitive(
         .map(Vec3::from)
         .collect();
     let count = positions.len();
-    let check_count = |what: &str, n: usize| {
-        if n == count {
-            Ok(())
-        } else {
-            Err(format!(
-                "{what} has {n} elements but POSITION has {count}: expected one per vertex"
-            ))
-        }
-    };
-    let normals = match attribute(Semantic::Normals) {
-        Some(a) => {
-            let n = accessors
-                .floats::<3>(a)
-                .map_err(|e| format!("NORMAL: {e}"))?;
-            check_count("NORMAL", n.len())?;
-            Some(n.into_iter().map(Vec3::from).collect::<Vec<_>>())
-        }
-        None => None,
-    };
-    let tangents = match attribute(Semantic::Tangents) {
-        Some(a) => {
-            let t = accessors
-                .floats::<4>(a)
-                .map_err(|e| format!("TANGENT: {e}"))?;
-            check_count("TANGENT", t.len())?;
-            Some(t.into_iter().map(Vec4::from).collect::<Vec<_>>())
-        }
-        None => None,
-    };
+    let normals = per_vertex::<3>(accessors, attribute(Semantic::Normals), "NORMAL", count)?
+        .map(|n| n.into_iter().map(Vec3::from).collect::<Vec<_>>());
+    let tangents = per_vertex::<4>(accessors, attribute(Semantic::Tangents), "TANGENT", count)?
+        .map(|t| t.into_iter().map(Vec4::from).collect::<Vec<_>>());
     let uv_name = format!("TEXCOORD_{uv_set}");
-    let uvs = match attribute(Semantic::TexCoords(uv_set)) {
-        Some(a) => {
-            let uv = accessors
-                .floats::<2>(a)
-                .map_err(|e| format!("{uv_name}: {e}"))?;
-            check_count(&uv_name, uv.len())?;
-            // glTF's v runs down the image, prism's up.
-            Some(uv.into_iter().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect())
-        }
-        None => None,
-    };
+    let uv_accessor = attribute(Semantic::TexCoords(uv_set));
+    // glTF's v runs down the image, prism's up.
+    let uvs = per_vertex::<2>(accessors, uv_accessor, &uv_name, count)?
+        .map(|uv| uv.into_iter().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect());
     let order: Vec<u32> = match prim.indices {
         Some(a) => accessors
             .indices(a.value())
@@ -170,6 +138,28 @@ fn primitive(
     }
     let triangles = assemble(mode, &order)?;
     Ok(Some((positions, normals, uvs, tangents, triangles)))
+}
+
+/// An optional attribute of N floats a vertex; an error unless it has one per vertex.
+fn per_vertex<const N: usize>(
+    accessors: &Accessors,
+    accessor: Option<usize>,
+    name: &str,
+    count: usize,
+) -> Result<Option<Vec<[f32; N]>>, String> {
+    let Some(a) = accessor else {
+        return Ok(None);
+    };
+    let values = accessors
+        .floats::<N>(a)
+        .map_err(|e| format!("{name}: {e}"))?;
+    if values.len() != count {
+        return Err(format!(
+            "{name} has {} elements but POSITION has {count}: expected one per vertex",
+            values.len()
+        ));
+    }
+    Ok(Some(values))
 }
 
 /// Triangles of a list, strip or fan (glTF 2.0 §3.7.2.1), without degenerate ones.
