@@ -9,25 +9,11 @@
 # BUILDERS the builders (sbvh,ploc,phr); PRISM_LOCK as in run.sh.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-lock=${PRISM_LOCK:-/tmp/prism-cargo.lock}
-if [[ ! -e /usr/include/embree3/rtcore.h ]]; then
-    echo "builders.sh: Embree 3 is missing; install it with: apt-get install libembree-dev" >&2
-    exit 1
-fi
-target=${CARGO_TARGET_DIR:-bench/embree/target}
-(cd bench/embree && flock "$lock" cargo build --release --quiet)
-bin=$target/release/embree-bench
-out=bench/results
-mkdir -p "$out"
+source bench/embree/prelude.sh
 txt=$out/embree-builders.txt
 csv=$out/embree-builders.csv
 rm -f "$csv"
-{
-    echo "# prism's builders beside Embree 3 ($(date -u '+%Y-%m-%d %H:%M UTC'), prism $(git rev-parse --short HEAD))"
-    echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) logical CPUs, shared with other work; load average $(cut -d' ' -f1-3 /proc/loadavg)"
-    echo "Embree $(dpkg-query -W -f '${Version}' libembree3-3 2>/dev/null || echo '?'), $(rustc --version)"
-    echo
-} | tee "$txt"
+results_header "prism's builders beside Embree 3" | tee "$txt"
 for pass in $(seq "${PASSES:-1}"); do
     echo "# pass $pass" | tee -a "$txt"
     for mesh in ${MESHES:-bunny blob sphereflake soup}; do

@@ -8,32 +8,11 @@
 # and benchmarks on a shared machine (each mesh takes it for its own run only).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-lock=${PRISM_LOCK:-/tmp/prism-cargo.lock}
-
-if [[ ! -e /usr/include/embree3/rtcore.h ]]; then
-    if [[ $(id -u) == 0 ]]; then
-        apt-get update && apt-get install -y libembree-dev
-    else
-        echo "run.sh: Embree 3 is missing; install it with: apt-get install libembree-dev" >&2
-        exit 1
-    fi
-fi
-
-(cd bench/embree && flock "$lock" cargo build --release --quiet)
-bin=bench/embree/target/release/embree-bench
-out=bench/results
-mkdir -p "$out"
+source bench/embree/prelude.sh
 txt=$out/embree.txt
 csv=$out/embree.csv
 rm -f "$csv"
-
-{
-    echo "# prism against Embree 3 ($(date -u '+%Y-%m-%d %H:%M UTC'), prism $(git rev-parse --short HEAD))"
-    echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) logical CPUs, shared with other work (noisy)"
-    echo "Embree $(dpkg-query -W -f '${Version}' libembree3-3 2>/dev/null || echo '?'), $(rustc --version)"
-    echo "CPU: avx2 $(grep -qw avx2 /proc/cpuinfo && echo yes || echo no), avx512f $(grep -qw avx512f /proc/cpuinfo && echo yes || echo no)"
-    echo
-} | tee "$txt"
+results_header "prism against Embree 3" | tee "$txt"
 
 # Each mesh runs in PASSES separate processes (one pass over all meshes after another):
 # prism's throughput moves by up to 30 % from one process to the next (Embree's by ~5 %),
