@@ -258,20 +258,35 @@ impl TriangleMesh {
         Some((x, w * ns.cross(x)))
     }
 
+    /// `surface`'s point, error bound and geometric normal at barycentric `(b1, b2)` of
+    /// triangle `tri`, without the shading normal and uv where it needs neither: the
+    /// same bits as `surface` gives (the light samples' points, `integrator/emitters.rs`).
+    #[inline]
+    pub fn surface_point(&self, tri: u32, b1: f32, b2: f32) -> (Vec3, Vec3, Vec3) {
+        if self.normals.is_some() {
+            // The vertex normals decide the side of ng: `surface`'s own rule.
+            let sp = self.surface(
+                tri,
+                &ShapeHit {
+                    t: 0.0,
+                    u: b1,
+                    v: b2,
+                },
+            );
+            return (sp.p, sp.p_error, sp.ng);
+        }
+        let idx = self.indices[tri as usize].map(|i| i as usize);
+        let b0 = 1.0 - b1 - b2;
+        let (p, p_error) = barycentric_point(idx.map(|i| self.positions[i]), b0, b1, b2);
+        (p, p_error, self.face_normals[tri as usize])
+    }
+
     /// The point, normals (interpolated where the mesh has them) and uv of a hit on triangle `tri`.
     pub fn surface(&self, tri: u32, hit: &ShapeHit) -> SurfacePoint {
         let idx = self.indices[tri as usize].map(|i| i as usize);
-        let [p0, p1, p2] = idx.map(|i| self.positions[i]);
         let (b1, b2) = (hit.u, hit.v);
         let b0 = 1.0 - b1 - b2;
-        // Barycentric interpolation rather than o + t·d: its error is bounded by the vertex
-        // magnitudes (pbrt's γ₇ bound), independent of how far the ray travelled.
-        // Rounding can carry p past the triangle's bounds, e.g. one ulp beyond a wall that
-        // shares the edge, which a shadow ray then crosses at t ≈ 0 (acne along the edges of
-        // an axis-aligned room). The true point lies within the bounds, so clamping only
-        // shrinks the error.
-        let p = (b0 * p0 + b1 * p1 + b2 * p2).clamp(p0.min(p1).min(p2), p0.max(p1).max(p2));
-        let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
+        let (p, p_error) = barycentric_point(idx.map(|i| self.positions[i]), b0, b1, b2);
         let mut ng = self.face_normals[tri as usize];
         let mut ns = ng;
         if let Some(normals) = &self.normals {
@@ -298,6 +313,22 @@ impl TriangleMesh {
     }
 }
 
+/// The point of barycentric weights `b0`, `b1`, `b2` in the triangle of `corners`, and
+/// its per-axis error bound.
+#[inline(always)]
+fn barycentric_point(corners: [Vec3; 3], b0: f32, b1: f32, b2: f32) -> (Vec3, Vec3) {
+    let [p0, p1, p2] = corners;
+    // Barycentric interpolation rather than o + t·d: its error is bounded by the vertex
+    // magnitudes (pbrt's γ₇ bound), independent of how far the ray travelled.
+    // Rounding can carry p past the triangle's bounds, e.g. one ulp beyond a wall that
+    // shares the edge, which a shadow ray then crosses at t ≈ 0 (acne along the edges of
+    // an axis-aligned room). The true point lies within the bounds, so clamping only
+    // shrinks the error.
+    let p = (b0 * p0 + b1 * p1 + b2 * p2).clamp(p0.min(p1).min(p2), p0.max(p1).max(p2));
+    let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
+    (p, p_error)
+}
+
 /// The unit geometric normal of the triangle `p0`, `p1`, `p2`, facing the side from which
 /// its corners run counter-clockwise; +z for a degenerate triangle.
 #[inline]
@@ -319,6 +350,56 @@ mod tests {
         let [p0, p1, p2] = mesh.vertices(0);
         let want = (p1 - p0).cross(p2 - p0).try_normalize().unwrap_or(Vec3::Z);
         assert_eq!(mesh.surface(0, &hit).ng.to_array(), want.to_array());
+    }
+
+    /// `surface_point` is `surface`'s point, error bound and geometric normal, bit for
+    /// bit, with vertex normals (one of which turns ng around) and without.
+    #[test]
+    fn surface_point_is_surfaces_point() {
+        let positions = vec![
+            Vec3::new(-1.5, 2.0, 0.25),
+            Vec3::new(3.0, -0.5, 1.0),
+            Vec3::new(0.5, 4.0, -2.0),
+        ];
+        let flipped = -face_normal(positions[0], positions[1], positions[2]);
+        let normals = vec![flipped, flipped + Vec3::X * 0.3, flipped - Vec3::Y * 0.2];
+        let meshes = [
+            TriangleMesh::new(positions.clone(), vec![[0, 1, 2]], None, None).unwrap(),
+            TriangleMesh::new(positions, vec![[0, 1, 2]], Some(normals), None).unwrap(),
+        ];
+        for mesh in &meshes {
+            for i in 0..=16 {
+                for j in 0..=16 - i {
+                    let (b1, b2) = (i as f32 / 16.0, j as f32 / 16.0 + 1e-3 * i as f32);
+                    let sp = mesh.surface(
+                        0,
+                        &ShapeHit {
+                            t: 0.0,
+                            u: b1,
+                            v: b2,
+                        },
+                    );
+                    let (p, p_error, ng) = mesh.surface_point(0, b1, b2);
+                    let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+                    assert_eq!(bits(p), bits(sp.p));
+                    assert_eq!(bits(p_error), bits(sp.p_error));
+                    assert_eq!(bits(ng), bits(sp.ng));
+                }
+            }
+        }
+        // The vertex normals did turn ng around: the second mesh tests that rule.
+        let hit = ShapeHit {
+            t: 0.0,
+            u: 0.25,
+            v: 0.25,
+        };
+        assert!(
+            meshes[1]
+                .surface(0, &hit)
+                .ng
+                .dot(meshes[0].surface(0, &hit).ng)
+                < 0.0
+        );
     }
 
     /// The kept face normals follow the positions and the winding.

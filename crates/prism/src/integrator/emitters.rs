@@ -22,6 +22,8 @@ const NOT_SAMPLED: u32 = u32::MAX;
 struct Emitter {
     prim: u32,
     area: f32,
+    /// The density per unit area of its points (`probability / area`), made once.
+    pdf_area: f32,
 }
 
 /// The scene's sampled area lights and the choice between them.
@@ -71,6 +73,7 @@ impl Emitters {
             list.push(Emitter {
                 prim: prim as u32,
                 area,
+                pdf_area: 0.0,
             });
             // f64: a million small triangles' areas sum without losing the last ones.
             power.push(area as f64 * (radiance.x + radiance.y + radiance.z) as f64);
@@ -92,7 +95,11 @@ impl Emitters {
         for (i, e) in list.iter().enumerate() {
             by_prim[e.prim as usize] = i as u32;
         }
-        Emitters { list, cdf, by_prim }
+        let mut emitters = Emitters { list, cdf, by_prim };
+        for i in 0..emitters.list.len() {
+            emitters.list[i].pdf_area = emitters.probability(i) / emitters.list[i].area;
+        }
+        emitters
     }
 
     /// Whether there is any area light to sample.
@@ -109,10 +116,7 @@ impl Emitters {
     /// 0 for primitives it never picks.
     pub fn pdf_area(&self, prim: u32) -> f32 {
         match self.by_prim.get(prim as usize) {
-            Some(&i) if i != NOT_SAMPLED => {
-                let i = i as usize;
-                self.probability(i) / self.list[i].area
-            }
+            Some(&i) if i != NOT_SAMPLED => self.list[i as usize].pdf_area,
             _ => 0.0,
         }
     }
@@ -127,7 +131,7 @@ impl Emitters {
             .partition_point(|&c| c <= u)
             .min(self.list.len() - 1);
         let emitter = self.list[i];
-        let pdf_area = self.probability(i) / emitter.area;
+        let pdf_area = emitter.pdf_area;
         if pdf_area <= 0.0 {
             return None;
         }
@@ -137,16 +141,24 @@ impl Emitters {
             Shape::Triangle { mesh, index } => {
                 let (b1, b2) = uniform_triangle(u1, u2);
                 // The mesh's own surface rule: the same point, error bound and front
-                // side (vertex normals decide it) as a ray hitting there would get.
-                let sp = scene.geometry.meshes[*mesh as usize].surface(
-                    *index,
-                    &ShapeHit {
-                        t: 0.0,
-                        u: b1,
-                        v: b2,
-                    },
-                );
-                (sp.p, sp.p_error, sp.ng, sp.uv)
+                // side (vertex normals decide it) as a ray hitting there would get; the
+                // uv only for an emissive texture.
+                let mesh = &scene.geometry.meshes[*mesh as usize];
+                match &material.emission_map {
+                    Some(_) => {
+                        let hit = ShapeHit {
+                            t: 0.0,
+                            u: b1,
+                            v: b2,
+                        };
+                        let sp = mesh.surface(*index, &hit);
+                        (sp.p, sp.p_error, sp.ng, sp.uv)
+                    }
+                    None => {
+                        let (p, p_error, ng) = mesh.surface_point(*index, b1, b2);
+                        (p, p_error, ng, Vec2::ZERO)
+                    }
+                }
             }
             Shape::Sphere(s) => {
                 let d = uniform_sphere(u1, u2);

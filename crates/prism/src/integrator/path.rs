@@ -38,7 +38,7 @@ use crate::math::robust::{gamma, offset_ray_origin};
 use crate::math::{Color, Ray, Vec3};
 use crate::options::RenderOptions;
 use crate::scene::PreparedScene;
-use crate::shading::{Bsdf, BsdfSample};
+use crate::shading::{Bsdf, BsdfSample, Material, MaterialLobes, Texture};
 use crate::stats::Stats;
 use arrayvec::ArrayVec;
 use std::f32::consts::PI;
@@ -55,6 +55,9 @@ const DIMS_PER_VERTEX: u32 = 7;
 pub struct PathTracer<'a> {
     pub(super) scene: &'a PreparedScene<'a>,
     emitters: Emitters,
+    /// Per material, its BSDF's part that no hit changes, where its coefficients and
+    /// colour are the same all over it (`uniform_lobes`); `None` for the others.
+    lobes: Vec<Option<MaterialLobes>>,
     pub(super) max_depth: u32,
     strategy: Strategy,
 }
@@ -73,12 +76,27 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
     }
 }
 
+/// The part of `Bsdf::new` that no hit on `material` changes, where its coefficients are
+/// the same at every uv (no metallic-roughness texture; an emissive texture changes only
+/// the emission, which the BSDF does not read) and its colour is one colour: `Bsdf::new`
+/// then makes the same `MaterialLobes` at every hit, so making it once changes no bit.
+fn uniform_lobes(material: &Material) -> Option<MaterialLobes> {
+    let Texture::Solid(color) = material.color else {
+        return None;
+    };
+    material
+        .metal_rough
+        .is_none()
+        .then(|| MaterialLobes::new(&material.coefficients(), color))
+}
+
 impl<'a> PathTracer<'a> {
     /// The path tracer for `scene` with the depth and strategy of `options`.
     pub fn new(scene: &'a PreparedScene<'a>, options: &RenderOptions) -> Self {
         PathTracer {
             scene,
             emitters: Emitters::new(scene.scene),
+            lobes: scene.scene.materials.iter().map(uniform_lobes).collect(),
             max_depth: options.max_depth,
             strategy: options.path_strategy,
         }
@@ -257,8 +275,10 @@ impl<'a> PathTracer<'a> {
         if depth == self.max_depth {
             return None;
         }
-        let color = material.color_at(sp.uv, sp.p);
-        let bsdf = Bsdf::new(&k, color, wo, ns, ng, entering);
+        let bsdf = match &self.lobes[prim.material as usize] {
+            Some(lobes) => lobes.at(&k, wo, ns, ng, entering),
+            None => Bsdf::new(&k, material.color_at(sp.uv, sp.p), wo, ns, ng, entering),
+        };
         Some(Vertex { sp, ng, bsdf })
     }
 

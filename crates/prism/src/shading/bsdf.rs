@@ -91,6 +91,109 @@ fn phong_exponent(material: &Coefficients) -> f32 {
     }
 }
 
+/// What `Bsdf::new` computes from the coefficients and the diffuse colour alone, before it
+/// looks at the hit's directions: made once per material where neither varies over its
+/// surface (`integrator/path.rs` keeps one per such material), so that a hit there only
+/// adds its directions and the angle-dependent specular weights (`MaterialLobes::at`).
+/// `Bsdf::new` is `MaterialLobes::new` then `at`, so both ways give the same bits.
+#[derive(Clone, Copy, Debug)]
+pub struct MaterialLobes {
+    /// η for a ray arriving from the front and from the back.
+    eta_entering: f32,
+    eta_leaving: f32,
+    /// What the mirror and dielectric weights shrink by so that they add up to one at most.
+    specular_scale: f32,
+    diffuse: Color,
+    glossy: f32,
+    exponent: f32,
+    /// The probabilities of diffuse, glossy and mirror where the specular weights at the
+    /// hit come out +0 (the bits `at` checks): those of a material without mirror or
+    /// dielectric, whatever the angle.
+    p_plain: [f32; 3],
+}
+
+impl MaterialLobes {
+    /// The lobes' hit-independent part for coefficients `material` with diffuse colour
+    /// `color`.
+    pub fn new(material: &Coefficients, color: Color) -> MaterialLobes {
+        // Whitted's upper bound of reflect + transmit over all angles.
+        let specular_total = material.reflect + material.interface_share();
+        let specular_scale = if specular_total > 1.0 {
+            1.0 / specular_total
+        } else {
+            1.0
+        };
+        let room = (1.0 - specular_total * specular_scale).max(0.0);
+        let diffuse = material.diffuse * color;
+        let local = diffuse.max_element().max(0.0) + material.specular.max(0.0);
+        let local_scale = if local > room { room / local } else { 1.0 };
+        let diffuse = diffuse.max(Color::ZERO) * local_scale;
+        let glossy = material.specular.max(0.0) * local_scale;
+        MaterialLobes {
+            eta_entering: 1.0 / material.ior,
+            eta_leaving: material.ior,
+            specular_scale,
+            diffuse,
+            glossy,
+            exponent: phong_exponent(material),
+            p_plain: probabilities(diffuse, glossy, 0.0, Color::ZERO),
+        }
+    }
+
+    /// The BSDF at a hit of coefficients `material` (those `new` was given, up to their
+    /// emission) seen from `wo`, as `Bsdf::new` describes.
+    #[inline]
+    pub fn at(
+        &self,
+        material: &Coefficients,
+        wo: Vec3,
+        ns: Vec3,
+        ng: Vec3,
+        entering: bool,
+    ) -> Bsdf {
+        let eta = if entering {
+            self.eta_entering
+        } else {
+            self.eta_leaving
+        };
+        let cos_o = wo.dot(ns).clamp(0.0, 1.0);
+        let w = material.specular_weights(cos_o, eta);
+        let reflect = w.reflect * self.specular_scale;
+        let transmit = w.transmit * self.specular_scale;
+        let plain = reflect.to_bits() == 0 && transmit.to_array().map(f32::to_bits) == [0; 3];
+        let [p_diffuse, p_glossy, p_reflect] = if plain {
+            self.p_plain
+        } else {
+            probabilities(self.diffuse, self.glossy, reflect, transmit)
+        };
+        Bsdf {
+            ns,
+            ng,
+            wo,
+            diffuse: self.diffuse,
+            glossy: self.glossy,
+            exponent: self.exponent,
+            mirrored: reflect_about(wo, ns),
+            reflect,
+            transmit,
+            eta,
+            p_diffuse,
+            p_glossy,
+            p_reflect,
+        }
+    }
+}
+
+/// The probabilities of sampling diffuse, glossy and mirror (the rest is transmission):
+/// lobes are chosen in proportion to their mean weight.
+#[inline]
+fn probabilities(diffuse: Color, glossy: f32, reflect: f32, transmit: Color) -> [f32; 3] {
+    let weights = [mean(diffuse), glossy, reflect, mean(transmit)];
+    let total: f32 = weights.iter().sum();
+    let p = |w: f32| if total > 0.0 { w / total } else { 0.0 };
+    [p(weights[0]), p(weights[1]), p(weights[2])]
+}
+
 impl Bsdf {
     /// The lobes of coefficients `material` (a material's at the hit, from
     /// `Material::coefficients_at`) with diffuse colour `color` at a hit seen from `wo`, with
@@ -104,49 +207,7 @@ impl Bsdf {
         ng: Vec3,
         entering: bool,
     ) -> Bsdf {
-        let eta = if entering {
-            1.0 / material.ior
-        } else {
-            material.ior
-        };
-        // Whitted's upper bound of reflect + transmit over all angles.
-        let specular_total = material.reflect + material.interface_share();
-        let specular_scale = if specular_total > 1.0 {
-            1.0 / specular_total
-        } else {
-            1.0
-        };
-        let room = (1.0 - specular_total * specular_scale).max(0.0);
-        let diffuse = material.diffuse * color;
-        let local = diffuse.max_element().max(0.0) + material.specular.max(0.0);
-        let local_scale = if local > room { room / local } else { 1.0 };
-
-        let cos_o = wo.dot(ns).clamp(0.0, 1.0);
-        let w = material.specular_weights(cos_o, eta);
-        let reflect = w.reflect * specular_scale;
-        let transmit = w.transmit * specular_scale;
-        let diffuse = diffuse.max(Color::ZERO) * local_scale;
-        let glossy = material.specular.max(0.0) * local_scale;
-
-        // Lobes are chosen in proportion to their mean weight.
-        let weights = [mean(diffuse), glossy, reflect, mean(transmit)];
-        let total: f32 = weights.iter().sum();
-        let p = |w: f32| if total > 0.0 { w / total } else { 0.0 };
-        Bsdf {
-            ns,
-            ng,
-            wo,
-            diffuse,
-            glossy,
-            exponent: phong_exponent(material),
-            mirrored: reflect_about(wo, ns),
-            reflect,
-            transmit,
-            eta,
-            p_diffuse: p(weights[0]),
-            p_glossy: p(weights[1]),
-            p_reflect: p(weights[2]),
-        }
+        MaterialLobes::new(material, color).at(material, wo, ns, ng, entering)
     }
 
     /// The diffuse lobe of a BSDF with no glossy lobe, for the wavefront's diffuse
@@ -270,4 +331,61 @@ fn reflect_about(w: Vec3, n: Vec3) -> Vec3 {
 
 fn mean(c: Color) -> f32 {
     (c.x + c.y + c.z) / 3.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shading::{FresnelMode, Material};
+
+    /// `MaterialLobes::at` takes the probabilities it made once wherever the specular
+    /// weights come out +0; they must be the ones the weights at the hit give, for
+    /// materials with and without mirror and dielectric, from both sides, at every angle.
+    #[test]
+    fn the_kept_probabilities_are_the_hits_own() {
+        let plain = Material::default();
+        let glossy = Material {
+            specular: 0.4,
+            shininess: 30.0,
+            ..Material::default()
+        };
+        let mirror = Material {
+            reflect: 0.6,
+            ..Material::default()
+        };
+        let glass = |fresnel| Material {
+            diffuse: 0.0,
+            transmit: Color::splat(0.9),
+            ior: 1.5,
+            fresnel,
+            ..Material::default()
+        };
+        let materials = [
+            plain,
+            glossy,
+            mirror,
+            glass(FresnelMode::Exact),
+            glass(FresnelMode::Schlick),
+            glass(FresnelMode::Off),
+        ];
+        let n = Vec3::Z;
+        let mut kept = 0;
+        for m in &materials {
+            let k = m.coefficients();
+            let lobes = MaterialLobes::new(&k, Color::new(0.9, 0.5, 0.1));
+            for i in 0..=32 {
+                let cos = i as f32 / 32.0;
+                let wo = Vec3::new((1.0 - cos * cos).max(0.0).sqrt(), 0.0, cos);
+                for entering in [true, false] {
+                    let b = lobes.at(&k, wo, n, n, entering);
+                    let direct = probabilities(b.diffuse, b.glossy, b.reflect, b.transmit);
+                    let got = [b.p_diffuse, b.p_glossy, b.p_reflect];
+                    assert_eq!(got.map(f32::to_bits), direct.map(f32::to_bits), "{k:?}");
+                    kept += usize::from(got == lobes.p_plain);
+                }
+            }
+        }
+        // The diffuse and glossy materials took the kept ones at every angle.
+        assert!(kept >= 2 * 33 * 2, "{kept}");
+    }
 }

@@ -13,7 +13,7 @@ mod pbr;
 mod texture;
 
 pub(crate) use bsdf::DiffuseLobe;
-pub use bsdf::{Bsdf, BsdfSample};
+pub use bsdf::{Bsdf, BsdfSample, MaterialLobes};
 pub use coefficients::{Coefficients, SpecularWeights};
 pub use fresnel::FresnelMode;
 pub use material::{Highlight, Material};
