@@ -18,7 +18,8 @@ use arrayvec::ArrayVec;
 
 /// Traces the camera rays through film positions `at` (at most `PACKET_MAX`) as one
 /// packet: `colors[i]` is ray i's radiance, and `rays[i]` gains its rays and work, each
-/// ray counted in its own slot and the packets' shared traversal split evenly.
+/// ray counted in its own slot and the packets' shared traversal split evenly (none
+/// where `rays` is empty).
 pub(super) fn trace_packet(
     job: &Job,
     at: &[Vec2],
@@ -35,7 +36,8 @@ pub(super) fn trace_packet(
 /// Traces `camera_rays` (at most `PACKET_MAX`) as one packet with `tracer`, ray i
 /// with the random numbers of `streams[i]` (which only the path tracer draws):
 /// `colors[i]` is ray i's radiance, and `rays[i]` gains its rays and its even share of
-/// the packets' traversal.
+/// the packets' traversal. An empty `rays` keeps no counts (a render without per-pixel
+/// ray counts), which spares the division of the packet's work among its rays.
 pub(super) fn trace_camera_packet(
     tracer: &dyn CameraTracer,
     camera_rays: &[Ray],
@@ -45,6 +47,7 @@ pub(super) fn trace_camera_packet(
     stats: &mut Stats,
 ) {
     let n = camera_rays.len();
+    debug_assert!(rays.is_empty() || rays.len() >= n);
     let before = RayMark::of(stats);
     // Per ray, the rays of its tree or path after the camera ray.
     let mut rays_of = [0u32; PACKET_MAX];
@@ -55,6 +58,9 @@ pub(super) fn trace_camera_packet(
         rays_of: &mut rays_of,
     };
     tracer.trace_camera_packet(packet, stats);
+    if rays.is_empty() {
+        return;
+    }
     // Each ray counts in its own pixel; the traversal work is shared by the packet.
     let shared = PixelRays::since(before, stats);
     for (i, r) in rays[..n].iter_mut().enumerate() {

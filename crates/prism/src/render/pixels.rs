@@ -173,8 +173,9 @@ pub(super) fn render(
 
 /// Traces `tile` block by block with packets of camera rays; returns per pixel (row-major
 /// in the tile) the sum of its samples in sample order (unused when `buffer` takes the
-/// samples) and its rays, the packets' shared traversal split evenly among their pixels.
-/// None when the render was cancelled before the tile was done.
+/// samples) and its rays, the packets' shared traversal split evenly among their pixels
+/// (no rays when the render keeps no per-pixel counts). None when the render was
+/// cancelled before the tile was done.
 fn trace_packets(
     job: &Job,
     pattern: &dyn PixelSamples,
@@ -185,7 +186,10 @@ fn trace_packets(
     let width = (tile.x1 - tile.x0) as usize;
     let pixels = tile.pixel_count() as usize;
     let mut sums = vec![Color::ZERO; pixels];
-    let mut rays = vec![PixelRays::default(); pixels];
+    // Counted only where they are kept: sharing each packet's work among its pixels
+    // took a few percent of a whole render of a small scene.
+    let recorded = job.per_pixel_rays;
+    let mut rays = vec![PixelRays::default(); if recorded { pixels } else { 0 }];
     let count = pattern.count() as usize;
     let edge = PACKET_EDGE as usize;
     let mut offsets: Vec<Vec2> = Vec::with_capacity(count);
@@ -214,16 +218,19 @@ fn trace_packets(
             let mut at = [Vec2::ZERO; PACKET_MAX];
             let mut shaded = [Color::ZERO; PACKET_MAX];
             let mut work = [PixelRays::default(); PACKET_MAX];
+            let work = if recorded { &mut work[..n] } else { &mut [] };
             for s in 0..count {
                 for (i, &(x, y)) in block.iter().enumerate() {
                     let o = block_offsets[i * count + s];
                     at[i] = Vec2::new(x as f32 + o.x, y as f32 + o.y);
                 }
-                work[..n].fill(PixelRays::default());
-                trace_packet(job, &at[..n], &mut shaded, &mut work, stats);
-                for (i, &(x, y)) in block.iter().enumerate() {
-                    colors[i * count + s] = shaded[i];
-                    rays[local(x, y)] += work[i];
+                work.fill(PixelRays::default());
+                trace_packet(job, &at[..n], &mut shaded, work, stats);
+                for (i, &c) in shaded[..n].iter().enumerate() {
+                    colors[i * count + s] = c;
+                }
+                for (&(x, y), &w) in block.iter().zip(work.iter()) {
+                    rays[local(x, y)] += w;
                 }
             }
             let traced = Samples::new(&block, &block_offsets, &colors, count);
