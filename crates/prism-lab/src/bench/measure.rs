@@ -97,7 +97,9 @@ pub struct Measured {
 /// Builds every method in `specs` over `scene`, then times them on `rays` in turns: sample
 /// r of every method before sample r + 1 of any, so that a slow spell on a shared machine
 /// falls on all methods alike and the ratios between them hold. On the current rayon pool.
-/// `progress` hears each method's index as its build starts.
+/// `progress` hears each method's index as its build starts. A BVH's `build=auto` is
+/// told one pass over `rays` (`RaySet::len`), so it picks as it would for a render that
+/// traces them.
 pub fn measure_all(
     scene: &Scene,
     specs: &[AccelSpec],
@@ -110,7 +112,7 @@ pub fn measure_all(
         .enumerate()
         .map(|(i, spec)| {
             progress(i);
-            build_timed(scene, spec, options)
+            build_timed(scene, &spec.with_expected_rays(rays.len() as f64), options)
         })
         .collect();
     let geometry = &scene.geometry;
@@ -309,6 +311,29 @@ fn median(values: &mut [f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `build=auto` chooses for the bench's own rays, not for none (which always picked
+    /// the fastest build).
+    #[test]
+    fn auto_is_built_for_the_rays_the_bench_traces() {
+        let scene = prism::scene::builtin::find("pearls").expect("built-in scene");
+        let prepared = scene.prepare(&AccelSpec::default());
+        let rays = RaySet::generate(&prepared, 40, 30).expect("camera");
+        let auto: AccelSpec = "bvh:build=auto".parse().expect("a valid spec");
+        let options = MeasureOptions {
+            repeat: 1,
+            max_builds: 1,
+            min_sample: Duration::ZERO,
+            ..MeasureOptions::default()
+        };
+        let measured = measure_all(&scene, &[auto], &rays, &options, |_| {});
+        let method = &measured[0].accel.method;
+        assert!(rays.len() > 1200, "{} rays", rays.len());
+        assert!(
+            method.contains(&format!("and {} expected rays", rays.len())),
+            "{method}"
+        );
+    }
 
     #[test]
     fn the_median_is_the_middle_value() {

@@ -130,6 +130,16 @@ impl RaySet {
         Ok(set)
     }
 
+    /// Rays of every kind in all: one pass of the bench over the set.
+    pub fn len(&self) -> usize {
+        self.primary.len() + self.shadow.len() + self.incoherent.len()
+    }
+
+    /// Whether the set holds no rays.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
     /// How many rays of each kind the set holds.
     pub fn size(&self) -> RaySetSize {
         RaySetSize {
