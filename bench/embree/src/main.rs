@@ -26,9 +26,10 @@ const USAGE: &str = "usage:
       (`bvh:build=NAME`, e.g. sbvh,ploc,phr), built and traced (single rays) beside its default
       (binned) tree and Embree MEDIUM and HIGH; --rays: only these ray sets (primary, incoherent,
       shadow)
-  embree-bench builds --mesh NAME [--builds N] [--prism-only 1]
+  embree-bench builds --mesh NAME [--builds N] [--prism-only 1] [--builders NAME,...]
       builds alone: prism's default BVH and Embree MEDIUM in turns, medians of wall and process CPU ms
-      (--prism-only 1: prism alone, for a profiler)
+      (--prism-only 1: prism alone, for a profiler; --builders: prism's trees by these builders
+      too, and Embree HIGH)
   embree-bench report FILE.csv    markdown tables of a CSV
   embree-bench diff --mesh NAME    primary rays on which prism and Embree disagree
   embree-bench profile --mesh NAME [--repeats N] [--rays primary|incoherent|shadow] [--packets N]
@@ -44,7 +45,7 @@ struct Options {
     csv: Option<PathBuf>,
     /// `profile`: trace just this ray set; `run`: these ray sets (comma-separated).
     rays: Option<String>,
-    /// `run` only: prism's other builders, beside its default tree.
+    /// `run` and `builds`: prism's other builders, beside its default tree.
     builders: Vec<String>,
     /// `profile` only: trace in packets of this many rays.
     packets: Option<usize>,
@@ -227,67 +228,87 @@ fn diff(o: &Options) -> Result<(), String> {
     Ok(())
 }
 
-/// Builds alone, prism's and Embree MEDIUM's in turns (or prism's alone, for a profiler).
+/// Builds alone, prism's and Embree MEDIUM's in turns (or prism's alone, for a profiler);
+/// with `--builders`, also prism's trees by those builders and Embree HIGH, all in turns.
 fn builds(o: &Options) -> Result<(), String> {
     let mesh = meshes::make(&o.mesh, &o.meshes_dir)?;
     let geometry = prism_geometry(&mesh)?;
     let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
     let device = embree::Device::new();
-    let spec = spec_for(mesh.name);
-    let (mut ours, mut theirs) = (Vec::new(), Vec::new());
+    let mut specs = vec![("prism".to_string(), spec_for(mesh.name))];
+    for b in &o.builders {
+        specs.push((format!("prism-{b}"), builder_spec(mesh.name, b)?));
+    }
+    let qualities: &[(&str, embree::Quality)] = match (o.prism_only, o.builders.is_empty()) {
+        (true, _) => &[],
+        (false, true) => &[("embree-M", embree::Quality::Medium)],
+        (false, false) => &[
+            ("embree-M", embree::Quality::Medium),
+            ("embree-H", embree::Quality::High),
+        ],
+    };
+    let methods = specs.len() + qualities.len();
+    let mut samples: Vec<Vec<Sample>> = vec![Vec::new(); methods];
     // Page faults of each build (fresh memory: the first builds of a process fault in
     // every page they write, later ones reuse what the allocator kept).
-    let (mut our_faults, mut their_faults) = (Vec::new(), Vec::new());
-    let mut sah = f64::NAN;
+    let mut faults: Vec<Vec<i64>> = vec![Vec::new(); methods];
+    let mut sahs = vec![f64::NAN; specs.len()];
     for _ in 0..o.builds {
-        let mut built = None;
-        let faults = minor_faults();
-        ours.push(time(|| {
-            built = Some(SceneIntersector::build(&geometry, &spec))
-        }));
-        our_faults.push(minor_faults() - faults);
-        sah = built
-            .and_then(|b| b.accel.info().sah_cost)
-            .unwrap_or(f64::NAN);
-        if !o.prism_only {
-            let scene =
-                embree::Scene::new(&device, &positions, &mesh.indices, embree::Quality::Medium);
-            let faults = minor_faults();
-            theirs.push(time(|| scene.commit()));
-            their_faults.push(minor_faults() - faults);
+        for (k, (_, spec)) in specs.iter().enumerate() {
+            let mut built = None;
+            let before = minor_faults();
+            samples[k].push(time(|| {
+                built = Some(SceneIntersector::build(&geometry, spec))
+            }));
+            faults[k].push(minor_faults() - before);
+            sahs[k] = built
+                .and_then(|b| b.accel.info().sah_cost)
+                .unwrap_or(f64::NAN);
+        }
+        for (k, &(_, q)) in qualities.iter().enumerate() {
+            let scene = embree::Scene::new(&device, &positions, &mesh.indices, q);
+            let before = minor_faults();
+            samples[specs.len() + k].push(time(|| scene.commit()));
+            faults[specs.len() + k].push(minor_faults() - before);
         }
     }
-    let first_and_median = |v: &mut Vec<i64>| match v.first().copied() {
-        Some(first) => {
-            v.sort_unstable();
-            format!("{first} first, {} median", v[v.len() / 2])
-        }
-        None => "-".to_string(),
-    };
     println!(
-        "{}: page faults a build: prism {}; embree-M {}",
-        mesh.name,
-        first_and_median(&mut our_faults),
-        first_and_median(&mut their_faults)
-    );
-    if theirs.is_empty() {
-        theirs.push(measure::Sample {
-            cpu: Default::default(),
-            wall: Default::default(),
-        });
-    }
-    let (a, b) = (median(&ours), median(&theirs));
-    println!(
-        "{}: {} triangles, median of {} builds, wall ms (CPU ms): prism {:.1} ({:.1}), SAH {sah:.2}; embree-M {:.1} ({:.1}); prism / embree-M speed {:.2}x wall",
+        "{}: {} triangles, median of {} builds, wall ms / process CPU ms, page faults (first, median):",
         mesh.name,
         mesh.indices.len(),
-        o.builds,
-        ms(a.wall),
-        ms(a.cpu),
-        ms(b.wall),
-        ms(b.cpu),
-        ms(b.wall) / ms(a.wall)
+        o.builds
     );
+    let names = specs
+        .iter()
+        .map(|(name, _)| name.as_str())
+        .chain(qualities.iter().map(|(name, _)| *name));
+    let medians: Vec<Sample> = samples.iter().map(|s| median(s)).collect();
+    for (k, name) in names.enumerate() {
+        let m = medians[k];
+        let f = &mut faults[k];
+        let first = f[0];
+        f.sort_unstable();
+        let sah = sahs
+            .get(k)
+            .map_or(String::new(), |s| format!(", SAH {s:.2}"));
+        let against = if qualities.is_empty() {
+            String::new()
+        } else {
+            // The same process's last Embree build: HIGH where it was built, else MEDIUM.
+            let theirs = medians[methods - 1];
+            format!(
+                ", CPU {:.2}x {}'s",
+                ms(m.cpu) / ms(theirs.cpu),
+                qualities[qualities.len() - 1].0
+            )
+        };
+        println!(
+            "  {name:<12} {:8.1} / {:8.1}, faults {first} / {}{sah}{against}",
+            ms(m.wall),
+            ms(m.cpu),
+            f[f.len() / 2]
+        );
+    }
     Ok(())
 }
 

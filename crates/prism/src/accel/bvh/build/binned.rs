@@ -455,7 +455,7 @@ impl BinnedSah {
 /// the nearest integer and holds it in its mantissa's bits; a lane that rounded up is
 /// one less.
 #[inline(always)]
-fn truncate_lanes(v: Vec3A) -> [usize; 3] {
+pub(super) fn truncate_lanes(v: Vec3A) -> [usize; 3] {
     const MANTISSA: u32 = (1 << 23) - 1;
     let magic = Vec3A::splat(8_388_608.0);
     let f = v + magic;

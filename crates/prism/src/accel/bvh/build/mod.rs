@@ -13,6 +13,7 @@ mod sbvh;
 mod stitch;
 mod sweep;
 mod topdown;
+mod triangle_cut;
 
 use super::{reinsert, Bvh, BvhBuilder, BvhOptions, Node};
 use crate::geometry::Geometry;

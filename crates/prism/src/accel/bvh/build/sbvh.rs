@@ -1,26 +1,33 @@
 //! Spatial-split BVH (Stich, Friedrich & Dietrich 2009): top down, each node takes the
 //! binned SAH's object split unless its two children overlap by more than `alpha` of the
 //! root's area; then a spatial split is also costed — the node's box cut into slabs on
-//! each axis, every triangle clipped into the slabs it crosses (chopped binning), so that
-//! a plane between slabs sends each reference left, right, or, clipped, to both — and the
+//! each axis, every triangle cut into the slabs it crosses (chopped binning), so that a
+//! plane between slabs sends each reference left, right, or, cut, to both — and the
 //! cheaper one wins. Duplicated references are bounded by a budget, shared out among the
 //! children by their reference counts (so the tree does not depend on which side was built
-//! first or on which thread). Only triangles are clipped; other primitives go whole to the
+//! first or on which thread). Only triangles are cut; other primitives go whole to the
 //! side of their centroid.
 //!
-//! A clipped reference's box is the box of the triangle's part within the slab, grown by
-//! the clipping's rounding and kept within the reference's box and the slab, whose face
-//! on the plane stays exact (`presplit.rs`), so the pieces of a triangle cover it: no hit
-//! is lost, and a ray meeting two pieces finds the same primitive twice.
+//! The binning reads each reference once: a reference whose box lies in one slab goes
+//! there whole; one that spans several is walked along the axis, each piece's box from
+//! the triangle's corners in the slab and its sections by the slab's two planes, each
+//! section computed once for the slabs on both sides (`triangle_cut.rs`; clipping the
+//! triangle to every slab, twice per slab, was over half of the build).
+//!
+//! A cut reference's box is the box of the triangle's part within the slab, grown by the
+//! sections' rounding and kept within the reference's box and the slab, whose face on the
+//! plane stays exact, so the pieces of a triangle cover it: no hit is lost, and a ray
+//! meeting two pieces finds the same primitive twice.
 
-use super::binned::BinnedSah;
-use super::presplit::{clip, piece_bounds};
+use super::binned::{truncate_lanes, BinnedSah};
 use super::prim_ref::{PrimRef, SimdBox};
 use super::stitch::NodeBlock;
 use super::topdown::{extent_of, SplitRule, PARALLEL_PASS};
+use super::triangle_cut::{bound_piece, AlongAxis};
 use super::BuildPrims;
 use crate::accel::bvh::{Node, MAX_DEPTH};
 use crate::math::{Aabb, Vec3};
+use glam::Vec3A;
 use rayon::prelude::*;
 
 pub(super) struct Sbvh {
@@ -54,23 +61,47 @@ struct SpatialSplit {
 /// coordinate falls in (the one rule both binning and partitioning follow).
 #[derive(Clone, Copy)]
 struct Slabs {
-    lo: Vec3,
-    width: Vec3,
+    lo: Vec3A,
+    width: Vec3A,
+    /// Slabs per unit length; 0 on an axis the node is flat on (no slabs cut it).
+    scale: Vec3A,
+    /// The last slab's number, as a float.
+    last: Vec3A,
     count: usize,
 }
 
 impl Slabs {
-    fn of(&self, axis: usize, x: f32) -> usize {
-        // Also 0 for a NaN width.
-        if self.width[axis].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            return 0;
+    fn new(bounds: &Aabb, count: usize) -> Slabs {
+        let extent = Vec3A::from(bounds.extent());
+        let scale = count as f32 / extent;
+        Slabs {
+            lo: bounds.min.into(),
+            width: extent / count as f32,
+            // Not NaN, not infinite, not for a flat extent.
+            scale: Vec3A::select(
+                extent.cmpgt(Vec3A::ZERO) & scale.is_finite_mask(),
+                scale,
+                Vec3A::ZERO,
+            ),
+            last: Vec3A::splat((count - 1) as f32),
+            count,
         }
-        let t = (x - self.lo[axis]) / self.width[axis];
-        // Saturating cast: NaN and negatives to 0.
-        (t as usize).min(self.count - 1)
+    }
+
+    /// The slabs of a point on the three axes. The clamp keeps the maximum in the last
+    /// slab and sends NaN to slab 0 (`max` returns its argument when a lane is NaN).
+    #[inline(always)]
+    fn of(&self, p: Vec3A) -> [usize; 3] {
+        truncate_lanes(((p - self.lo) * self.scale).max(Vec3A::ZERO).min(self.last))
+    }
+
+    /// Whether the slabs cut `axis` at all.
+    fn cuts(&self, axis: usize) -> bool {
+        self.scale[axis] > 0.0
     }
 
     /// The border below slab `k`.
+    #[inline(always)]
     fn plane(&self, axis: usize, k: usize) -> f32 {
         self.lo[axis] + k as f32 * self.width[axis]
     }
@@ -109,43 +140,115 @@ impl SlabBins {
     }
 }
 
-/// A reference's box as an `Aabb`.
-fn box_of(r: &PrimRef) -> Aabb {
-    Aabb::new(r.min().into(), r.max().into())
+/// A reference's triangle cut across axis `A` within the reference's box.
+struct Cut<const A: usize> {
+    along: AlongAxis<A>,
+    within: SimdBox,
+    margin: f32,
 }
 
-fn simd(b: &Aabb) -> SimdBox {
-    SimdBox {
-        min: b.min.into(),
-        max: b.max.into(),
+impl<const A: usize> Cut<A> {
+    #[inline(always)]
+    fn new(tri: &[Vec3; 3], r: &PrimRef) -> Cut<A> {
+        let along = AlongAxis::new(tri);
+        Cut {
+            along,
+            within: SimdBox {
+                min: r.min(),
+                max: r.max(),
+            },
+            margin: along.rounding_margin(),
+        }
     }
-}
 
-/// The part of triangle `tri` within `within` (a reference's box) between `lo` and `hi`
-/// on `axis`: its box, or `None` where the part is empty or too thin to bound, or where
-/// it only touches a border that the reference crosses. Such a part (a corner or an edge
-/// of the triangle lying on the plane) is also the neighbouring part's, which keeps the
-/// plane exactly; bounded on its own it is a point or a segment that can sit far from
-/// everything else in its leaf and stretch the leaf's box across the scene (a quad split
-/// on its diagonal, cut through the diagonal's end, left its corner beside the far
-/// stands of a stadium, under the camera).
-fn piece(tri: &[Vec3; 3], within: &Aabb, axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
-    let mut half = *within;
-    half.min[axis] = half.min[axis].max(lo);
-    half.max[axis] = half.max[axis].min(hi);
-    if half.min[axis]
-        .partial_cmp(&half.max[axis])
-        .is_none_or(|o| o.is_gt())
-    {
-        return None;
+    /// The piece of the reference between `lo` and `hi` on the axis (both within its box),
+    /// given the triangle's sections there: the box of the triangle's part there, grown by
+    /// the sections' rounding and kept within the reference's box and `[lo, hi]`, whose
+    /// borders stay exact. `None` where the part is empty, or where it only touches a
+    /// border that the reference crosses (`crossed`: the lower, the upper). Such a part (a
+    /// corner or an edge of the triangle lying on the plane) is also the neighbouring
+    /// part's, which keeps the plane exactly; bounded on its own it is a point or a segment
+    /// that can sit far from everything else in its leaf and stretch the leaf's box across
+    /// the scene (a quad split on its diagonal, cut through the diagonal's end, left its
+    /// corner beside the far stands of a stadium, under the camera).
+    #[inline(always)]
+    fn piece(
+        &self,
+        (lo, hi): (f32, f32),
+        (at_lo, at_hi): (SimdBox, SimdBox),
+        (crossed_lo, crossed_hi): (bool, bool),
+    ) -> Option<SimdBox> {
+        // The part's extent on the axis (empty where `top < bottom`).
+        let (first, last) = self.along.ends();
+        let (bottom, top) = (first.max(lo), last.min(hi));
+        let reaches_lo = if crossed_lo { top > lo } else { top >= lo };
+        let reaches_hi = if crossed_hi {
+            bottom < hi
+        } else {
+            bottom <= hi
+        };
+        if !(lo <= hi && reaches_lo && reaches_hi) {
+            return None;
+        }
+        let raw = at_lo
+            .union(&at_hi)
+            .union(&self.along.corners_within(lo, hi));
+        bound_piece::<A>(raw, &self.within, lo, hi, self.margin)
     }
-    let above = clip(tri, axis, half.min[axis], true);
-    let slab = clip(&above, axis, half.max[axis], false);
-    let only_on = |border: f32| slab.iter().all(|p| p[axis] == border);
-    if (within.min[axis] < lo && only_on(lo)) || (within.max[axis] > hi && only_on(hi)) {
-        return None;
+
+    /// The pieces below and above the plane at `at`, which lies within the box.
+    fn halves(&self, at: f32) -> (Option<SimdBox>, Option<SimdBox>) {
+        let (min, max) = (self.within.min[A], self.within.max[A]);
+        let (below, above) = (at.min(max), at.max(min));
+        let section = |p: f32| self.along.section(p);
+        let lower = self.piece(
+            (min, below),
+            (section(min), section(below)),
+            (false, max > at),
+        );
+        let upper = self.piece(
+            (above, max),
+            (section(above), section(max)),
+            (min < at, false),
+        );
+        (lower, upper)
     }
-    piece_bounds(&slab, half)
+
+    /// Adds the pieces in slabs `first..=last` (those the reference's box spans) to the
+    /// axis's bins; returns the first and last slab that got one. Each plane's section
+    /// serves the slabs on both sides of it.
+    #[inline(always)]
+    fn bin(
+        &self,
+        slabs: &Slabs,
+        (first, last): (usize, usize),
+        bins: &mut [SimdBox],
+    ) -> Option<(usize, usize)> {
+        let (lo, hi) = (self.within.min[A], self.within.max[A]);
+        let mut pieces: Option<(usize, usize)> = None;
+        // The last section computed and where.
+        let (mut at, mut section) = (lo, self.along.section(lo));
+        let (mut plane_below, mut plane_above) = (lo, slabs.plane(A, first + 1));
+        for (k, bin) in bins.iter_mut().enumerate().take(last + 1).skip(first) {
+            let lower = if k == first { lo } else { plane_below.max(lo) };
+            let upper = if k == last { hi } else { plane_above.min(hi) };
+            let at_lower = if lower.to_bits() == at.to_bits() {
+                section
+            } else {
+                self.along.section(lower)
+            };
+            let at_upper = self.along.section(upper);
+            let crossed = (k > first && lo < plane_below, k < last && hi > plane_above);
+            if let Some(p) = self.piece((lower, upper), (at_lower, at_upper), crossed) {
+                *bin = bin.union(&p);
+                pieces = Some((pieces.map_or(k, |(f, _)| f), k));
+            }
+            (at, section) = (upper, at_upper);
+            plane_below = plane_above;
+            plane_above = slabs.plane(A, k + 2);
+        }
+        pieces
+    }
 }
 
 impl Sbvh {
@@ -312,12 +415,7 @@ impl Builder<'_> {
     }
 
     fn slabs(&self, bounds: &Aabb, n: usize) -> Slabs {
-        let count = self.sbvh.bins.min((n / 8).max(4));
-        Slabs {
-            lo: bounds.min,
-            width: bounds.extent() / count as f32,
-            count,
-        }
+        Slabs::new(bounds, self.sbvh.bins.min((n / 8).max(4)))
     }
 
     /// The cheapest spatial split whose duplicates fit in `budget`, if any.
@@ -345,10 +443,7 @@ impl Builder<'_> {
         let parent_area = bounds.surface_area().max(f32::MIN_POSITIVE);
         let mut best: Option<SpatialSplit> = None;
         let m = slabs.count;
-        for axis in 0..3 {
-            if slabs.width[axis].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-                continue;
-            }
+        for axis in (0..3).filter(|&a| slabs.cuts(a)) {
             let boxes = &bins.boxes[axis * m..][..m];
             let (entries, exits) = (&bins.entries[axis * m..][..m], &bins.exits[axis * m..][..m]);
             let mut right_area = vec![0.0f32; m];
@@ -380,49 +475,37 @@ impl Builder<'_> {
         best
     }
 
-    /// Adds reference `r` to the slabs it crosses on every axis: a triangle as its
-    /// clipped pieces, anything else whole in the slab of its centroid.
+    /// Adds reference `r` to the slabs it crosses on every axis: a triangle as its pieces
+    /// (`Cut::bin`), anything else whole in the slab of its centroid. A reference within
+    /// one slab goes there whole, without a cut.
+    #[inline(always)]
     fn bin(&self, r: &PrimRef, slabs: &Slabs, bins: &mut SlabBins) {
         let m = slabs.count;
-        let bounds = box_of(r);
+        let (min, max) = (r.min(), r.max());
         let triangle = self.prims.triangle(r.index());
-        for axis in 0..3 {
-            let (first, last) = match triangle {
-                Some(_) => (
-                    slabs.of(axis, bounds.min[axis]),
-                    slabs.of(axis, bounds.max[axis]),
-                ),
-                None => {
-                    let c = slabs.of(axis, bounds.center()[axis]);
-                    (c, c)
-                }
-            };
-            // The slabs that got a piece: a part that only touches a slab's border is
-            // the neighbour's (`piece`), so the reference counts on the sides that
-            // `spatial_partition` sends it to.
-            let mut pieces: Option<(usize, usize)> = None;
-            if let Some(tri) = triangle.filter(|_| first < last) {
-                for k in first..=last {
-                    let lo = if k == first {
-                        f32::NEG_INFINITY
-                    } else {
-                        slabs.plane(axis, k)
-                    };
-                    let hi = if k == last {
-                        f32::INFINITY
-                    } else {
-                        slabs.plane(axis, k + 1)
-                    };
-                    if let Some(p) = piece(&tri, &bounds, axis, lo, hi) {
-                        let b = &mut bins.boxes[axis * m + k];
-                        *b = b.union(&simd(&p));
-                        pieces = Some((pieces.map_or(k, |(f, _)| f), k));
-                    }
-                }
+        let (firsts, lasts) = match triangle {
+            Some(_) => (slabs.of(min), slabs.of(max)),
+            None => {
+                let c = slabs.of(r.centroid());
+                (c, c)
             }
+        };
+        for axis in (0..3).filter(|&a| slabs.cuts(a)) {
+            let (first, last) = (firsts[axis], lasts[axis]);
+            let boxes = &mut bins.boxes[axis * m..][..m];
+            // The slabs that got a piece: a part that only touches a slab's border is
+            // the neighbour's (`Cut::piece`), so the reference counts on the sides that
+            // `spatial_partition` sends it to.
+            let pieces = match triangle {
+                Some(tri) if first < last => match axis {
+                    0 => Cut::<0>::new(&tri, r).bin(slabs, (first, last), boxes),
+                    1 => Cut::<1>::new(&tri, r).bin(slabs, (first, last), boxes),
+                    _ => Cut::<2>::new(&tri, r).bin(slabs, (first, last), boxes),
+                },
+                _ => None,
+            };
             let (first, last) = pieces.unwrap_or_else(|| {
-                let b = &mut bins.boxes[axis * m + first];
-                b.grow(r.min(), r.max());
+                boxes[first].grow(min, max);
                 (first, first)
             });
             bins.entries[axis * m + first] += 1;
@@ -443,26 +526,29 @@ impl Builder<'_> {
         let plane = slabs.plane(axis, k);
         let (mut left, mut right) = (Vec::new(), Vec::new());
         for r in refs {
-            let b = box_of(r);
+            let (first, last) = (slabs.of(r.min())[axis], slabs.of(r.max())[axis]);
             let Some(tri) = self.prims.triangle(r.index()) else {
-                if slabs.of(axis, b.center()[axis]) < k {
+                if slabs.of(r.centroid())[axis] < k {
                     left.push(*r);
                 } else {
                     right.push(*r);
                 }
                 continue;
             };
-            if slabs.of(axis, b.max[axis]) < k {
+            if last < k {
                 left.push(*r);
-            } else if slabs.of(axis, b.min[axis]) >= k {
+            } else if first >= k {
                 right.push(*r);
             } else {
-                let below = piece(&tri, &b, axis, f32::NEG_INFINITY, plane);
-                let above = piece(&tri, &b, axis, plane, f32::INFINITY);
-                match (below, above) {
+                let halves = match axis {
+                    0 => Cut::<0>::new(&tri, r).halves(plane),
+                    1 => Cut::<1>::new(&tri, r).halves(plane),
+                    _ => Cut::<2>::new(&tri, r).halves(plane),
+                };
+                match halves {
                     (Some(lo), Some(hi)) => {
-                        left.push(PrimRef::new(r.index(), &lo));
-                        right.push(PrimRef::new(r.index(), &hi));
+                        left.push(PrimRef::new(r.index(), &lo.to_aabb()));
+                        right.push(PrimRef::new(r.index(), &hi.to_aabb()));
                     }
                     // One side holds the triangle's part but where it touches the plane,
                     // which the other side's box keeps (points on the plane belong to
@@ -496,6 +582,17 @@ fn overlap_area(a: &Aabb, b: &Aabb) -> f32 {
 mod tests {
     use super::*;
 
+    /// The piece of `tri` within `within` between `lo` and `hi` on x, as the binning and
+    /// the partition cut it: an infinite border is the box's own, not crossed.
+    fn piece(tri: &[Vec3; 3], within: &Aabb, lo: f32, hi: f32) -> Option<Aabb> {
+        let cut = Cut::<0>::new(tri, &PrimRef::new(0, within));
+        let (min, max) = (within.min.x, within.max.x);
+        let (lo_in, hi_in) = (lo.max(min), hi.min(max));
+        let sections = (cut.along.section(lo_in), cut.along.section(hi_in));
+        let crossed = (min < lo, max > hi);
+        (cut.piece((lo_in, hi_in), sections, crossed)).map(SimdBox::to_aabb)
+    }
+
     /// The pieces of a long diagonal triangle in the slabs it crosses cover it, and are
     /// much smaller than its box.
     #[test]
@@ -506,11 +603,7 @@ mod tests {
             Vec3::new(8.1, 8.0, 8.0),
         ];
         let bounds = tri.iter().fold(Aabb::EMPTY, |b, &p| b.union_point(p));
-        let slabs = Slabs {
-            lo: bounds.min,
-            width: bounds.extent() / 8.0,
-            count: 8,
-        };
+        let slabs = Slabs::new(&bounds, 8);
         let mut pieces = Vec::new();
         for k in 0..8 {
             let lo = if k == 0 {
@@ -523,7 +616,7 @@ mod tests {
             } else {
                 slabs.plane(0, k + 1)
             };
-            pieces.extend(piece(&tri, &bounds, 0, lo, hi));
+            pieces.extend(piece(&tri, &bounds, lo, hi));
         }
         assert_eq!(pieces.len(), 8);
         let area: f32 = pieces.iter().map(Aabb::surface_area).sum();
@@ -553,8 +646,8 @@ mod tests {
             Vec3::new(-4.0, -1.0, 0.0),
         ];
         let bounds = tri.iter().fold(Aabb::EMPTY, |b, &p| b.union_point(p));
-        assert!(piece(&tri, &bounds, 0, 0.0, f32::INFINITY).is_none());
-        let below = piece(&tri, &bounds, 0, f32::NEG_INFINITY, 0.0).unwrap();
+        assert!(piece(&tri, &bounds, 0.0, f32::INFINITY).is_none());
+        let below = piece(&tri, &bounds, f32::NEG_INFINITY, 0.0).unwrap();
         assert_eq!(below, bounds);
         // The same within a reference cut from a larger triangle, whose box ends on the
         // plane while the triangle goes on beyond it.
@@ -564,11 +657,11 @@ mod tests {
             Vec3::new(-4.0, 4.0, 0.0),
         ];
         let within = Aabb::new(Vec3::new(-4.0, -4.0, 0.0), Vec3::new(0.0, 0.0, 0.0));
-        assert!(piece(&big, &within, 0, 0.0, 1.0).is_none());
+        assert!(piece(&big, &within, 0.0, 1.0).is_none());
         // A triangle lying in a slab's border plane is all there is of it: kept.
         let flat = tri.map(|p| Vec3::new(0.0, p.y, p.z + p.x));
         let flat_box = flat.iter().fold(Aabb::EMPTY, |b, &p| b.union_point(p));
-        assert_eq!(piece(&flat, &flat_box, 0, 0.0, 1.0), Some(flat_box));
+        assert_eq!(piece(&flat, &flat_box, 0.0, 1.0), Some(flat_box));
     }
 
     #[test]
