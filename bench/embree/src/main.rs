@@ -23,7 +23,8 @@ const USAGE: &str = "usage:
       by its camera, lit at its light; prism's tree for rays from inside); CSV rows are appended
       to FILE; --ray-file: trace FILE's rays (six little-endian f32s each: origin, direction;
       nearest hit) instead of the generated sets; --builders: prism's other BVH builders
-      (`bvh:build=NAME`, e.g. sbvh,ploc,phr), built and traced (single rays) beside its default
+      (`bvh:build=NAME`, e.g. sbvh,ploc,phr; NAME:KEY=V:... adds bvh keys, e.g.
+      sbvh:overlap=0), built and traced (single rays) beside its default
       (binned) tree and Embree MEDIUM and HIGH; --rays: only these ray sets (primary, incoherent,
       shadow)
   embree-bench builds --mesh NAME [--builds N] [--prism-only 1] [--builders NAME,...]
@@ -163,8 +164,10 @@ fn spec_for(mesh: &str) -> AccelSpec {
     }
 }
 
-/// prism's tree by another builder: `spec_for`'s with `build=NAME`.
+/// prism's tree by another builder: `spec_for`'s with `build=NAME`; `NAME:KEY=V:...`
+/// adds those `bvh` keys (a comma separates builders on the command line).
 fn builder_spec(mesh: &str, builder: &str) -> Result<AccelSpec, String> {
+    let builder = builder.replace(':', ",");
     let spec = if mesh == meshes::CORNELL {
         format!("bvh:rays=inside,build={builder}")
     } else {

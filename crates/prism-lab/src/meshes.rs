@@ -249,6 +249,9 @@ mod tests {
     fn normalising_centres_and_scales_the_largest_extent_to_100() {
         let mut p = vec![Vec3::new(1.0, 2.0, 3.0), Vec3::new(3.0, 3.0, 3.5)];
         normalise(&mut p);
-        assert_eq!(p, [Vec3::new(-50.0, -25.0, -12.5), Vec3::new(50.0, 25.0, 12.5)]);
+        assert_eq!(
+            p,
+            [Vec3::new(-50.0, -25.0, -12.5), Vec3::new(50.0, 25.0, 12.5)]
+        );
     }
 }

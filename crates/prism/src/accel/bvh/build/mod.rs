@@ -242,6 +242,7 @@ impl Bvh {
                         bins: options.bins,
                         traversal_cost: options.node_cost(),
                         alpha: options.alpha,
+                        overlap: options.overlap,
                         parallel_threshold: threshold,
                     };
                     let refs: Vec<PrimRef> = (input.bounds.par_iter().enumerate())

@@ -1,7 +1,7 @@
 //! Spatial-split BVH (Stich, Friedrich & Dietrich 2009): top down, each node takes the
 //! binned SAH's object split unless its two children overlap by more than `alpha` of the
-//! root's area; then a spatial split is also costed — the node's box cut into slabs on
-//! each axis, every triangle cut into the slabs it crosses (chopped binning), so that a
+//! root's area and by at least `overlap` of the node's own (Embree's second test); then a
+//! spatial split is also costed — the node's box cut into slabs on each axis, every triangle cut into the slabs it crosses (chopped binning), so that a
 //! plane between slabs sends each reference left, right, or, cut, to both — and the
 //! cheaper one wins. Duplicated references are bounded by a budget, shared out among the
 //! children by their reference counts (so the tree does not depend on which side was built
@@ -37,6 +37,11 @@ pub(super) struct Sbvh {
     /// The overlap of an object split's children, as a share of the root's area, above
     /// which a spatial split is costed too.
     pub alpha: f32,
+    /// The overlap, as a share of the node's own area, below which no spatial split is
+    /// costed even above `alpha` (Embree's second test): most nodes whose children overlap
+    /// by a sliver gain little from a spatial split, and binning one costs as much as a
+    /// worthwhile one.
+    pub overlap: f32,
     pub parallel_threshold: usize,
 }
 
@@ -391,7 +396,11 @@ impl Builder<'_> {
         let object_cost = self.sbvh.traversal_cost
             + (lo_box.surface_area() * leaf_cost(mid) + hi_box.surface_area() * leaf_cost(n - mid))
                 / parent_area;
-        if budget > 0 && overlap_area(&lo_box, &hi_box) > self.min_overlap {
+        let overlap = overlap_area(&lo_box, &hi_box);
+        if budget > 0
+            && overlap > self.min_overlap
+            && overlap >= self.sbvh.overlap * bounds.surface_area()
+        {
             if let Some(spatial) = self.spatial_split(&refs, &bounds, budget) {
                 if spatial.cost < object_cost {
                     if let Some(sides) = self.spatial_partition(&refs, &bounds, spatial) {
