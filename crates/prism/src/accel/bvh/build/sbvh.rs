@@ -1,6 +1,7 @@
 //! Spatial-split BVH (Stich, Friedrich & Dietrich 2009): top down, each node takes the
 //! binned SAH's object split unless its two children overlap by more than `alpha` of the
-//! root's area and by at least `overlap` of the node's own (Embree's second test); then a
+//! root's area and either by at least `overlap` of the node's own (Embree's second test)
+//! or with half the node's references touching the overlap (slivers crossing it); then a
 //! spatial split is also costed — the node's box cut into slabs on each axis, every triangle cut into the slabs it crosses (chopped binning), so that a
 //! plane between slabs sends each reference left, right, or, cut, to both — and the
 //! cheaper one wins. Duplicated references are bounded by a budget, shared out among the
@@ -38,9 +39,9 @@ pub(super) struct Sbvh {
     /// which a spatial split is costed too.
     pub alpha: f32,
     /// The overlap, as a share of the node's own area, below which no spatial split is
-    /// costed even above `alpha` (Embree's second test): most nodes whose children overlap
-    /// by a sliver gain little from a spatial split, and binning one costs as much as a
-    /// worthwhile one.
+    /// costed even above `alpha` (Embree's second test), unless half the node's references
+    /// touch the overlap: most nodes whose children overlap by a sliver gain little from
+    /// a spatial split, and binning one costs as much as a worthwhile one.
     pub overlap: f32,
     pub parallel_threshold: usize,
 }
@@ -399,7 +400,8 @@ impl Builder<'_> {
         let overlap = overlap_area(&lo_box, &hi_box);
         if budget > 0
             && overlap > self.min_overlap
-            && overlap >= self.sbvh.overlap * bounds.surface_area()
+            && (overlap >= self.sbvh.overlap * bounds.surface_area()
+                || straddling(&refs, &lo_box, &hi_box) as f32 >= CROWDED_OVERLAP * n as f32)
         {
             if let Some(spatial) = self.spatial_split(&refs, &bounds, budget) {
                 if spatial.cost < object_cost {
@@ -574,6 +576,20 @@ impl Builder<'_> {
 /// The left child's part of `budget`, in proportion to its references.
 fn share(budget: usize, left: usize, right: usize) -> usize {
     (budget as u128 * left as u128 / (left + right).max(1) as u128) as usize
+}
+
+/// The share of a node's references that, touching its children's overlap, tries a
+/// spatial split however small that overlap is against the node's area: slivers crossing a
+/// node put most of its references there (the crossed knot's nodes: 0.5 keeps all its
+/// splits, 0.7 loses them), a smooth mesh's thin overlap holds few.
+const CROWDED_OVERLAP: f32 = 0.5;
+
+/// How many references touch the overlap of the two children's boxes.
+fn straddling(refs: &[PrimRef], a: &Aabb, b: &Aabb) -> usize {
+    let (lo, hi) = (Vec3A::from(a.min.max(b.min)), Vec3A::from(a.max.min(b.max)));
+    refs.iter()
+        .filter(|r| r.min().cmple(hi).all() && r.max().cmpge(lo).all())
+        .count()
 }
 
 /// The surface area of the intersection of two boxes (0 when they are disjoint).
