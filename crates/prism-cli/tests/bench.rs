@@ -120,6 +120,48 @@ fn bench_writes_the_same_results_as_csv_json_and_chart() {
     }
 }
 
+/// `--auto-passes` measures `build=auto` once per pass count, each row's tree built for
+/// that many passes over the camera and shadow rays (the render the auto check weighs).
+#[test]
+fn auto_rows_are_built_for_their_passes() {
+    let dir = work_dir("auto-passes");
+    let args = [
+        "bench",
+        "--quick",
+        "-q",
+        "--scenes",
+        "shards",
+        "--methods",
+        "bvh;bvh:build=auto",
+        "--auto-passes",
+        "1,500",
+        "--csv",
+        "out.csv",
+        "--json",
+        "out.json",
+    ];
+    run(&dir, &args, 0);
+    let csv = fs::read_to_string(dir.join("out.csv")).unwrap();
+    let methods: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(4).unwrap())
+        .collect();
+    assert_eq!(methods, ["bvh", "bvh:build=auto@1", "bvh:build=auto@500"]);
+    let json: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.join("out.json")).unwrap()).unwrap();
+    let scene = &json["scenes"][0];
+    let per_pass = scene["primary_rays"].as_u64().unwrap() + scene["shadow_rays"].as_u64().unwrap();
+    for (row, passes) in scene["methods"].as_array().unwrap()[1..]
+        .iter()
+        .zip([1, 500])
+    {
+        let built = row["measured"]["accel"]["method"].as_str().unwrap();
+        let told = format!("and {} expected rays", passes * per_pass);
+        assert!(built.contains(&told), "{built}: {told}");
+    }
+}
+
 #[test]
 fn bad_bench_input_fails_at_once_and_writes_nothing() {
     let dir = work_dir("bad");

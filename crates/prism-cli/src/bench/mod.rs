@@ -12,8 +12,8 @@ mod table;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use prism::accel::{AccelKind, AccelSpec};
-use prism_lab::bench::{measure_all, Clock, MeasureOptions, RaySet};
+use prism::accel::{AccelKind, AccelSpec, BvhBuilder};
+use prism_lab::bench::{measure_all_expecting, Clock, MeasureOptions, RaySet};
 use results::{Outcome, Row, SceneResult};
 use scenes::SceneSource;
 use std::path::PathBuf;
@@ -89,14 +89,21 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_name = "LIST")]
     pub shadows: Option<String>,
 
+    /// Measure each `build=auto` method once per pass count in LIST (comma separated), as
+    /// the row METHOD@N built for N passes over the camera and shadow rays, the render
+    /// bench/bvh-auto-check.py weighs [default: one row, built for one pass over the
+    /// camera, shadow and incoherent rays].
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = crate::flags::whole::<u32>("auto-passes"))]
+    pub auto_passes: Vec<u32>,
+
     /// No progress lines on standard error.
     #[arg(short, long)]
     pub quiet: bool,
 }
 
 impl BenchArgs {
-    /// The methods, each as written and parsed.
-    fn methods(&self) -> Result<Vec<(String, AccelSpec)>> {
+    /// The methods, each as written and parsed; a `build=auto` one once per `--auto-passes`.
+    fn methods(&self) -> Result<Vec<Method>> {
         let mut texts: Vec<String> = self
             .methods
             .iter()
@@ -111,15 +118,27 @@ impl BenchArgs {
             }
             texts = DEFAULT_METHODS.iter().map(|m| m.to_string()).collect();
         }
-        texts
-            .into_iter()
-            .map(|t| {
-                let spec = t
-                    .parse::<AccelSpec>()
-                    .map_err(|e| anyhow::anyhow!("bad method '{t}': {e}"))?;
-                Ok((t, spec))
-            })
-            .collect()
+        let mut methods = Vec::new();
+        for t in texts {
+            let spec = t
+                .parse::<AccelSpec>()
+                .map_err(|e| anyhow::anyhow!("bad method '{t}': {e}"))?;
+            let auto = matches!(&spec, AccelSpec::Bvh(o) if o.builder == BvhBuilder::Auto);
+            if auto && !self.auto_passes.is_empty() {
+                methods.extend(self.auto_passes.iter().map(|&n| Method {
+                    name: format!("{t}@{n}"),
+                    spec: spec.clone(),
+                    auto_passes: Some(n),
+                }));
+            } else {
+                methods.push(Method {
+                    name: t,
+                    spec,
+                    auto_passes: None,
+                });
+            }
+        }
+        Ok(methods)
     }
 
     fn sources(&self) -> Result<Vec<SceneSource>> {
@@ -139,6 +158,14 @@ impl BenchArgs {
         }
         Ok(sources)
     }
+}
+
+/// A method to measure: its name in the results, its spec, and for a `build=auto` row of
+/// `--auto-passes`, the passes over the camera and shadow rays it is built for.
+struct Method {
+    name: String,
+    spec: AccelSpec,
+    auto_passes: Option<u32>,
 }
 
 pub(crate) fn run(args: &BenchArgs) -> Result<ExitCode> {
@@ -232,7 +259,7 @@ pub(crate) fn run(args: &BenchArgs) -> Result<ExitCode> {
         println!("{line}");
     }
 
-    let method_names: Vec<String> = methods.iter().map(|(m, _)| m.clone()).collect();
+    let method_names: Vec<String> = methods.iter().map(|m| m.name.clone()).collect();
     let settings = json::RunSettings {
         threads,
         clock: options.clock.describe(),
@@ -295,7 +322,7 @@ pub(crate) fn run(args: &BenchArgs) -> Result<ExitCode> {
 fn bench_scene(
     scene: &prism::Scene,
     name: String,
-    (methods, shadow_specs): (&[(String, AccelSpec)], &[prism::integrator::ShadowSpec]),
+    (methods, shadow_specs): (&[Method], &[prism::integrator::ShadowSpec]),
     size: u32,
     options: &MeasureOptions,
     quiet: bool,
@@ -334,17 +361,26 @@ fn bench_scene(
     let work = bounded * traced as u64;
     let skipped =
         |spec: &AccelSpec| spec.kind() == AccelKind::BruteForce && work > BRUTE_FORCE_BUDGET;
-    // The methods that run are built first and then timed in turns (`measure_all`).
-    let running: Vec<&(String, AccelSpec)> = methods.iter().filter(|(_, s)| !skipped(s)).collect();
-    let specs: Vec<AccelSpec> = running.iter().map(|(_, s)| s.clone()).collect();
-    let mut measured = measure_all(scene, &specs, &rays, options, |i| {
+    // The methods that run are built first and then timed in turns (`measure_all_expecting`).
+    let running: Vec<&Method> = methods.iter().filter(|m| !skipped(&m.spec)).collect();
+    let specs: Vec<AccelSpec> = running.iter().map(|m| m.spec.clone()).collect();
+    let expected_rays: Vec<f64> = (running.iter())
+        .map(|m| match m.auto_passes {
+            Some(n) => n as f64 * (rays.primary.len() + rays.shadow.len()) as f64,
+            None => traced as f64,
+        })
+        .collect();
+    let mut measured = measure_all_expecting(scene, &specs, &expected_rays, &rays, options, |i| {
         if !quiet {
-            eprintln!("bench: {name}: {}", running[i].0);
+            eprintln!("bench: {name}: {}", running[i].name);
         }
     })
     .into_iter();
     let mut rows = Vec::new();
-    for (method, spec) in methods {
+    for Method {
+        name: method, spec, ..
+    } in methods
+    {
         let outcome = if skipped(spec) {
             Outcome::Skipped(format!("{bounded} primitives × {traced} rays is too slow"))
         } else {

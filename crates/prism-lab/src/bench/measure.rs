@@ -1,5 +1,5 @@
 //! Measuring one method on one scene's `RaySet`: build time (median of several builds when
-//! a build is cheap), what was built, and for primary rays (nearest hit), shadow rays
+//! a build is cheap, the methods built in turns), what was built, and for primary rays (nearest hit), shadow rays
 //! (any hit) and incoherent rays (nearest hit) the node visits and primitive tests per ray and the throughput (median of the
 //! repetitions, the methods timed in turns).
 
@@ -94,7 +94,8 @@ pub struct Measured {
     pub incoherent_digest: super::HitDigest,
 }
 
-/// Builds every method in `specs` over `scene`, then times them on `rays` in turns: sample
+/// Builds every method in `specs` over `scene`, in turns as the rays (`build_in_turns`),
+/// then times them on `rays` in turns: sample
 /// r of every method before sample r + 1 of any, so that a slow spell on a shared machine
 /// falls on all methods alike and the ratios between them hold. On the current rayon pool.
 /// `progress` hears each method's index as its build starts. A BVH's `build=auto` is
@@ -107,14 +108,25 @@ pub fn measure_all(
     options: &MeasureOptions,
     progress: impl Fn(usize),
 ) -> Vec<Measured> {
-    let built: Vec<(SceneIntersector, Vec<f64>)> = specs
-        .iter()
-        .enumerate()
-        .map(|(i, spec)| {
-            progress(i);
-            build_timed(scene, &spec.with_expected_rays(rays.len() as f64), options)
-        })
+    let expected = vec![rays.len() as f64; specs.len()];
+    measure_all_expecting(scene, specs, &expected, rays, options, progress)
+}
+
+/// As `measure_all`, with the `build=auto` of `specs[i]` told `expected_rays[i]` rays
+/// instead: a render of several passes over the rays (`prism bench --auto-passes`).
+pub fn measure_all_expecting(
+    scene: &Scene,
+    specs: &[AccelSpec],
+    expected_rays: &[f64],
+    rays: &RaySet,
+    options: &MeasureOptions,
+    progress: impl Fn(usize),
+) -> Vec<Measured> {
+    assert_eq!(specs.len(), expected_rays.len(), "one ray count per spec");
+    let specs: Vec<AccelSpec> = (specs.iter().zip(expected_rays))
+        .map(|(spec, &rays)| spec.with_expected_rays(rays))
         .collect();
+    let built = build_in_turns(scene, &specs, options, progress);
     let geometry = &scene.geometry;
     let primary_passes: Vec<_> = built
         .iter()
@@ -150,24 +162,42 @@ pub fn measure_all(
         .collect()
 }
 
-/// Builds `spec` once, or several times while builds are cheap; the build times in ms.
-fn build_timed(
+/// Builds every spec once (`progress` hears its index), then again in rounds, every spec
+/// once a round while its builds so far took less than the budget, up to `max_builds`: so
+/// that a slow spell on a shared machine falls on all builders alike, as the rays do. The
+/// first trees, and each spec's build times in ms.
+fn build_in_turns(
     scene: &Scene,
-    spec: &AccelSpec,
+    specs: &[AccelSpec],
     options: &MeasureOptions,
-) -> (SceneIntersector, Vec<f64>) {
-    let mut build_times = Vec::new();
-    let mut spent = Duration::ZERO;
-    loop {
+    progress: impl Fn(usize),
+) -> Vec<(SceneIntersector, Vec<f64>)> {
+    let timed = |spec: &AccelSpec| {
         let start = options.clock.start();
         let built = SceneIntersector::build(&scene.geometry, spec);
-        let took = start.elapsed();
-        build_times.push(took.as_secs_f64() * 1e3);
-        spent += took;
-        if spent >= options.build_budget || build_times.len() >= options.max_builds.max(1) {
-            return (built, build_times);
+        (built, start.elapsed())
+    };
+    let mut built: Vec<(SceneIntersector, Vec<f64>, Duration)> = (specs.iter().enumerate())
+        .map(|(i, spec)| {
+            progress(i);
+            let (tree, took) = timed(spec);
+            (tree, vec![took.as_secs_f64() * 1e3], took)
+        })
+        .collect();
+    for _ in 1..options.max_builds.max(1) {
+        for (spec, (_, times, spent)) in specs.iter().zip(&mut built) {
+            if *spent < options.build_budget {
+                let (tree, took) = timed(spec);
+                drop(tree);
+                times.push(took.as_secs_f64() * 1e3);
+                *spent += took;
+            }
         }
     }
+    built
+        .into_iter()
+        .map(|(tree, times, _)| (tree, times))
+        .collect()
 }
 
 /// For each method's `pass`: counts the work of one pass, then times up to `repeat`
@@ -333,6 +363,30 @@ mod tests {
             method.contains(&format!("and {} expected rays", rays.len())),
             "{method}"
         );
+    }
+
+    /// Told more rays, `auto` is built for them: the bench's rows for renders of many
+    /// passes (`--auto-passes`).
+    #[test]
+    fn auto_is_built_for_the_rays_it_is_told() {
+        let scene = prism::scene::builtin::find("pearls").expect("built-in scene");
+        let prepared = scene.prepare(&AccelSpec::default());
+        let rays = RaySet::generate(&prepared, 8, 6).expect("camera");
+        let auto: AccelSpec = "bvh:build=auto".parse().expect("a valid spec");
+        let options = MeasureOptions {
+            repeat: 1,
+            max_builds: 1,
+            min_sample: Duration::ZERO,
+            ..MeasureOptions::default()
+        };
+        let specs = [auto.clone(), auto];
+        let measured = measure_all_expecting(&scene, &specs, &[10.0, 5e6], &rays, &options, |_| {});
+        for (m, told) in measured
+            .iter()
+            .zip(["and 10 expected rays", "and 5000000 expected rays"])
+        {
+            assert!(m.accel.method.contains(told), "{}", m.accel.method);
+        }
     }
 
     #[test]

@@ -10,6 +10,6 @@ mod shadows;
 
 pub use clock::{Clock, Stopwatch};
 pub use digest::HitDigest;
-pub use measure::{measure_all, MeasureOptions, Measured, RayKindResult};
+pub use measure::{measure_all, measure_all_expecting, MeasureOptions, Measured, RayKindResult};
 pub use rays::{RaySet, RaySetSize, ShadowRay};
 pub use shadows::{measure_shadow_methods, ShadowMeasured};
