@@ -160,9 +160,10 @@ pub struct BvhOptions {
     pub alpha: f32,
     /// SBVH costs a spatial split only where an object split's children also overlap by at
     /// least this share of the node's own surface area (Embree's second test; 0 = off) or
-    /// half the node's references touch the overlap (slivers crossing the node): at 0.1,
+    /// 0.3 of the node's references touch the overlap (slivers crossing the node): at 0.1,
     /// the default, surface meshes build 0.8x as long as with 0, with the same rays, and a
-    /// knot crossed by slivers keeps its spatial splits (docs/acceleration.md).
+    /// knot crossed by slivers and a torus crossed by chords keep their spatial splits
+    /// (docs/acceleration.md).
     pub overlap: f32,
     /// PHR's first cut: the auxiliary nodes of at most 2^-cut of the root's area (the
     /// paper's δ; about 2^cut nodes on a surface mesh).
@@ -287,7 +288,7 @@ impl Keyed for BvhOptions {
              SBVH tries spatial splits"),
         field_key!("overlap" => overlap, number 0.0..=1.0,
             "overlap of an object split's children, as a share of the node's own area, below \
-             which SBVH tries no spatial split even above alpha, unless half the node's references \
+             which SBVH tries no spatial split even above alpha, unless 0.3 of the node's references \
              touch the overlap (0 = alpha alone)"),
         field_key!("cut" => cut, number 0.0..=24.0,
             "PHR's first cut: the auxiliary LBVH's nodes of at most 2^-cut of the root's area \
