@@ -134,7 +134,7 @@ fn auto_builds_its_choice_and_says_why() {
     for (g, rays, builder) in [
         (&knot, 0.0, BvhBuilder::Lbvh),
         (&knot, 1e6, BvhBuilder::Binned),
-        (&spheres, 1e6, BvhBuilder::Lbvh),
+        (&spheres, 1e4, BvhBuilder::Lbvh),
     ] {
         let chosen = Bvh::build(g, all_prims(g), &auto(rays)).info();
         let direct = Bvh::build(g, all_prims(g), &options(builder, false)).info();

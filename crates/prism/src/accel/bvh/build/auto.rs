@@ -1,12 +1,16 @@
 //! `bvh:build=auto`: the builder that should cost a render least, build and trace
 //! together, chosen from counts alone (the primitives, whether they are all triangles,
 //! the rays the render is expected to trace), so the tree is the same on every machine
-//! and run. The model is fitted to a run of the build-against-trace chart before it traced
-//! incoherent rays (camera and shadow rays, one thread, geometric means over its scenes): per
-//! builder the build time per primitive and the trace time per ray relative to binned
-//! SAH's tree, times binned's trace time per ray. Triangles and other shapes get their
-//! own rows: binned SAH builds triangles in packs of four, which makes it cheap there,
-//! and its leaves of spheres and cones traced no faster than LBVH's.
+//! and run. The model: per candidate the build time per primitive and the trace time per
+//! ray relative to binned SAH's tree, times binned's trace time per ray; triangles and
+//! other shapes get their own rows (binned SAH builds triangles in packs of four, which
+//! makes it cheap there; LBVH's leaves of spheres and cones trace about as fast as binned
+//! SAH's). The constants are geometric means over two runs of `prism bench` with every
+//! builder (its ten scenes, camera and shadow rays, one thread, process CPU time, builds
+//! and traces in turns; 2026-12-07, bench/results/bvh-auto-turns{1,2}.csv);
+//! `bench/bvh-auto-check.py fit RUN.csv...` derives them from such runs and
+//! docs/acceleration.md says how. PLOC, SBVH, PHR and sweep are no candidates: in the
+//! means they build 1.5–6.5× binned's time and trace no faster.
 
 use crate::accel::bvh::BvhBuilder;
 
@@ -24,19 +28,19 @@ struct Candidate {
 /// per ray (camera and shadow rays, ns) for each.
 const TRIANGLES: ([Candidate; 3], f64) = (
     [
-        row(BvhBuilder::Lbvh, false, 290.0, 1.27),
-        row(BvhBuilder::Binned, false, 303.0, 1.0),
-        row(BvhBuilder::Binned, true, 380.0, 1.021),
+        row(BvhBuilder::Lbvh, false, 190.0, 1.243),
+        row(BvhBuilder::Binned, false, 245.0, 1.0),
+        row(BvhBuilder::Binned, true, 333.0, 0.997),
     ],
-    192.0,
+    149.0,
 );
 const OTHER_SHAPES: ([Candidate; 3], f64) = (
     [
-        row(BvhBuilder::Lbvh, false, 226.0, 0.926),
-        row(BvhBuilder::Binned, false, 427.0, 1.0),
-        row(BvhBuilder::Binned, true, 743.0, 0.956),
+        row(BvhBuilder::Lbvh, false, 154.0, 1.016),
+        row(BvhBuilder::Binned, false, 398.0, 1.0),
+        row(BvhBuilder::Binned, true, 579.0, 0.959),
     ],
-    118.0,
+    89.0,
 );
 
 const fn row(builder: BvhBuilder, reinsert: bool, build_ns: f64, trace_ratio: f64) -> Candidate {
@@ -104,14 +108,16 @@ mod tests {
             (preview.builder, preview.reinsert),
             (BvhBuilder::Lbvh, false)
         );
-        let render = choose(1_000_000, true, 1e9);
+        let render = choose(1_000_000, true, 1e12);
+        let fastest_tree = (TRIANGLES.0.iter())
+            .min_by(|a, b| a.trace_ratio.total_cmp(&b.trace_ratio))
+            .expect("the model has rows");
         assert_eq!(
             (render.builder, render.reinsert),
-            (BvhBuilder::Binned, false)
+            (fastest_tree.builder, fastest_tree.reinsert)
         );
-        assert!(render
-            .reason
-            .contains("auto chose binned for 1000000 triangles"));
+        let told = format!("auto chose {} for 1000000 triangles", name(fastest_tree));
+        assert!(render.reason.contains(&told), "{}", render.reason);
         assert!(render.reason.contains("lbvh") && render.reason.contains("binned,reinsert"));
     }
 
