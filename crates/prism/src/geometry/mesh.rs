@@ -276,9 +276,24 @@ impl TriangleMesh {
             return (sp.p, sp.p_error, sp.ng);
         }
         let idx = self.indices[tri as usize].map(|i| i as usize);
-        let b0 = 1.0 - b1 - b2;
-        let (p, p_error) = barycentric_point(idx.map(|i| self.positions[i]), b0, b1, b2);
+        let (p, p_error) = Self::flat_point(idx.map(|i| self.positions[i]), b1, b2);
         (p, p_error, self.face_normals[tri as usize])
+    }
+
+    /// Triangle `tri`'s corners and face normal where the mesh has no vertex normals
+    /// (`None` where they decide the side): what `surface_point` reads, for a caller that
+    /// keeps them (`integrator/emitters.rs`) and draws its points with `flat_point`.
+    pub fn flat_triangle(&self, tri: u32) -> Option<([Vec3; 3], Vec3)> {
+        self.normals
+            .is_none()
+            .then(|| (self.vertices(tri), self.face_normals[tri as usize]))
+    }
+
+    /// `surface_point`'s point and error bound in the triangle of `corners`, where the
+    /// mesh has no vertex normals.
+    #[inline(always)]
+    pub fn flat_point(corners: [Vec3; 3], b1: f32, b2: f32) -> (Vec3, Vec3) {
+        barycentric_point(corners, 1.0 - b1 - b2, b1, b2)
     }
 
     /// The point, normals (interpolated where the mesh has them) and uv of a hit on triangle `tri`.

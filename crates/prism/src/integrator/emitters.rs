@@ -9,7 +9,7 @@
 //! Triangles (so quads and whole meshes) and spheres are sampled. Planes, boxes and cones
 //! that emit still shine when a path hits them, but light samples never aim at them.
 
-use crate::geometry::{Geometry, Shape, ShapeHit, Uv};
+use crate::geometry::{Geometry, Primitive, Shape, ShapeHit, TriangleMesh, Uv};
 use crate::math::robust::gamma;
 use crate::math::warp::{uniform_sphere, uniform_triangle};
 use crate::math::{Color, Ray, Vec2, Vec3};
@@ -24,6 +24,39 @@ struct Emitter {
     area: f32,
     /// The density per unit area of its points (`probability / area`), made once.
     pdf_area: f32,
+    /// What a point on it needs from the scene, where that is the same at every point.
+    flat: Option<FlatTriangle>,
+}
+
+/// A triangle of a mesh without vertex normals, of a material without an emissive
+/// texture: everything `Emitters::sample` reads from the scene to draw a point on it (the
+/// corners, the face normal, the radiance), gathered once, so that a light sample does
+/// not look up the primitive, its material, its mesh, its corner indices and corners (a
+/// quarter of a Cornell box's shade stage went to `Emitters::sample`). The point is
+/// `TriangleMesh::flat_point` of the same corners, the normal the mesh's kept face normal,
+/// the radiance the material's: the same bits. 48 bytes more per emitting triangle.
+#[derive(Clone, Copy, Debug)]
+struct FlatTriangle {
+    corners: [Vec3; 3],
+    n: Vec3,
+    radiance: Color,
+}
+
+/// The `FlatTriangle` of primitive `prim`, where it is one.
+fn flat_triangle(scene: &Scene, prim: &Primitive) -> Option<FlatTriangle> {
+    let Shape::Triangle { mesh, index } = prim.shape else {
+        return None;
+    };
+    let material = &scene.materials[prim.material as usize];
+    if material.emission_map.is_some() {
+        return None;
+    }
+    let (corners, n) = scene.geometry.meshes[mesh as usize].flat_triangle(index)?;
+    Some(FlatTriangle {
+        corners,
+        n,
+        radiance: material.emission_at(Vec2::ZERO),
+    })
 }
 
 /// The scene's sampled area lights and the choice between them.
@@ -74,6 +107,7 @@ impl Emitters {
                 prim: prim as u32,
                 area,
                 pdf_area: 0.0,
+                flat: flat_triangle(scene, p),
             });
             // f64: a million small triangles' areas sum without losing the last ones.
             power.push(area as f64 * (radiance.x + radiance.y + radiance.z) as f64);
@@ -134,6 +168,18 @@ impl Emitters {
         let pdf_area = emitter.pdf_area;
         if pdf_area <= 0.0 {
             return None;
+        }
+        if let Some(t) = &emitter.flat {
+            // `TriangleMesh::surface_point`'s arithmetic on the kept corners.
+            let (b1, b2) = uniform_triangle(u1, u2);
+            let (p, p_error) = TriangleMesh::flat_point(t.corners, b1, b2);
+            return Some(EmitterSample {
+                p,
+                p_error,
+                n: t.n,
+                radiance: t.radiance,
+                pdf_area,
+            });
         }
         let prim = &scene.geometry.primitives[emitter.prim as usize];
         let material = &scene.materials[prim.material as usize];
