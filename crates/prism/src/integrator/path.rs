@@ -32,7 +32,6 @@ use super::emitters::Emitters;
 use super::CameraPacket;
 use crate::accel::{Hit, PACKET_MAX};
 use crate::choices::Strategy;
-use crate::geometry::SurfacePoint;
 use crate::math::hash::Stream;
 use crate::math::robust::{gamma, offset_ray_origin};
 use crate::math::{Color, Ray, Vec3};
@@ -279,7 +278,11 @@ impl<'a> PathTracer<'a> {
             Some(lobes) => lobes.at(&k, wo, ns, ng, entering),
             None => Bsdf::new(&k, material.color_at(sp.uv, sp.p), wo, ns, ng, entering),
         };
-        Some(Vertex { sp, ng, bsdf })
+        Some(Vertex {
+            p: sp.p,
+            p_error: sp.p_error,
+            bsdf,
+        })
     }
 
     /// The light samples at a vertex, appended to `out`, each a shadow ray and what it
@@ -296,10 +299,10 @@ impl<'a> PathTracer<'a> {
         if !v.bsdf.has_smooth_lobe() {
             return;
         }
-        let (bsdf, sp, ng) = (&v.bsdf, &v.sp, v.ng);
+        let (bsdf, ng) = (&v.bsdf, v.bsdf.ng());
         let scene = self.scene.scene;
         for light in &scene.lights {
-            let Some(ls) = light.sample(sp.p) else {
+            let Some(ls) = light.sample(v.p) else {
                 continue;
             };
             let wi = ls.to_light;
@@ -311,7 +314,7 @@ impl<'a> PathTracer<'a> {
                 continue;
             }
             out.push(LightQuery {
-                origin: offset_ray_origin(sp.p, sp.p_error, ng, wi),
+                origin: offset_ray_origin(v.p, v.p_error, ng, wi),
                 dir: wi,
                 t_max: ls.distance,
                 value: f * bsdf.cos(wi) * (PI * ls.color),
@@ -330,7 +333,7 @@ impl<'a> PathTracer<'a> {
         ) else {
             return;
         };
-        let to_light = e.p - sp.p;
+        let to_light = e.p - v.p;
         let Some(wi) = to_light.try_normalize() else {
             return;
         };
@@ -344,7 +347,7 @@ impl<'a> PathTracer<'a> {
         }
         // Both ends leave their surfaces; the shadow ray stops short of the light by a
         // few ulps of its length, so it cannot find the light itself.
-        let origin = offset_ray_origin(sp.p, sp.p_error, ng, wi);
+        let origin = offset_ray_origin(v.p, v.p_error, ng, wi);
         let target = offset_ray_origin(e.p, e.p_error, e.n, -wi);
         let span = target - origin;
         let distance = span.length();
@@ -420,7 +423,6 @@ impl<'a> PathTracer<'a> {
         stream: &Stream,
         stats: &mut Stats,
     ) -> bool {
-        let (sp, ng) = (&v.sp, v.ng);
         let Some(s) = sample else {
             return false;
         };
@@ -442,7 +444,7 @@ impl<'a> PathTracer<'a> {
         } else {
             stats.reflected_rays += 1;
         }
-        path.ray = Ray::new(offset_ray_origin(sp.p, sp.p_error, ng, s.wi), s.wi);
+        path.ray = Ray::new(offset_ray_origin(v.p, v.p_error, v.bsdf.ng(), s.wi), s.wi);
         true
     }
 }
@@ -489,11 +491,14 @@ impl Path {
     }
 }
 
-/// Where a path scatters: the surface, its geometric normal on the incoming side, and the
-/// BSDF there.
+/// Where a path scatters: the point with its error bound, and the BSDF there, whose
+/// geometric normal (`Bsdf::ng`, on the incoming side) the rays leaving it are offset
+/// along. Only what the light samples and the bounce read after `arrive`: the wavefront
+/// keeps a queue of them between its stages, where the surface point's own normals and
+/// uv made a vertex a third larger.
 pub(super) struct Vertex {
-    sp: SurfacePoint,
-    ng: Vec3,
+    p: Vec3,
+    p_error: Vec3,
     pub(super) bsdf: Bsdf,
 }
 

@@ -222,6 +222,12 @@ impl Bsdf {
         })
     }
 
+    /// The geometric normal it was made with, on `wo`'s side.
+    #[inline]
+    pub fn ng(&self) -> Vec3 {
+        self.ng
+    }
+
     /// Whether some lobe is not a delta: only then can a light sample find a direction.
     pub fn has_smooth_lobe(&self) -> bool {
         self.p_diffuse + self.p_glossy > 0.0
