@@ -64,10 +64,8 @@ struct Stages {
     vertices: Vec<Option<Vertex>>,
     lights: Vec<LightQuery>,
     spans: Vec<Range<usize>>,
-    /// A stage's queries in the order they go to the accelerator (`sort_by_key`).
+    /// A stage's queries that go as packets, in the order they go (`index` of each).
     order: Vec<u64>,
-    /// `sort_by_key`'s scratch: the entries between its passes and its key counts.
-    sorting: Sorting,
     /// Each path's BSDF sample in the leave stage.
     samples: Vec<Option<BsdfSample>>,
     /// The leave stage's diffuse bounces waiting for their lanes.
@@ -93,41 +91,35 @@ impl<'a> WavefrontPathTracer<'a> {
         }
     }
 
-    /// Every path's next hit. The rays go to the accelerator grouped by depth, in queue
-    /// order within a depth: the camera rays of neighbouring pixels in runs of
-    /// `PACKET_MAX` as packets, the bounce rays one by one (`coherent`).
+    /// Every path's next hit. The camera rays (depth 1: the places refilled this round)
+    /// go to the accelerator in runs of `PACKET_MAX` in queue order as packets, so that
+    /// neighbouring pixels' rays walk the tree together; the bounce rays one by one in
+    /// queue order (`coherent`). A ray's hit does not depend on the order of the queries,
+    /// so nothing is sorted: a sort by depth took 4 % of a `cornell-light` render's
+    /// instructions, a counting sort still 2 % of its time.
     fn find_hits(&self, queue: &[Lane], stages: &mut Stages, stats: &mut Stats) {
         let s = self.paths.scene;
-        let Stages {
-            hits,
-            order,
-            sorting,
-            ..
-        } = stages;
+        let geometry = &s.scene.geometry;
+        let Stages { hits, order, .. } = stages;
         hits.clear();
-        hits.resize(queue.len(), None);
-        sort_by_key(queue.iter().map(|l| l.depth), order, sorting);
+        order.clear();
+        for (i, lane) in queue.iter().enumerate() {
+            if coherent(lane.depth) {
+                hits.push(None);
+                order.push(i as u64);
+            } else {
+                let ray = &lane.path.ray;
+                hits.push(s.intersector.intersect(geometry, ray, f32::INFINITY, stats));
+            }
+        }
         stats.primary_rays += queue.iter().filter(|l| l.depth == 1).count() as u64;
-        for run in runs(order) {
+        for run in order.chunks(PACKET_MAX) {
             let rays: ArrayVec<Ray, PACKET_MAX> =
                 run.iter().map(|&k| queue[index(k)].path.ray).collect();
             let mut found = [None; PACKET_MAX];
             let found = &mut found[..run.len()];
-            if coherent((run[0] >> 32) as u32) {
-                s.intersector.intersect_packet(
-                    &s.scene.geometry,
-                    &rays,
-                    f32::INFINITY,
-                    found,
-                    stats,
-                );
-            } else {
-                for (r, f) in rays.iter().zip(found.iter_mut()) {
-                    *f = s
-                        .intersector
-                        .intersect(&s.scene.geometry, r, f32::INFINITY, stats);
-                }
-            }
+            s.intersector
+                .intersect_packet(geometry, &rays, f32::INFINITY, found, stats);
             for (&k, &h) in run.iter().zip(found.iter()) {
                 hits[index(k)] = h;
             }
@@ -159,24 +151,47 @@ impl<'a> WavefrontPathTracer<'a> {
         }
     }
 
-    /// Whether each light sample's shadow ray is blocked. The rays go grouped by their
-    /// vertex's depth and their place among its samples (which light): the shadow rays
-    /// of neighbouring first hits to one light in runs of `PACKET_MAX` as packets, the
-    /// deeper vertices' one by one (`coherent`).
+    /// Whether each light sample's shadow ray is blocked. The shadow rays of the first
+    /// hits (`coherent`) go by their place among their vertex's samples (which light),
+    /// in queue order within a place, in runs of `PACKET_MAX` as packets: neighbouring
+    /// first hits' rays to one light walk the tree together. The deeper vertices' go one
+    /// by one in queue order.
     fn answer_shadow_rays(&self, queue: &[Lane], stages: &mut Stages, stats: &mut Stats) {
         let s = self.paths.scene;
+        let geometry = &s.scene.geometry;
         let Stages {
             lights,
             spans,
             order,
-            sorting,
             ..
         } = stages;
-        let keys = queue.iter().zip(spans.iter()).flat_map(|(lane, span)| {
-            (0..span.len()).map(move |slot| lane.depth << 16 | (slot as u32).min(0xffff))
-        });
-        sort_by_key(keys, order, sorting);
-        for run in runs(order) {
+        order.clear();
+        let mut places = 0;
+        for (lane, span) in queue.iter().zip(spans.iter()) {
+            if coherent(lane.depth) {
+                places = places.max(span.len());
+                order.extend(
+                    span.clone()
+                        .zip(0u64..)
+                        .map(|(k, place)| place << 32 | k as u64),
+                );
+            } else {
+                for q in &mut lights[span.clone()] {
+                    let ray = Ray::new(q.origin, q.dir);
+                    q.blocked = stats.shadow_query(1, |stats| {
+                        s.intersector.occluded(geometry, &ray, q.t_max, stats)
+                    });
+                }
+            }
+        }
+        if places > 1 {
+            // By place, in queue order within one (the entries are distinct).
+            order.sort_unstable();
+        }
+        let runs = order
+            .chunk_by(|a, b| a >> 32 == b >> 32)
+            .flat_map(|run| run.chunks(PACKET_MAX));
+        for run in runs {
             let c = run.len();
             let rays: ArrayVec<Ray, PACKET_MAX> = run
                 .iter()
@@ -188,23 +203,10 @@ impl<'a> WavefrontPathTracer<'a> {
             let t_max: ArrayVec<f32, PACKET_MAX> =
                 run.iter().map(|&k| lights[index(k)].t_max).collect();
             let mut blocked = [false; PACKET_MAX];
-            if coherent((run[0] >> 48) as u32) {
-                stats.shadow_query(c as u64, |stats| {
-                    s.intersector.occluded_packet(
-                        &s.scene.geometry,
-                        &rays,
-                        &t_max,
-                        &mut blocked[..c],
-                        stats,
-                    )
-                });
-            } else {
-                for ((ray, &t), b) in rays.iter().zip(&t_max).zip(&mut blocked[..c]) {
-                    *b = stats.shadow_query(1, |stats| {
-                        s.intersector.occluded(&s.scene.geometry, ray, t, stats)
-                    });
-                }
-            }
+            stats.shadow_query(c as u64, |stats| {
+                s.intersector
+                    .occluded_packet(geometry, &rays, &t_max, &mut blocked[..c], stats)
+            });
             for (&k, &b) in run.iter().zip(&blocked[..c]) {
                 lights[index(k)].blocked = b;
             }
@@ -341,107 +343,9 @@ fn coherent(depth: u32) -> bool {
     depth <= 1
 }
 
-/// The indices of `keys` in order of key, in index order within a key, into `order` as
-/// key << 32 | index. The keys are small (a depth, a depth and a light's place), so a
-/// counting sort, stable, on each 16-bit half of the key that is not all zero (least
-/// significant first) puts them in order in a pass or two over the queue, where a
-/// comparison sort took 4 % of a `cornell-light` render's instructions and mispredicted
-/// its branches. A half whose largest value is above the entries' count is left to
-/// `sort_unstable` of the whole (a scene with thousands of delta lights), which gives the
-/// same order, as the entries are distinct.
-fn sort_by_key(keys: impl Iterator<Item = u32>, order: &mut Vec<u64>, sorting: &mut Sorting) {
-    order.clear();
-    order.extend(
-        keys.enumerate()
-            .map(|(i, key)| u64::from(key) << 32 | i as u64),
-    );
-    let Sorting { spare, counts } = sorting;
-    for shift in [32, 48] {
-        let digit = |entry: u64| (entry >> shift & 0xffff) as usize;
-        let largest = order.iter().map(|&e| digit(e)).max().unwrap_or(0);
-        if largest == 0 {
-            continue;
-        }
-        if largest > order.len() {
-            order.sort_unstable();
-            return;
-        }
-        counts.clear();
-        counts.resize(largest + 1, 0);
-        for &e in order.iter() {
-            counts[digit(e)] += 1;
-        }
-        let mut start = 0;
-        for c in counts.iter_mut() {
-            let n = *c;
-            *c = start;
-            start += n;
-        }
-        spare.clear();
-        spare.resize(order.len(), 0);
-        for &e in order.iter() {
-            let at = &mut counts[digit(e)];
-            spare[*at as usize] = e;
-            *at += 1;
-        }
-        std::mem::swap(order, spare);
-    }
-}
-
-/// `sort_by_key`'s buffers, kept between its calls.
-#[derive(Default)]
-struct Sorting {
-    spare: Vec<u64>,
-    counts: Vec<u32>,
-}
-
-/// The index an entry of `sort_by_key`'s order stands for.
+/// The index an entry of a stage's `order` stands for: its low 32 bits (the shadow stage
+/// keeps the light sample's place at its vertex above them).
 #[inline]
 fn index(entry: u64) -> usize {
     (entry & 0xffff_ffff) as usize
-}
-
-/// `order` cut into runs of one key, each cut into pieces of at most `PACKET_MAX`.
-fn runs(order: &[u64]) -> impl Iterator<Item = &[u64]> {
-    order
-        .chunk_by(|a, b| a >> 32 == b >> 32)
-        .flat_map(|run| run.chunks(PACKET_MAX))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The counting sort gives the comparison sort's order: depths alone, depths with
-    /// light places (both halves of the key), and keys too large to count.
-    #[test]
-    fn sort_by_key_is_the_comparison_sorts_order() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move |below: u32| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % u64::from(below)) as u32
-        };
-        let mut sorting = Sorting::default();
-        let mut order = Vec::new();
-        for (len, make) in [(1024, 0u32), (1000, 1), (700, 2), (300, 3), (0, 0)] {
-            let keys: Vec<u32> = (0..len)
-                .map(|_| match make {
-                    0 => 1 + next(6),
-                    1 => (1 + next(6)) << 16 | next(3),
-                    2 => next(2) << 16 | next(2),
-                    _ => 1 + next(100_000),
-                })
-                .collect();
-            sort_by_key(keys.iter().copied(), &mut order, &mut sorting);
-            let mut expected: Vec<u64> = keys
-                .iter()
-                .enumerate()
-                .map(|(i, &k)| u64::from(k) << 32 | i as u64)
-                .collect();
-            expected.sort_unstable();
-            assert_eq!(order, expected, "keys of kind {make}");
-        }
-    }
 }
