@@ -247,3 +247,42 @@ fn area(geometry: &Geometry, shape: &Shape) -> Option<f32> {
         _ => None,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::builtin;
+
+    /// A sample on a kept flat triangle is the one the scene's own lookup draws, bit for
+    /// bit: the Cornell box's light (a quad of a mesh without vertex normals) sampled with
+    /// the kept corners and without them.
+    #[test]
+    fn flat_triangles_sample_as_the_scene_does() {
+        let scene = builtin::find("cornell-light").expect("a built-in");
+        let kept = Emitters::new(&scene);
+        assert!(kept.list.iter().all(|e| e.flat.is_some()), "{kept:?}");
+        let mut looked_up = kept.clone();
+        for e in &mut looked_up.list {
+            e.flat = None;
+        }
+        let bits = |s: EmitterSample| {
+            [s.p, s.p_error, s.n, s.radiance]
+                .map(|v| v.to_array().map(f32::to_bits))
+                .concat()
+                .into_iter()
+                .chain([s.pdf_area.to_bits()])
+                .collect::<Vec<u32>>()
+        };
+        let mut drawn = 0;
+        for i in 0..=16 {
+            for j in 0..=16 {
+                let (u, u1, u2) = ((i as f32 + 0.5) / 17.5, i as f32 / 16.0, j as f32 / 16.0);
+                let a = kept.sample(&scene, u, u1, u2).map(bits);
+                let b = looked_up.sample(&scene, u, u1, u2).map(bits);
+                assert_eq!(a, b, "u {u}, u1 {u1}, u2 {u2}");
+                drawn += usize::from(a.is_some());
+            }
+        }
+        assert_eq!(drawn, 17 * 17);
+    }
+}
