@@ -342,13 +342,12 @@ fn median(values: &mut [f64]) -> f64 {
 mod tests {
     use super::*;
 
-    /// `build=auto` chooses for the bench's own rays, not for none (which always picked
-    /// the fastest build).
-    #[test]
-    fn auto_is_built_for_the_rays_the_bench_traces() {
+    /// The pearls scene, its rays at `width` × `height`, `bvh:build=auto` and options for
+    /// one quick build and pass.
+    fn auto_on_pearls(width: u32, height: u32) -> (Scene, RaySet, AccelSpec, MeasureOptions) {
         let scene = prism::scene::builtin::find("pearls").expect("built-in scene");
         let prepared = scene.prepare(&AccelSpec::default());
-        let rays = RaySet::generate(&prepared, 40, 30).expect("camera");
+        let rays = RaySet::generate(&prepared, width, height).expect("camera");
         let auto: AccelSpec = "bvh:build=auto".parse().expect("a valid spec");
         let options = MeasureOptions {
             repeat: 1,
@@ -356,6 +355,14 @@ mod tests {
             min_sample: Duration::ZERO,
             ..MeasureOptions::default()
         };
+        (scene, rays, auto, options)
+    }
+
+    /// `build=auto` chooses for the bench's own rays, not for none (which always picked
+    /// the fastest build).
+    #[test]
+    fn auto_is_built_for_the_rays_the_bench_traces() {
+        let (scene, rays, auto, options) = auto_on_pearls(40, 30);
         let measured = measure_all(&scene, &[auto], &rays, &options, |_| {});
         let method = &measured[0].accel.method;
         assert!(rays.len() > 1200, "{} rays", rays.len());
@@ -369,16 +376,7 @@ mod tests {
     /// passes (`--auto-passes`).
     #[test]
     fn auto_is_built_for_the_rays_it_is_told() {
-        let scene = prism::scene::builtin::find("pearls").expect("built-in scene");
-        let prepared = scene.prepare(&AccelSpec::default());
-        let rays = RaySet::generate(&prepared, 8, 6).expect("camera");
-        let auto: AccelSpec = "bvh:build=auto".parse().expect("a valid spec");
-        let options = MeasureOptions {
-            repeat: 1,
-            max_builds: 1,
-            min_sample: Duration::ZERO,
-            ..MeasureOptions::default()
-        };
+        let (scene, rays, auto, options) = auto_on_pearls(8, 6);
         let specs = [auto.clone(), auto];
         let measured = measure_all_expecting(&scene, &specs, &[10.0, 5e6], &rays, &options, |_| {});
         for (m, told) in measured
