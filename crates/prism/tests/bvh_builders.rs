@@ -407,20 +407,26 @@ fn phr_trees_are_close_to_binned_sah_trees() {
 fn knot_crossed_by_slivers() -> Geometry {
     let mut g = Geometry::default();
     g.add_mesh(generate::torus_knot(20_000), 0);
-    let (mut positions, mut indices) = (Vec::new(), Vec::new());
-    for i in 0..40u32 {
-        let t = i as f32 / 40.0;
-        let a = Vec3::new(-3.0, -3.0 + 6.0 * t, -3.0);
-        let b = Vec3::new(3.0, 3.0 - 6.0 * t, 3.0);
-        let k = positions.len() as u32;
-        positions.extend([a, b, b + Vec3::new(0.0, 0.05, 0.0)]);
-        indices.push([k, k + 1, k + 2]);
-    }
-    g.add_mesh(
-        prism::geometry::TriangleMesh::new(positions, indices, None, None).unwrap(),
-        0,
+    add_slivers(
+        &mut g,
+        (0..40).map(|i| {
+            let t = i as f32 / 40.0;
+            let a = Vec3::new(-3.0, -3.0 + 6.0 * t, -3.0);
+            let b = Vec3::new(3.0, 3.0 - 6.0 * t, 3.0);
+            [a, b, b + Vec3::new(0.0, 0.05, 0.0)]
+        }),
     );
     g
+}
+
+/// Adds `triangles` to `g` as one mesh of separate triangles.
+fn add_slivers(g: &mut Geometry, triangles: impl Iterator<Item = [Vec3; 3]>) {
+    let positions: Vec<Vec3> = triangles.flatten().collect();
+    let indices = (0..positions.len() as u32 / 3)
+        .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
+        .collect();
+    let mesh = prism::geometry::TriangleMesh::new(positions, indices, None, None).unwrap();
+    g.add_mesh(mesh, 0);
 }
 
 /// Spatial splits cut the slivers into pieces with small boxes: a much lower SAH cost
@@ -511,20 +517,16 @@ fn torus_crossed_by_random_chords() -> Geometry {
         0,
     );
     let mut rng = Rng::new(3);
-    let (mut positions, mut indices) = (Vec::new(), Vec::new());
-    for _ in 0..40 {
-        let d = rng
-            .point_in(Vec3::splat(-1.0), Vec3::splat(1.0))
-            .normalize();
-        let c = rng.point_in(Vec3::splat(-1.0), Vec3::splat(1.0));
-        let (a, b) = (c - 3.5 * d, c + 3.5 * d);
-        let i = positions.len() as u32;
-        positions.extend([a, b, b + 0.04 * d.cross(Vec3::Z).normalize()]);
-        indices.push([i, i + 1, i + 2]);
-    }
-    g.add_mesh(
-        prism::geometry::TriangleMesh::new(positions, indices, None, None).unwrap(),
-        0,
+    add_slivers(
+        &mut g,
+        (0..40).map(|_| {
+            let d = rng
+                .point_in(Vec3::splat(-1.0), Vec3::splat(1.0))
+                .normalize();
+            let c = rng.point_in(Vec3::splat(-1.0), Vec3::splat(1.0));
+            let (a, b) = (c - 3.5 * d, c + 3.5 * d);
+            [a, b, b + 0.04 * d.cross(Vec3::Z).normalize()]
+        }),
     );
     g
 }

@@ -1,10 +1,11 @@
 //! Spatial-split BVH (Stich, Friedrich & Dietrich 2009): top down, each node takes the
 //! binned SAH's object split unless its two children overlap by more than `alpha` of the
 //! root's area and either by at least `overlap` of the node's own (Embree's second test)
-//! or with 0.3 of the node's references touching the overlap (slivers crossing it); then a
-//! spatial split is also costed — the node's box cut into slabs on each axis, every triangle cut into the slabs it crosses (chopped binning), so that a
-//! plane between slabs sends each reference left, right, or, cut, to both — and the
-//! cheaper one wins. Duplicated references are bounded by a budget, shared out among the
+//! or with 0.3 of the node's references touching the overlap (slivers crossing it), in
+//! nodes of at least 128 references; then a spatial split is also costed — the node's box
+//! cut into slabs on each axis, every triangle cut into the slabs it crosses (chopped
+//! binning), so that a plane between slabs sends each reference left, right, or, cut, to
+//! both — and the cheaper one wins. Duplicated references are bounded by a budget, shared out among the
 //! children by their reference counts (so the tree does not depend on which side was built
 //! first or on which thread). Only triangles are cut; other primitives go whole to the
 //! side of their centroid.
