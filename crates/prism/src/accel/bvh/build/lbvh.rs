@@ -2,8 +2,10 @@
 //! bounds, interleaved into 63-bit Morton codes and sorted; every node then splits its run
 //! of codes where the highest differing bit flips, down to single primitives, and boxes
 //! are fitted bottom-up. On the way up, a subtree of at most `max_leaf_size` primitives
-//! becomes one leaf where the SAH says a leaf is cheaper (the usual LBVH leaf collapse).
-//! Fast and parallel, but the splits themselves are blind to surface area.
+//! becomes one leaf where the SAH says a leaf is cheaper (the usual LBVH leaf collapse),
+//! a leaf costing a step per test block as in the binned builder, so that triangle packs
+//! fill; a run that fits one block is a leaf at once. Fast and parallel, but the splits
+//! themselves are blind to surface area.
 
 use super::stitch::NodeBlock;
 use super::BuildPrims;
@@ -22,6 +24,11 @@ pub(super) fn build(
     parallel_threshold: usize,
 ) -> Vec<Node> {
     let codes = morton_order(prims, order);
+    let one_step_leaf = if traversal_cost >= 1.0 {
+        prims.test_block.min(max_leaf_size)
+    } else {
+        0
+    };
     let hierarchy = Hierarchy {
         prims,
         order,
@@ -29,6 +36,7 @@ pub(super) fn build(
         max_leaf_size: max_leaf_size.max(1),
         traversal_cost,
         parallel_threshold: parallel_threshold.max(max_leaf_size),
+        one_step_leaf,
     };
     hierarchy.block(0, codes.len(), 1).into_nodes()
 }
@@ -124,6 +132,9 @@ struct Hierarchy<'a> {
     traversal_cost: f32,
     /// At least `max_leaf_size`, so collapsing never crosses a parallel split.
     parallel_threshold: usize,
+    /// Runs of at most this many primitives are leaves without a look at their subtree:
+    /// those that fit one test step, where a node costs at least a step (else 0).
+    one_step_leaf: usize,
 }
 
 impl Hierarchy<'_> {
@@ -180,11 +191,17 @@ impl Hierarchy<'_> {
         hi: usize,
         depth: usize,
     ) -> (Aabb, f32) {
+        let n = hi - lo;
         let leaf = |nodes: &mut Vec<Node>| {
             nodes[index] = self.leaf(lo, hi);
             let bounds = nodes[index].bounds();
-            (bounds, bounds.surface_area() * (hi - lo) as f32)
+            (bounds, bounds.surface_area() * self.prims.leaf_cost(n))
         };
+        // A run that fits one test step is the collapse's answer without its subtree:
+        // the leaf costs its area once, a split at least the node's area again.
+        if n <= self.one_step_leaf {
+            return leaf(nodes);
+        }
         let Some(mid) = self.split(lo, hi, depth) else {
             return leaf(nodes);
         };
@@ -196,7 +213,7 @@ impl Hierarchy<'_> {
         let bounds = bl.union(&br);
         let area = bounds.surface_area();
         let cost = self.traversal_cost * area + cl + cr;
-        if hi - lo <= self.max_leaf_size && area * (hi - lo) as f32 <= cost {
+        if n <= self.max_leaf_size && area * self.prims.leaf_cost(n) <= cost {
             // The subtree is everything appended since its children: drop it for one leaf.
             nodes.truncate(left);
             return leaf(nodes);
@@ -209,6 +226,73 @@ impl Hierarchy<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Boxes of a few thousand small triangles scattered in clumps, a tenth of them
+    /// flat or points (zero-area boxes), for `test_block` primitives a step.
+    fn clumped_boxes(test_block: usize) -> BuildPrims {
+        let mut state = 11u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let bounds = (0..3000)
+            .map(|i| {
+                let clump = Vec3::new((i % 7) as f32, (i % 5) as f32, (i % 3) as f32) * 10.0;
+                let min = clump + Vec3::new(next(), next(), next()) * 3.0;
+                let size = if i % 10 == 0 {
+                    Vec3::ZERO
+                } else {
+                    Vec3::new(next(), next(), next()) * 0.2
+                };
+                Aabb::new(min, min + size)
+            })
+            .collect();
+        BuildPrims {
+            bounds,
+            test_block,
+            triangles: Vec::new(),
+        }
+    }
+
+    fn nodes_with(prims: &BuildPrims, one_step_leaf: usize) -> Vec<Node> {
+        let mut order: Vec<u32> = (0..prims.bounds.len() as u32).collect();
+        let codes = morton_order(prims, &mut order);
+        let hierarchy = Hierarchy {
+            prims,
+            order: &order,
+            codes: &codes,
+            max_leaf_size: 8,
+            traversal_cost: 1.0,
+            parallel_threshold: usize::MAX,
+            one_step_leaf,
+        };
+        hierarchy.block(0, codes.len(), 1).into_nodes()
+    }
+
+    /// The shortcut for runs that fit one test step makes the leaves the SAH collapse
+    /// makes of their subtrees, node for node.
+    #[test]
+    fn one_step_runs_are_the_collapses_own_leaves() {
+        let prims = clumped_boxes(4);
+        assert_eq!(nodes_with(&prims, 4), nodes_with(&prims, 0));
+    }
+
+    /// Leaves cost a step per test block, so triangle packs of four fill: the mean leaf
+    /// holds well over two triangles (1.6 when the collapse counted every triangle as a
+    /// step), and a primitive a step keeps smaller leaves.
+    #[test]
+    fn triangle_packs_fill() {
+        let mean_leaf = |prims: &BuildPrims| {
+            let nodes = nodes_with(prims, prims.test_block);
+            let leaves = nodes.iter().filter(|n| n.is_leaf()).count();
+            prims.bounds.len() as f64 / leaves as f64
+        };
+        let (packs, singles) = (mean_leaf(&clumped_boxes(4)), mean_leaf(&clumped_boxes(1)));
+        assert!(packs > 3.0, "mean leaf {packs:.2} with packs of four");
+        assert!(singles < packs - 1.0, "mean leaf {singles:.2} one a step");
+    }
 
     /// The radix sort orders as a stable comparison sort does, equal keys included.
     #[test]
