@@ -5,9 +5,10 @@
 //! ray relative to binned SAH's tree, times binned's trace time per ray; triangles and
 //! other shapes get their own rows (binned SAH builds triangles in packs of four, which
 //! makes it cheap there; LBVH's leaves of spheres and cones trace about as fast as binned
-//! SAH's). The constants are geometric means over two runs of `prism bench` with every
+//! SAH's). The constants are geometric means over three runs of `prism bench` with every
 //! builder (its ten scenes, camera and shadow rays, one thread, process CPU time, builds
-//! and traces in turns; 2026-12-07, bench/results/bvh-auto-turns{1,2}.csv);
+//! and traces in turns; 2026-12-07, once LBVH's leaves filled triangle packs,
+//! bench/results/bvh-auto-packs{1,2,3}.csv);
 //! `bench/bvh-auto-check.py fit RUN.csv...` derives them from such runs and
 //! docs/acceleration.md says how. PLOC, SBVH, PHR and sweep are no candidates: in the
 //! means they build 1.5–6.5× binned's time and trace no faster.
@@ -28,19 +29,19 @@ struct Candidate {
 /// per ray (camera and shadow rays, ns) for each.
 const TRIANGLES: ([Candidate; 3], f64) = (
     [
-        row(BvhBuilder::Lbvh, false, 190.0, 1.243),
-        row(BvhBuilder::Binned, false, 245.0, 1.0),
-        row(BvhBuilder::Binned, true, 333.0, 0.997),
+        row(BvhBuilder::Lbvh, false, 122.0, 1.132),
+        row(BvhBuilder::Binned, false, 255.0, 1.0),
+        row(BvhBuilder::Binned, true, 329.0, 1.024),
     ],
-    149.0,
+    143.0,
 );
 const OTHER_SHAPES: ([Candidate; 3], f64) = (
     [
-        row(BvhBuilder::Lbvh, false, 154.0, 1.016),
-        row(BvhBuilder::Binned, false, 398.0, 1.0),
-        row(BvhBuilder::Binned, true, 579.0, 0.959),
+        row(BvhBuilder::Lbvh, false, 145.0, 1.017),
+        row(BvhBuilder::Binned, false, 380.0, 1.0),
+        row(BvhBuilder::Binned, true, 562.0, 0.971),
     ],
-    89.0,
+    86.0,
 );
 
 const fn row(builder: BvhBuilder, reinsert: bool, build_ns: f64, trace_ratio: f64) -> Candidate {
