@@ -1,6 +1,8 @@
 //! Full-sweep SAH splits (as in pbrt and Wald's survey): on each axis the primitives are
 //! sorted by centroid and every split between neighbours is costed exactly, with the
-//! right-hand boxes accumulated in one backward pass. O(n log n) per node.
+//! right-hand boxes accumulated in one backward pass. O(n log n) per node. A leaf costs a
+//! step per test block (`BuildPrims::leaf_cost`), as in the binned builder, so that the
+//! exact sweep and the binned one weigh the same triangle packs.
 
 use super::prim_ref::PrimRef;
 use super::topdown::{Split, SplitRule};
@@ -70,7 +72,8 @@ impl SplitRule for FullSweepSah {
             for k in 1..n {
                 acc = acc.union(&prims.bounds[sorted[k - 1].1 as usize]);
                 let cost = self.traversal_cost
-                    + (acc.surface_area() * k as f32 + right_area[k] * (n - k) as f32)
+                    + (acc.surface_area() * prims.leaf_cost(k)
+                        + right_area[k] * prims.leaf_cost(n - k))
                         / parent_area;
                 if best.is_none_or(|(_, c)| cost < c) {
                     best = Some((k, cost));
@@ -83,7 +86,7 @@ impl SplitRule for FullSweepSah {
         }
         match best {
             Some((k, cost)) => {
-                if n <= self.max_leaf_size && cost >= n as f32 {
+                if n <= self.max_leaf_size && cost >= prims.leaf_cost(n) {
                     return None;
                 }
                 for (slot, &(_, i)) in order.iter_mut().zip(&buffers.best) {
