@@ -504,12 +504,7 @@ impl Builder<'_> {
         let m = slabs.count;
         let (min, max) = (r.min(), r.max());
         let (mut firsts, mut lasts) = (slabs.of(min), slabs.of(max));
-        // Lane by lane, not `firsts == lasts`: that compares the arrays in memory, just
-        // after storing them lane by lane, and the load waits for the stores (a tenth of
-        // the binning's time on the sphereflake).
-        let within_one =
-            (firsts[0] == lasts[0]) & (firsts[1] == lasts[1]) & (firsts[2] == lasts[2]);
-        let triangle = if within_one {
+        let triangle = if firsts == lasts {
             None
         } else {
             let triangle = self.prims.triangle(r.index());
