@@ -291,8 +291,8 @@ impl Keyed for BvhOptions {
              SBVH tries spatial splits"),
         field_key!("overlap" => overlap, number 0.0..=1.0,
             "overlap of an object split's children, as a share of the node's own area, below \
-             which SBVH tries no spatial split even above alpha, unless 0.3 of the node's references \
-             touch the overlap (0 = alpha alone)"),
+             which SBVH tries no spatial split even above alpha, unless 0.3 of the node's \
+             references touch the overlap (0 = alpha alone)"),
         field_key!("cut" => cut, number 0.0..=24.0,
             "PHR's first cut: the auxiliary LBVH's nodes of at most 2^-cut of the root's area \
              (the paper's delta; about 2^cut nodes on a surface mesh)"),

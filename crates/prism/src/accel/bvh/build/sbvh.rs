@@ -5,10 +5,10 @@
 //! nodes of at least 128 references; then a spatial split is also costed — the node's box
 //! cut into slabs on each axis, every triangle cut into the slabs it crosses (chopped
 //! binning), so that a plane between slabs sends each reference left, right, or, cut, to
-//! both — and the cheaper one wins. Duplicated references are bounded by a budget, shared out among the
-//! children by their reference counts (so the tree does not depend on which side was built
-//! first or on which thread). Only triangles are cut; other primitives go whole to the
-//! side of their centroid.
+//! both — and the cheaper one wins. Duplicated references are bounded by a budget, shared
+//! out among the children by their reference counts (so the tree does not depend on which
+//! side was built first or on which thread). Only triangles are cut; other primitives go
+//! whole to the side of their centroid.
 //!
 //! The binning reads each reference once: a reference whose box lies in one slab goes
 //! there whole; one that spans several is walked along the axis, each piece's box from
